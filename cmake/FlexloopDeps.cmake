@@ -1,0 +1,31 @@
+# System dependencies, found once for the whole tree. Eigen and LCM headers are SYSTEM includes
+# so their warnings never fail our -Werror build.
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(Threads REQUIRED)
+
+# Debian's LCM 1.3.1 ships no CMake package: find the library, header and code generator.
+find_library(LCM_LIBRARY NAMES lcm REQUIRED)
+find_path(LCM_INCLUDE_DIR NAMES lcm/lcm-cpp.hpp REQUIRED)
+find_program(LCM_GEN_EXECUTABLE NAMES lcm-gen REQUIRED)
+add_library(flexloop_lcm INTERFACE)
+target_include_directories(flexloop_lcm SYSTEM INTERFACE ${LCM_INCLUDE_DIR})
+target_link_libraries(flexloop_lcm INTERFACE ${LCM_LIBRARY} Threads::Threads)
+
+add_library(flexloop_eigen INTERFACE)
+target_link_libraries(flexloop_eigen INTERFACE Eigen3::Eigen)
+get_target_property(_eigen_inc Eigen3::Eigen INTERFACE_INCLUDE_DIRECTORIES)
+target_include_directories(flexloop_eigen SYSTEM INTERFACE ${_eigen_inc})
+
+find_package(Catch2 2.13 REQUIRED)
+include(Catch)
+find_package(nlohmann_json 3 REQUIRED)
+find_path(TOMLPP_INCLUDE_DIR NAMES toml++/toml.h REQUIRED)
+find_path(CLI11_INCLUDE_DIR NAMES CLI/CLI.hpp REQUIRED)
+if(FLEXLOOP_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()
+
+add_library(flexloop_tomlpp INTERFACE)
+target_include_directories(flexloop_tomlpp SYSTEM INTERFACE ${TOMLPP_INCLUDE_DIR})
+add_library(flexloop_cli11 INTERFACE)
+target_include_directories(flexloop_cli11 SYSTEM INTERFACE ${CLI11_INCLUDE_DIR})

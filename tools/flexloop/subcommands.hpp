@@ -1,0 +1,11 @@
+#pragma once
+// Each subcommand lives in its own cmd_<name>.cpp and registers itself on the main app.
+// A subcommand's callback throws flexloop::InputError for bad input (exit 2) and
+// std::exception for other failures (exit 1).
+#include <CLI/CLI.hpp>
+
+namespace flexloop::cli {
+
+void register_version(CLI::App& app);
+
+}  // namespace flexloop::cli
