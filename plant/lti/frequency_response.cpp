@@ -1,0 +1,164 @@
+#include "plant/lti/frequency_response.hpp"
+
+#include <Eigen/Jacobi>
+#include <Eigen/SVD>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace flexloop::plant::lti {
+
+namespace {
+using cd = std::complex<double>;
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+
+std::string to_string_g(double v) {
+  std::ostringstream s;
+  s.precision(17);
+  s << v;
+  return s.str();
+}
+}  // namespace
+
+std::vector<double> log_frequency_grid_hz(double f_min_hz, double f_max_hz, int points) {
+  if (!(std::isfinite(f_min_hz) && std::isfinite(f_max_hz) && f_min_hz > 0.0 &&
+        f_max_hz > f_min_hz))
+    throw std::invalid_argument(
+        "log_frequency_grid_hz: need 0 < f_min < f_max, got f_min = " + to_string_g(f_min_hz) +
+        " Hz, f_max = " + to_string_g(f_max_hz) + " Hz");
+  if (points < 2)
+    throw std::invalid_argument("log_frequency_grid_hz: need at least 2 points, got " +
+                                std::to_string(points));
+  const double l0 = std::log10(f_min_hz);
+  const double step = (std::log10(f_max_hz) - l0) / (points - 1);
+  std::vector<double> f(static_cast<std::size_t>(points));
+  for (int i = 0; i < points; ++i) f[static_cast<std::size_t>(i)] = std::pow(10.0, l0 + i * step);
+  // pow/log10 round; the caller asked for these exact end points.
+  f.front() = f_min_hz;
+  f.back() = f_max_hz;
+  return f;
+}
+
+Eigen::VectorXd balancing_scaling(const Eigen::MatrixXd& A) {
+  if (A.rows() != A.cols()) throw std::invalid_argument("balancing_scaling: A must be square");
+  const Eigen::Index n = A.rows();
+  Eigen::MatrixXd a = A;
+  Eigen::VectorXd t = Eigen::VectorXd::Ones(n);
+  // Powers of two only, so the similarity is exact; the bounds keep scale factors finite.
+  constexpr double kRadix = 2.0, kFactor = 0.95, kBig = 1e150, kSmall = 1e-150;
+  bool changed = true;
+  for (int sweep = 0; changed && sweep < 100; ++sweep) {
+    changed = false;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      // Off-diagonal 2-norms of column and row i.
+      double c = std::sqrt(std::max(0.0, a.col(i).squaredNorm() - a(i, i) * a(i, i)));
+      double r = std::sqrt(std::max(0.0, a.row(i).squaredNorm() - a(i, i) * a(i, i)));
+      if (!(c > 0.0) || !(r > 0.0)) continue;  // decoupled row or column: nothing to balance
+      const double s = c + r;
+      double f = 1.0;
+      while (c < r / kRadix && f < kBig) {
+        f *= kRadix;
+        c *= kRadix;
+        r /= kRadix;
+      }
+      while (c / kRadix >= r && f > kSmall) {
+        f /= kRadix;
+        c /= kRadix;
+        r *= kRadix;
+      }
+      if (c + r >= kFactor * s) continue;  // not worth it: avoids cycling
+      t(i) *= f;
+      a.row(i) /= f;
+      a.col(i) *= f;
+      changed = true;
+    }
+  }
+  return t;
+}
+
+std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys,
+                                                 const std::vector<double>& freqs_hz,
+                                                 const FrequencyResponseOptions& options) {
+  sys.validate();
+  for (double f : freqs_hz)
+    if (!std::isfinite(f))
+      throw std::invalid_argument("frequency_response: frequency " + to_string_g(f) +
+                                  " Hz is not finite");
+
+  const Eigen::Index n = sys.nx(), m = sys.nu(), p = sys.ny();
+  const Eigen::MatrixXcd Dc = sys.D.cast<cd>();
+  std::vector<Eigen::MatrixXcd> out;
+  out.reserve(freqs_hz.size());
+  if (n == 0) {  // static gain
+    out.assign(freqs_hz.size(), Dc);
+    return out;
+  }
+
+  // Similarity A_b = T^-1 A T with exact power-of-two T.
+  Eigen::MatrixXd Ab = sys.A, Bb = sys.B, Cb = sys.C;
+  if (options.balance) {
+    const Eigen::VectorXd t = balancing_scaling(sys.A);
+    Ab = t.cwiseInverse().asDiagonal() * sys.A * t.asDiagonal();
+    Bb = t.cwiseInverse().asDiagonal() * sys.B;
+    Cb = sys.C * t.asDiagonal();
+  }
+
+  // A_b = Q H Q^T once.
+  const Eigen::HessenbergDecomposition<Eigen::MatrixXd> hess(Ab);
+  const Eigen::MatrixXd Q = hess.matrixQ();
+  const Eigen::MatrixXcd Hc = Eigen::MatrixXd(hess.matrixH()).cast<cd>();
+  const Eigen::MatrixXcd Bh = (Q.transpose() * Bb).cast<cd>();
+  const Eigen::MatrixXcd Ch = (Cb * Q).cast<cd>();
+
+  Eigen::MatrixXcd W(n, n), X(n, m);  // workspace reused for every frequency
+  for (double f : freqs_hz) {
+    const cd jw(0.0, kTwoPi * f);
+    W = -Hc;
+    W.diagonal().array() += jw;
+    X = Bh;
+    // Givens QR of the Hessenberg matrix: one rotation per subdiagonal entry, applied to the
+    // trailing columns only (the leading ones are already zero in both rows).
+    for (Eigen::Index k = 0; k + 1 < n; ++k) {
+      Eigen::JacobiRotation<cd> g;
+      g.makeGivens(W(k, k), W(k + 1, k));
+      W.rightCols(n - k).applyOnTheLeft(k, k + 1, g.adjoint());
+      X.applyOnTheLeft(k, k + 1, g.adjoint());
+      W(k + 1, k) = 0.0;
+    }
+    if ((W.diagonal().array() == cd(0.0, 0.0)).any())
+      throw std::domain_error("frequency_response: j*2*pi*" + to_string_g(f) +
+                              " rad/s is an eigenvalue of A (the response is infinite at " +
+                              to_string_g(f) + " Hz)");
+    W.triangularView<Eigen::Upper>().solveInPlace(X);
+    Eigen::MatrixXcd G = Dc;
+    if (p > 0 && m > 0) G.noalias() += Ch * X;
+    if (!G.allFinite())
+      throw std::domain_error("frequency_response: response at " + to_string_g(f) +
+                              " Hz is not finite (frequency on or next to a pole of A)");
+    out.push_back(std::move(G));
+  }
+  return out;
+}
+
+Eigen::MatrixXd singular_values(const std::vector<Eigen::MatrixXcd>& G) {
+  if (G.empty()) return Eigen::MatrixXd(0, 0);
+  const Eigen::Index rows = G.front().rows(), cols = G.front().cols();
+  Eigen::MatrixXd sigma(static_cast<Eigen::Index>(G.size()), std::min(rows, cols));
+  for (std::size_t k = 0; k < G.size(); ++k) {
+    if (G[k].rows() != rows || G[k].cols() != cols)
+      throw std::invalid_argument("singular_values: matrix " + std::to_string(k) + " is " +
+                                  std::to_string(G[k].rows()) + "x" + std::to_string(G[k].cols()) +
+                                  ", the first is " + std::to_string(rows) + "x" +
+                                  std::to_string(cols));
+    if (sigma.cols() == 0) continue;
+    // BDCSVD returns the singular values sorted in decreasing order.
+    const Eigen::BDCSVD<Eigen::MatrixXcd> svd(G[k]);
+    sigma.row(static_cast<Eigen::Index>(k)) = svd.singularValues().transpose();
+  }
+  return sigma;
+}
+
+}  // namespace flexloop::plant::lti

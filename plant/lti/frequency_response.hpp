@@ -1,0 +1,55 @@
+#pragma once
+// Frequency response of a continuous-time LTI system, evaluated in state-space form.
+//
+//   G(jw) = C (jw I - A)^-1 B + D,   w = 2 pi f  [rad/s], f in Hz.
+//
+// Never forms (jw I - A)^-1 and never a polynomial transfer function (DESIGN.md §11). Method
+// (Laub, "Efficient multivariable frequency response computations", IEEE TAC 26 (1981)):
+//   1. optional balancing: A_b = T^-1 A T with T diagonal, entries powers of two (exact in
+//      floating point), so that rows and columns of A have comparable norms; B_b = T^-1 B,
+//      C_b = C T. G is unchanged in exact arithmetic; the Hessenberg reduction below is backward
+//      stable relative to ||A_b||, which balancing makes small.
+//   2. once: A_b = Q H Q^T with H upper Hessenberg and Q orthogonal (Householder,
+//      Eigen::HessenbergDecomposition); B_h = Q^T B_b, C_h = C_b Q.
+//   3. per frequency: (jw I - H) is upper Hessenberg, so n-1 complex Givens rotations reduce it
+//      to upper triangular form R (O(n^2)); the same rotations applied to B_h and one
+//      triangular back substitution give X = (jw I - H)^-1 B_h in O(n^2 m); then
+//      G = C_h X + D. Total O(n^3) once plus O(n^2 m + p n m) per frequency.
+#include <Eigen/Dense>
+#include <vector>
+
+#include "plant/lti/state_space.hpp"
+
+namespace flexloop::plant::lti {
+
+/// `points` frequencies log-spaced from f_min_hz to f_max_hz, both ends included exactly.
+/// @throws std::invalid_argument unless 0 < f_min_hz < f_max_hz (finite) and points >= 2.
+std::vector<double> log_frequency_grid_hz(double f_min_hz, double f_max_hz, int points);
+
+struct FrequencyResponseOptions {
+  /// Scale A by an exact power-of-two diagonal similarity before the Hessenberg reduction
+  /// (no permutations). Harmless when A is already well scaled; helps when state units differ
+  /// by many orders of magnitude (positions in m beside forces in N).
+  bool balance = true;
+};
+
+/// One complex ny x nu matrix G(j 2 pi f) per entry of freqs_hz (any real f, 0 gives the DC
+/// gain -C A^-1 B + D).
+/// @throws std::invalid_argument when sys.validate() fails or a frequency is not finite.
+/// @throws std::domain_error when j 2 pi f is (numerically exactly) an eigenvalue of A, i.e. the
+///         response is infinite there; the message names the frequency.
+std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys,
+                                                 const std::vector<double>& freqs_hz,
+                                                 const FrequencyResponseOptions& options = {});
+
+/// Singular values of each G: row k holds sigma_1 >= sigma_2 >= ... >= sigma_r of G[k],
+/// r = min(ny, nu). Computed by Eigen::BDCSVD (values only).
+/// @throws std::invalid_argument when the matrices do not all have the same size.
+Eigen::MatrixXd singular_values(const std::vector<Eigen::MatrixXcd>& G);
+
+/// Exact power-of-two diagonal balancing of a square matrix (LAPACK xGEBAL without
+/// permutations): returns the scaling t (A_b = diag(t)^-1 A diag(t)). Exposed for tests and for
+/// other state-space algorithms that want the same preconditioning.
+Eigen::VectorXd balancing_scaling(const Eigen::MatrixXd& A);
+
+}  // namespace flexloop::plant::lti

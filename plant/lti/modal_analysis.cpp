@@ -1,0 +1,219 @@
+#include "plant/lti/modal_analysis.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace flexloop::plant::lti {
+
+namespace {
+using cd = std::complex<double>;
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+// Relative asymmetry accepted as rounding noise from assembly (then symmetrised).
+constexpr double kSymmetryTol = 1e-10;
+
+std::string num(double v) {
+  std::ostringstream s;
+  s.precision(6);
+  s << v;
+  return s.str();
+}
+
+void require_square_pair(const char* fn, const char* a_name, const Eigen::MatrixXd& a,
+                         const char* b_name, const Eigen::MatrixXd& b) {
+  auto dims = [](const Eigen::MatrixXd& m) {
+    return std::to_string(m.rows()) + "x" + std::to_string(m.cols());
+  };
+  if (a.rows() != a.cols() || b.rows() != b.cols() || a.rows() != b.rows())
+    throw std::invalid_argument(std::string(fn) + ": " + a_name + " (" + dims(a) + ") and " +
+                                b_name + " (" + dims(b) + ") must be square and of equal size");
+  if (!a.allFinite())
+    throw std::invalid_argument(std::string(fn) + ": " + a_name + " has a non-finite entry");
+  if (!b.allFinite())
+    throw std::invalid_argument(std::string(fn) + ": " + b_name + " has a non-finite entry");
+}
+
+bool nearly_symmetric(const Eigen::MatrixXd& a) {
+  const double scale = a.cwiseAbs().maxCoeff();
+  return (a - a.transpose()).cwiseAbs().maxCoeff() <= kSymmetryTol * scale;
+}
+
+Eigen::MatrixXd symmetrised(const Eigen::MatrixXd& a) {
+  return 0.5 * (a + a.transpose());
+}
+
+// M must be symmetric positive definite with a condition number well inside double precision.
+Eigen::MatrixXd checked_mass(const Eigen::MatrixXd& M) {
+  const Eigen::Index n = M.rows();
+  if (!nearly_symmetric(M))
+    throw std::invalid_argument("natural_modes: mass matrix M is not symmetric (max |M - M^T| = " +
+                                num((M - M.transpose()).cwiseAbs().maxCoeff()) + ")");
+  Eigen::MatrixXd Ms = symmetrised(M);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Ms, Eigen::EigenvaluesOnly);
+  if (es.info() != Eigen::Success)
+    throw std::invalid_argument("natural_modes: eigenvalues of the mass matrix did not converge");
+  const double lo = es.eigenvalues().minCoeff(), hi = es.eigenvalues().cwiseAbs().maxCoeff();
+  const double tol = 100.0 * static_cast<double>(n) * kEps * hi;
+  if (hi == 0.0 || lo < -tol)
+    throw std::invalid_argument("natural_modes: mass matrix M is indefinite (smallest eigenvalue " +
+                                num(lo) + ", largest " + num(es.eigenvalues().maxCoeff()) +
+                                "); a mass matrix must be positive definite");
+  if (lo <= tol)
+    throw std::invalid_argument(
+        "natural_modes: mass matrix M is singular (smallest eigenvalue " + num(lo) + ", largest " +
+        num(hi) + "): massless coordinates; condense them out statically or give them mass");
+  return Ms;
+}
+
+// Scale to phi^T M phi = 1 and make the largest-magnitude entry positive (a deterministic sign).
+void normalise_shape(Eigen::Ref<Eigen::VectorXd> phi, const Eigen::MatrixXd& M) {
+  phi /= std::sqrt(phi.dot(M * phi));
+  Eigen::Index imax = 0;
+  phi.cwiseAbs().maxCoeff(&imax);
+  if (phi(imax) < 0.0) phi = -phi;
+}
+}  // namespace
+
+Modes natural_modes(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K) {
+  require_square_pair("natural_modes", "M", M, "K", K);
+  const Eigen::Index n = M.rows();
+  Modes modes;
+  if (n == 0) return modes;
+  const Eigen::MatrixXd Ms = checked_mass(M);
+
+  Eigen::VectorXcd w2(n);
+  Eigen::MatrixXd shapes(n, n);
+  if (nearly_symmetric(K)) {
+    // Symmetric-definite: Cholesky M = L L^T, symmetric eigenproblem of L^-1 K L^-T; eigenvectors
+    // come back M-orthonormal.
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(
+        symmetrised(K), Ms, Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
+    if (ges.info() != Eigen::Success)
+      throw std::runtime_error("natural_modes: symmetric eigensolver did not converge");
+    w2 = ges.eigenvalues().cast<cd>();
+    shapes = ges.eigenvectors();
+  } else {
+    // K phi = w^2 M phi by real QZ; betas are nonzero because M is nonsingular.
+    const Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> ges(K, Ms, true);
+    if (ges.info() != Eigen::Success)
+      throw std::runtime_error("natural_modes: QZ eigensolver did not converge");
+    w2 = ges.alphas().cwiseQuotient(ges.betas().cast<cd>());
+    const Eigen::MatrixXcd V = ges.eigenvectors();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      Eigen::Index imax = 0;
+      V.col(i).cwiseAbs().maxCoeff(&imax);
+      // Turn the largest entry onto the real axis: a real eigenvector becomes exactly real.
+      const cd phase =
+          std::abs(V(imax, i)) > 0.0 ? std::conj(V(imax, i)) / std::abs(V(imax, i)) : cd(1.0);
+      shapes.col(i) = (V.col(i) * phase).real();
+    }
+  }
+
+  const double scale = w2.cwiseAbs().maxCoeff();
+  const double zero_tol = 100.0 * static_cast<double>(n) * kEps * scale;
+  const double imag_tol = std::sqrt(kEps) * scale;
+  Eigen::VectorXd f(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const double mag = std::sqrt(std::abs(w2(i))) / kTwoPi;
+    if (std::abs(w2(i)) <= zero_tol)
+      f(i) = 0.0;
+    else if (std::abs(w2(i).imag()) <= imag_tol && w2(i).real() > 0.0)
+      f(i) = mag;
+    else
+      f(i) = -mag;  // divergence or flutter
+    normalise_shape(shapes.col(i), Ms);
+  }
+
+  std::vector<Eigen::Index> order(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), Eigen::Index{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](Eigen::Index a, Eigen::Index b) { return f(a) < f(b); });
+  modes.frequencies_hz.resize(n);
+  modes.shapes.resize(n, n);
+  modes.omega_squared.resize(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const Eigen::Index i = order[static_cast<std::size_t>(k)];
+    modes.frequencies_hz(k) = f(i);
+    modes.shapes.col(k) = shapes.col(i);
+    modes.omega_squared(k) = w2(i);
+  }
+  return modes;
+}
+
+Eigen::VectorXd buckling_multipliers(const Eigen::MatrixXd& K, const Eigen::MatrixXd& G) {
+  require_square_pair("buckling_multipliers", "K", K, "G", G);
+  const Eigen::Index n = K.rows();
+  std::vector<double> lambda;
+  const double tol_n = 100.0 * static_cast<double>(std::max<Eigen::Index>(n, 1)) * kEps;
+
+  bool done = false;
+  if (n > 0 && nearly_symmetric(K) && nearly_symmetric(G)) {
+    const Eigen::MatrixXd Ks = symmetrised(K);
+    const Eigen::LLT<Eigen::MatrixXd> llt(Ks);
+    if (llt.info() == Eigen::Success) {
+      // K SPD: G x = mu K x is symmetric-definite even for singular or indefinite G;
+      // K x + lambda G x = 0  <=>  mu = -1/lambda, and mu = 0 is an infinite multiplier.
+      const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(
+          symmetrised(G), Ks, Eigen::EigenvaluesOnly | Eigen::Ax_lBx);
+      if (ges.info() == Eigen::Success) {
+        const Eigen::VectorXd mu = ges.eigenvalues();
+        const double cut = tol_n * mu.cwiseAbs().maxCoeff();
+        for (Eigen::Index i = 0; i < n; ++i)
+          if (std::abs(mu(i)) > cut) lambda.push_back(-1.0 / mu(i));
+        done = true;
+      }
+    }
+  }
+  if (n > 0 && !done) {
+    // General pencil K x = lambda (-G) x by real QZ: lambda = alpha / beta; beta ~ rounding means
+    // lambda infinite (G singular in that direction); alpha and beta both ~ rounding means the
+    // pencil is singular and every lambda is an eigenvalue.
+    const Eigen::MatrixXd minus_G = -G;
+    const Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> ges(K, minus_G, false);
+    if (ges.info() != Eigen::Success)
+      throw std::runtime_error("buckling_multipliers: QZ eigensolver did not converge");
+    const double k_tol = tol_n * K.norm(), g_tol = tol_n * G.norm();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      const cd alpha = ges.alphas()(i);
+      const double beta = ges.betas()(i);
+      if (std::abs(beta) <= g_tol) {
+        if (std::abs(alpha) <= k_tol)
+          throw std::invalid_argument(
+              "buckling_multipliers: K + lambda G is singular for every lambda (K and G share a "
+              "null space); remove the unconstrained coordinates");
+        continue;  // infinite multiplier
+      }
+      if (std::abs(alpha.imag()) > std::sqrt(kEps) * std::abs(alpha)) continue;  // complex
+      lambda.push_back(alpha.real() / beta);
+    }
+  }
+  std::stable_sort(lambda.begin(), lambda.end(), [](double a, double b) {
+    return std::abs(a) < std::abs(b) || (std::abs(a) == std::abs(b) && a < b);
+  });
+  return Eigen::Map<const Eigen::VectorXd>(lambda.data(), static_cast<Eigen::Index>(lambda.size()));
+}
+
+Eigen::VectorXcd poles(const StateSpace& sys) {
+  sys.validate();
+  if (sys.nx() == 0) return Eigen::VectorXcd(0);
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(sys.A, false);
+  if (es.info() != Eigen::Success)
+    throw std::runtime_error("poles: eigenvalues of A did not converge");
+  std::vector<cd> p(es.eigenvalues().begin(), es.eigenvalues().end());
+  std::sort(p.begin(), p.end(), [](const cd& a, const cd& b) {
+    if (std::abs(a.imag()) != std::abs(b.imag())) return std::abs(a.imag()) < std::abs(b.imag());
+    if (a.real() != b.real()) return a.real() < b.real();
+    return a.imag() < b.imag();
+  });
+  return Eigen::Map<const Eigen::VectorXcd>(p.data(), static_cast<Eigen::Index>(p.size()));
+}
+
+}  // namespace flexloop::plant::lti

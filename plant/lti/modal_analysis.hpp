@@ -1,0 +1,64 @@
+#pragma once
+// Modal analysis of the linearised equations of motion
+//   M q'' + (C + D) q' + (K + N + G) q = f          (DESIGN.md §3, bars omitted)
+// and of a state space.
+//
+// Natural modes: undamped free vibration q = phi e^{j w t} gives the generalised eigenproblem
+//   (K - w^2 M) phi = 0,   det(K - w^2 M) = 0,
+// with K the total stiffness (K + N + G). M must be symmetric positive definite. When K is
+// symmetric the problem is symmetric-definite (Eigen::GeneralizedSelfAdjointEigenSolver): w^2 is
+// real and the shapes satisfy Phi^T M Phi = I and Phi^T K Phi = diag(w^2). When K is not
+// symmetric (N from a moving configuration, or non-conservative loads) the general real QZ
+// algorithm is used (Eigen::GeneralizedEigenSolver); w^2 may then be complex (flutter).
+//
+// Sign convention for frequencies_hz (|f| = sqrt(|w^2|) / (2 pi)):
+//   w^2 real and > 0      : f > 0, an undamped oscillation at f Hz;
+//   |w^2| negligible      : f = 0, a rigid-body (mechanism) mode; "negligible" means
+//                           |w^2| <= 100 n eps max_i |w_i^2|, i.e. within rounding;
+//   w^2 real and < 0      : f < 0, divergence (static instability, e.g. beyond buckling):
+//                           real poles s = +-2 pi |f|, so 2 pi |f| is the e-folding rate [1/s];
+//   w^2 complex (flutter) : f < 0 as well, with |f| = |w^2|^(1/2) / (2 pi); the exact value is in
+//                           omega_squared. "Complex" means |Im w^2| > sqrt(eps) max_i |w_i^2|.
+// So f < 0 always flags an unstable mode. Modes are sorted by f ascending (unstable first).
+//
+// Buckling: with G the geometric stiffness of a reference load, the load multipliers lambda at
+// which the structure loses stiffness solve det(K + lambda G) = 0.
+//
+// Poles: eigenvalues of A.
+#include <Eigen/Dense>
+
+#include "plant/lti/state_space.hpp"
+
+namespace flexloop::plant::lti {
+
+struct Modes {
+  Eigen::VectorXd frequencies_hz;  ///< signed, see the convention above; ascending
+  Eigen::MatrixXd shapes;  ///< column i belongs to frequencies_hz(i); phi_i^T M phi_i = 1, its
+                           ///< largest-magnitude entry positive. For a flutter mode: the real part
+                           ///< of the complex shape after turning its largest entry real.
+  Eigen::VectorXcd omega_squared;  ///< the eigenvalues w^2 [rad^2/s^2] in the same order
+};
+
+/// Natural frequencies and mass-normalised mode shapes of (K - w^2 M) phi = 0.
+/// @throws std::invalid_argument when the sizes differ, an entry is not finite, M is not
+///         symmetric, M is indefinite, or M is singular (massless coordinates: condense them
+///         out or give them mass); the message says which.
+Modes natural_modes(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K);
+
+/// Finite real load multipliers lambda with det(K + lambda G) = 0, sorted by |lambda| (the
+/// critical multiplier first; a negative lambda means buckling under the reversed load). G may
+/// be singular (unloaded coordinates give infinite multipliers, which are left out) or
+/// indefinite. Complex multipliers (non-symmetric K) are left out. Symmetric positive definite K
+/// with symmetric G: solved as G x = mu K x (symmetric-definite, mu = -1/lambda, mu = 0 left out);
+/// otherwise by the QZ algorithm on the pencil (K, -G).
+/// @throws std::invalid_argument on size mismatch, non-finite entries, or a singular pencil
+///         (K + lambda G singular for every lambda).
+Eigen::VectorXd buckling_multipliers(const Eigen::MatrixXd& K, const Eigen::MatrixXd& G);
+
+/// Eigenvalues of sys.A sorted by |imag| ascending, then real ascending, then imag ascending
+/// (so a conjugate pair appears as p, conj(p) with negative imaginary part first).
+/// @throws std::invalid_argument when sys.validate() fails; std::runtime_error when the
+///         eigensolver does not converge.
+Eigen::VectorXcd poles(const StateSpace& sys);
+
+}  // namespace flexloop::plant::lti

@@ -1,0 +1,210 @@
+// Report writers: CSV round trip (read back with std::ifstream, compared exactly), atomic write,
+// and one PNG per plot kind (file exists and starts with the PNG signature), errors when gnuplot
+// is missing or fails. Set FLEXLOOP_KEEP_TEST_OUTPUT=1 to keep the pictures for inspection.
+#include <unistd.h>
+
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <complex>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "plant/lti/frequency_response.hpp"
+#include "tools/report/csv_writer.hpp"
+#include "tools/report/plot.hpp"
+
+namespace fs = std::filesystem;
+namespace report = flexloop::report;
+namespace lti = flexloop::plant::lti;
+
+namespace {
+// A directory per test case, removed afterwards unless FLEXLOOP_KEEP_TEST_OUTPUT is set (then
+// the pictures of all sections stay side by side).
+struct ScratchDir {
+  fs::path path;
+  explicit ScratchDir(const std::string& name)
+      : path(fs::temp_directory_path() / ("flexloop-test-analysis-" + std::to_string(::getpid())) /
+             name) {
+    fs::create_directories(path);
+  }
+  ~ScratchDir() {
+    if (!std::getenv("FLEXLOOP_KEEP_TEST_OUTPUT")) fs::remove_all(path.parent_path());
+  }
+  std::string operator/(const std::string& file) const { return (path / file).string(); }
+  std::vector<std::string> files() const {
+    std::vector<std::string> names;
+    for (const auto& e : fs::directory_iterator(path))
+      names.push_back(e.path().filename().string());
+    return names;
+  }
+};
+
+bool is_png(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  unsigned char sig[8] = {};
+  in.read(reinterpret_cast<char*>(sig), 8);
+  const unsigned char expected[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
+  return in.gcount() == 8 && std::equal(sig, sig + 8, expected) && fs::file_size(path) > 1000;
+}
+
+// Two lightly damped modes, two inputs, two outputs: open loop, and the same with 150 x the damping
+// standing in for a closed loop.
+lti::StateSpace two_mode_system(double damping) {
+  const double m1 = 1.0, m2 = 0.5, k1 = 4.0e3, k2 = 2.0e4;
+  Eigen::MatrixXd M(2, 2), K(2, 2), Dm(2, 2);
+  M << m1, 0, 0, m2;
+  K << k1 + k2, -k2, -k2, k2;
+  Dm = damping * K;
+  const Eigen::MatrixXd Mi = M.inverse();
+  lti::StateSpace s;
+  s.A = Eigen::MatrixXd::Zero(4, 4);
+  s.A.topRightCorner(2, 2).setIdentity();
+  s.A.bottomLeftCorner(2, 2) = -Mi * K;
+  s.A.bottomRightCorner(2, 2) = -Mi * Dm;
+  s.B = Eigen::MatrixXd::Zero(4, 2);
+  s.B.bottomRows(2) = Mi;
+  s.C = Eigen::MatrixXd::Zero(2, 4);
+  s.C.leftCols(2).setIdentity();
+  s.D = Eigen::MatrixXd::Zero(2, 2);
+  s.states = {"x1", "x2", "v1", "v2"};
+  s.inputs = {"f1", "f2"};
+  s.outputs = {"x1", "x2"};
+  return s;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string field;
+  while (std::getline(ss, field, ',')) out.push_back(field);
+  return out;
+}
+}  // namespace
+
+TEST_CASE("CSV: numbers round trip exactly through a file", "[report][csv]") {
+  ScratchDir dir("csv");
+  Eigen::MatrixXd data(4, 3);
+  data << 1.0 / 3.0, -2.5e17, 6.02214076e23,  //
+      1e-300, 0.0, -0.1,                      //
+      M_PI, std::nextafter(1.0, 2.0), -7.0,   //
+      123456789.0, 5e-324, 1.7976931348623157e308;
+  const std::string path = dir / "table.csv";
+  report::write_csv(path, {"f [Hz]", "gain, dB", "phase \"deg\""}, data);
+
+  std::ifstream in(path);
+  REQUIRE(in);
+  std::string line;
+  REQUIRE(std::getline(in, line));
+  CHECK(line == "f [Hz],\"gain, dB\",\"phase \"\"deg\"\"\"");
+  Eigen::Index row = 0;
+  while (std::getline(in, line)) {
+    const auto fields = split(line);
+    REQUIRE(fields.size() == 3);
+    REQUIRE(row < data.rows());
+    for (Eigen::Index j = 0; j < 3; ++j) {
+      std::istringstream is(fields[static_cast<std::size_t>(j)]);
+      double v = 0.0;
+      is >> v;
+      INFO("row " << row << " col " << j << " text " << fields[static_cast<std::size_t>(j)]);
+      CHECK(v == data(row, j));  // bit-exact: shortest round-trip formatting
+    }
+    ++row;
+  }
+  CHECK(row == data.rows());
+  CHECK(dir.files() == std::vector<std::string>{"table.csv"});  // no temporary left over
+}
+
+TEST_CASE("CSV: columns form, overwrite, size and path errors", "[report][csv]") {
+  ScratchDir dir("csv2");
+  const std::string path = dir / "cols.csv";
+  report::write_csv(path, {"a"}, Eigen::MatrixXd::Constant(2, 1, 9.0));
+  report::write_csv_columns(path, {"t [s]", "y [m]"}, {{0.0, 0.5, 1.0}, {1.0, -2.0, 0.25}});
+  std::ifstream in(path);
+  std::stringstream all;
+  all << in.rdbuf();
+  CHECK(all.str() == "t [s],y [m]\n0,1\n0.5,-2\n1,0.25\n");
+  CHECK_THROWS_AS(report::write_csv_columns(path, {"a", "b"}, {{1.0}, {1.0, 2.0}}),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(report::write_csv(path, {"a"}, Eigen::MatrixXd::Zero(1, 2)),
+                  std::invalid_argument);
+  CHECK_THROWS_WITH(
+      report::write_csv(dir / "no/such/dir/x.csv", {"a"}, Eigen::MatrixXd::Zero(1, 1)),
+      Catch::Contains("no/such/dir/x.csv"));
+  CHECK(report::format_number(std::nan("")) == "nan");
+  CHECK(report::format_number(-HUGE_VAL) == "-inf");
+}
+
+TEST_CASE("plots: one PNG per kind", "[report][plot]") {
+  ScratchDir dir("plots");
+  const auto f = lti::log_frequency_grid_hz(0.01, 1000.0, 400);
+  const auto open = lti::frequency_response(two_mode_system(2e-5), f);
+  const auto closed = lti::frequency_response(two_mode_system(3e-3), f);
+
+  SECTION("Bode") {
+    const std::string png = dir / "bode.png";
+    report::plot_bode({"two-mode plant, x1/f1 and x2/f1", "", "|G| [dB re 1 m/N]"},
+                      {{"x1/f1 open loop", f, report::channel(open, 0, 0), ""},
+                       {"x2/f1 open loop", f, report::channel(open, 1, 0), ""},
+                       {"x1/f1 damped", f, report::channel(closed, 0, 0), "lines lw 2 dt 2"}},
+                      png);
+    CHECK(is_png(png));
+    CHECK_THROWS_AS(report::channel(open, 2, 0), std::invalid_argument);
+  }
+  SECTION("singular values, open solid and closed dashed") {
+    const std::string png = dir / "sigma.png";
+    report::plot_singular_values(
+        {"singular values, force to displacement", "frequency [Hz]", "sigma(G) [dB re 1 m/N]"},
+        {{"open loop", f, lti::singular_values(open), ""},
+         {"closed loop", f, lti::singular_values(closed), ""}},
+        png);
+    CHECK(is_png(png));
+  }
+  SECTION("xy lines (time series)") {
+    std::vector<double> t, y1, y2;
+    for (int i = 0; i <= 500; ++i) {
+      t.push_back(i * 1e-3);
+      y1.push_back(std::exp(-3.0 * t.back()) * std::sin(2 * M_PI * 12 * t.back()));
+      y2.push_back(0.5 * std::cos(2 * M_PI * 5 * t.back()));
+    }
+    const std::string png = dir / "lines.png";
+    report::plot_lines({"time series", "time [s]", "displacement [m]"},
+                       {{"decaying mode", t, y1, ""}, {"drift", t, y2, "lines lw 1 dt 3"}}, png);
+    CHECK(is_png(png));
+    CHECK_THROWS_AS(report::plot_lines({}, {{"bad", {1, 2}, {1}, ""}}, png), std::invalid_argument);
+    CHECK_THROWS_AS(report::plot_lines({}, {{"inject", t, y1, "lines; system('true')"}}, png),
+                    std::invalid_argument);
+  }
+  SECTION("histogram, log y") {
+    std::vector<double> edges, counts;
+    for (int i = 0; i <= 60; ++i) edges.push_back(i * 1.0);  // latency [us]
+    for (int i = 0; i < 60; ++i)
+      counts.push_back(std::floor(1e6 * std::exp(-0.5 * std::pow((i - 8.0) / 2.0, 2)) +
+                                  (i > 30 && i % 7 == 0 ? 3.0 : 0.0)));
+    const std::string png = dir / "hist.png";
+    report::plot_histogram({"wake-up latency", "latency [us]", "cycles", false, true}, edges,
+                           counts, png);
+    CHECK(is_png(png));
+    CHECK_THROWS_AS(report::plot_histogram({}, {0, 1}, {1, 2}, png), std::invalid_argument);
+  }
+  // Every section leaves only finished PNGs behind: no scripts, logs or partial images.
+  for (const auto& name : dir.files()) CHECK(name.size() > 4);
+  for (const auto& name : dir.files()) CHECK(name.substr(name.size() - 4) == ".png");
+}
+
+TEST_CASE("plots: missing or failing gnuplot is an error naming the file", "[report][plot]") {
+  ScratchDir dir("plot-errors");
+  const std::string png = dir / "never.png";
+  const report::Series s{"s", {0.0, 1.0}, {1.0, 2.0}, ""};
+  REQUIRE(::setenv("FLEXLOOP_GNUPLOT", "/nonexistent/gnuplot", 1) == 0);
+  CHECK_THROWS_WITH(report::plot_lines({}, {s}, png),
+                    Catch::Contains(png) && Catch::Contains("gnuplot"));
+  REQUIRE(::setenv("FLEXLOOP_GNUPLOT", "false", 1) == 0);  // runs, exits with status 1
+  CHECK_THROWS_WITH(report::plot_lines({}, {s}, png),
+                    Catch::Contains(png) && Catch::Contains("status 1"));
+  ::unsetenv("FLEXLOOP_GNUPLOT");
+  CHECK(dir.files().empty());
+}
