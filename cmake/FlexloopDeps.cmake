@@ -29,3 +29,4 @@ add_library(flexloop_tomlpp INTERFACE)
 target_include_directories(flexloop_tomlpp SYSTEM INTERFACE ${TOMLPP_INCLUDE_DIR})
 add_library(flexloop_cli11 INTERFACE)
 target_include_directories(flexloop_cli11 SYSTEM INTERFACE ${CLI11_INCLUDE_DIR})
+find_package(OpenSSL REQUIRED)  # SHA-256 of input files for provenance

@@ -13,6 +13,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every subcommand");
   flexloop::cli::register_version(app);
+  flexloop::cli::register_linearise(app);
+  flexloop::cli::register_discretise(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

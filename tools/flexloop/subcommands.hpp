@@ -7,5 +7,7 @@
 namespace flexloop::cli {
 
 void register_version(CLI::App& app);
+void register_discretise(CLI::App& app);
+void register_linearise(CLI::App& app);
 
 }  // namespace flexloop::cli

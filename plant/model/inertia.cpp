@@ -1,0 +1,75 @@
+#include "plant/model/inertia.hpp"
+
+#include "plant/model/element_properties.hpp"
+
+namespace flexloop::plant::model {
+
+Eigen::Matrix<double, 3, 4> euler_l_matrix(const Eigen::Vector4d& l) {
+  Eigen::Matrix<double, 3, 4> L;
+  L << -l(1), l(0), l(3), -l(2),  //
+      -l(2), -l(3), l(0), l(1),   //
+      -l(3), l(2), -l(1), l(0);
+  return L;
+}
+
+namespace {
+
+// Translational mass matrix (constant): nodes and elements.
+Eigen::MatrixXd translational_mass(const Model& m) {
+  Eigen::MatrixXd M = Eigen::MatrixXd::Zero(m.nx(), m.nx());
+  for (const auto& n : m.nodes)
+    for (int a = 0; a < m.dim; ++a) M(n.first_coordinate + a, n.first_coordinate + a) += n.mass;
+  for (const auto& el : m.elements) {
+    if (el.mass == 0.0) continue;
+    const Eigen::MatrixXd Me = element_translational_mass(el.mass, m.dim, el.consistent_mass);
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        M.block(m.nodes[el.nodes[i]].first_coordinate, m.nodes[el.nodes[j]].first_coordinate, m.dim,
+                m.dim) += Me.block(i * m.dim, j * m.dim, m.dim, m.dim);
+  }
+  return M;
+}
+
+}  // namespace
+
+Eigen::MatrixXd mass_matrix(const Model& m, const Eigen::VectorXd& x) {
+  Eigen::MatrixXd M = translational_mass(m);
+  for (const auto& n : m.nodes) {
+    if (!n.rotational) continue;
+    const int r = n.first_coordinate + m.dim;
+    if (m.dim == 2) {
+      M(r, r) += n.inertia(2, 2);
+    } else {
+      const auto L = euler_l_matrix(x.segment<4>(r));
+      M.block<4, 4>(r, r) += 4.0 * L.transpose() * n.inertia * L;
+    }
+  }
+  return M;
+}
+
+Eigen::VectorXd applied_forces(const Model& m) {
+  Eigen::VectorXd g_rep = Eigen::VectorXd::Zero(m.nx());
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(m.nx());
+  for (const auto& n : m.nodes) {
+    g_rep.segment(n.first_coordinate, m.dim) = m.gravity;
+    f.segment(n.first_coordinate, m.dim) = n.force;
+  }
+  return f + translational_mass(m) * g_rep;
+}
+
+Eigen::VectorXd inertia_forces(const Model& m, const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
+                               const Eigen::VectorXd& xdd) {
+  Eigen::VectorXd g = mass_matrix(m, x) * xdd;
+  if (m.dim == 3) {
+    for (const auto& n : m.nodes) {
+      if (!n.rotational) continue;
+      const int r = n.first_coordinate + 3;
+      const Eigen::Vector4d ld = xd.segment<4>(r);
+      g.segment<4>(r) +=
+          8.0 * euler_l_matrix(ld).transpose() * n.inertia * euler_l_matrix(x.segment<4>(r)) * ld;
+    }
+  }
+  return g;
+}
+
+}  // namespace flexloop::plant::model

@@ -1,0 +1,100 @@
+#pragma once
+// The finite-element multibody model (DESIGN.md §3), as read from a model file.
+//
+// Coordinates. Every node carries its translations (x, y in 2-D; x, y, z in 3-D) and, when it
+// is rotational, an angle phi (2-D) or four Euler parameters l0..l3 (3-D). They are stacked in
+// node order into the vector x. Labels: "x.<node>", "y.<node>", "z.<node>", "phi.<node>",
+// "l0.<node>".."l3.<node>".
+//
+// Deformations. Each element contributes its deformation parameters (truss 1, planar beam 3,
+// spatial beam 6), labelled "e<k>.<element>"; each 3-D rotational node contributes the Euler
+// parameter normalisation "euler.<node>" (always rigid). They are stacked into e = D(x).
+//
+// Partition (set by the model's [coordinates] table):
+//   x(o) fixed, x(m) generalised (dynamic or prescribed), x(c) dependent (everything else);
+//   e(o) rigid (zero), e(m) generalised, e(c) dependent (flexible or released, not generalised).
+// The generalised coordinates q = (q_d dynamic, q_r prescribed), each an x(m) or an e(m).
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+#include "plant/model/element_kinematics.hpp"
+
+namespace flexloop::plant::model {
+
+/// Where something was written in the model file, for error messages.
+struct SourceRef {
+  std::string file;
+  int line = 0;
+  std::string str() const { return line > 0 ? file + ":" + std::to_string(line) : file; }
+};
+
+enum class ElementType { kTruss, kPlanarBeam, kSpatialBeam };
+enum class DeformationKind { kRigid, kFlexible, kReleased };
+enum class CoordinateRole { kFixed, kDependent, kDynamic, kPrescribed };
+// kInert: a rigid deformation whose coordinates are all fixed (e.g. the Euler normalisation of a
+// clamped node): identically satisfied, so it is not an equation for the dependent coordinates.
+enum class DeformationRole { kRigid, kInert, kDependent, kDynamic, kPrescribed };
+
+struct Node {
+  std::string id;
+  Eigen::VectorXd position;                    // dim entries, m
+  bool rotational = false;                     // carries phi (2-D) or Euler parameters (3-D)
+  double phi = 0.0;                            // initial angle (2-D), rad
+  Eigen::Vector4d lambda{1.0, 0.0, 0.0, 0.0};  // initial Euler parameters (3-D)
+  double mass = 0.0;                           // lumped translational mass, kg
+  Eigen::Matrix3d inertia =
+      Eigen::Matrix3d::Zero();  // body-frame rotational inertia, kg m^2 (2-D: (2,2))
+  Eigen::VectorXd force;        // applied force on the translations (dim), N
+  int first_coordinate = 0;     // index of the node's first coordinate in x
+  int coordinate_count = 0;
+  int euler_deformation = -1;  // index of "euler.<node>" in e (3-D rotational nodes)
+  SourceRef source;
+};
+
+struct Element {
+  std::string id;
+  ElementType type = ElementType::kTruss;
+  std::vector<int> nodes;              // node indices (p, q)
+  std::vector<DeformationKind> kinds;  // one per deformation
+  std::vector<bool> actuated;          // deformation has an actuator stress input sigma_a
+  Eigen::MatrixXd stiffness;           // S (n_e x n_e); rows/cols of non-flexible modes are zero
+  Eigen::MatrixXd damping;             // S_d (n_e x n_e)
+  double mass = 0.0;                   // kg
+  bool consistent_mass = false;
+  double length = 0.0;  // undeformed length l0, m
+  SpatialBeamReference spatial_ref{};
+  PlanarBeamReference planar_ref{};
+  int first_deformation = 0;  // index of "e1.<id>" in e
+  SourceRef source;
+
+  int deformation_count() const { return static_cast<int>(kinds.size()); }
+};
+
+struct Model {
+  std::string file;
+  std::string name;
+  int dim = 3;              // 2 (planar) or 3 (spatial)
+  Eigen::VectorXd gravity;  // dim entries, m/s^2
+  std::vector<Node> nodes;
+  std::vector<Element> elements;
+
+  std::vector<std::string> coordinate_labels;   // x
+  std::vector<std::string> deformation_labels;  // e
+  std::vector<CoordinateRole> coordinate_roles;
+  std::vector<DeformationRole> deformation_roles;
+  std::vector<std::string> generalised;  // q labels, dynamic first, then prescribed
+  int dynamic_count = 0;                 // number of q_d
+  Eigen::VectorXd x_reference;           // the undeformed configuration
+
+  int nx() const { return static_cast<int>(coordinate_labels.size()); }
+  int ne() const { return static_cast<int>(deformation_labels.size()); }
+  int nq() const { return static_cast<int>(generalised.size()); }
+  int nd() const { return dynamic_count; }
+  int nr() const { return nq() - dynamic_count; }
+
+  int coordinate_index(const std::string& label) const;   // -1 when unknown
+  int deformation_index(const std::string& label) const;  // -1 when unknown
+};
+
+}  // namespace flexloop::plant::model

@@ -1,0 +1,496 @@
+#include "plant/model/model_parser.hpp"
+
+#include <toml++/toml.h>
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "plant/model/element_properties.hpp"
+#include "plant/model/input_error.hpp"
+
+namespace flexloop::plant::model {
+
+namespace {
+
+// Small reader around a toml table that knows the file name and reports file:line.
+class Reader {
+ public:
+  Reader(const toml::table& t, std::string file, std::string what)
+      : t_(t), file_(std::move(file)), what_(std::move(what)) {}
+
+  std::string place(const toml::node* n = nullptr) const {
+    const auto& src = n ? n->source() : t_.source();
+    return src.begin.line > 0 ? file_ + ":" + std::to_string(src.begin.line) : file_;
+  }
+  SourceRef source() const { return {file_, static_cast<int>(t_.source().begin.line)}; }
+  [[noreturn]] void fail(const std::string& msg, const toml::node* n = nullptr) const {
+    throw InputError(place(n), what_ + ": " + msg);
+  }
+  void allow_only(std::initializer_list<const char*> keys) const {
+    for (const auto& [k, v] : t_) {
+      if (std::none_of(keys.begin(), keys.end(), [&](const char* a) { return k.str() == a; })) {
+        std::string list;
+        for (const char* a : keys) list += (list.empty() ? "" : ", ") + std::string(a);
+        fail("unknown key '" + std::string(k.str()) + "' (allowed: " + list + ")", &v);
+      }
+    }
+  }
+  const toml::node* get(const char* key) const { return t_.get(key); }
+  bool has(const char* key) const { return t_.contains(key); }
+
+  std::string string(const char* key, std::optional<std::string> def = std::nullopt) const {
+    const auto* n = get(key);
+    if (!n) {
+      if (def) return *def;
+      fail("missing key '" + std::string(key) + "'");
+    }
+    if (auto v = n->value<std::string>()) return *v;
+    if (auto v = n->value<int64_t>()) return std::to_string(*v);  // ids may be written as numbers
+    fail("'" + std::string(key) + "' must be a string", n);
+  }
+  double number(const char* key, std::optional<double> def = std::nullopt) const {
+    const auto* n = get(key);
+    if (!n) {
+      if (def) return *def;
+      fail("missing key '" + std::string(key) + "'");
+    }
+    auto v = n->value<double>();
+    if (!v || !std::isfinite(*v)) fail("'" + std::string(key) + "' must be a finite number", n);
+    return *v;
+  }
+  bool boolean(const char* key, bool def) const {
+    const auto* n = get(key);
+    if (!n) return def;
+    auto v = n->value<bool>();
+    if (!v) fail("'" + std::string(key) + "' must be true or false", n);
+    return *v;
+  }
+  Eigen::VectorXd vector(const char* key, int size) const {
+    const auto* n = get(key);
+    if (!n) fail("missing key '" + std::string(key) + "'");
+    return vector_of(n, key, size);
+  }
+  Eigen::VectorXd vector_of(const toml::node* n, const std::string& key, int size) const {
+    const auto* arr = n->as_array();
+    if (!arr || (size >= 0 && static_cast<int>(arr->size()) != size))
+      fail("'" + key + "' must be an array of " + std::to_string(size) + " numbers", n);
+    Eigen::VectorXd v(static_cast<Eigen::Index>(arr->size()));
+    for (std::size_t i = 0; i < arr->size(); ++i) {
+      auto d = (*arr)[i].value<double>();
+      if (!d || !std::isfinite(*d))
+        fail("'" + key + "' entry " + std::to_string(i + 1) + " must be a finite number", n);
+      v(static_cast<Eigen::Index>(i)) = *d;
+    }
+    return v;
+  }
+  std::vector<std::pair<std::string, const toml::node*>> strings(const char* key) const {
+    std::vector<std::pair<std::string, const toml::node*>> out;
+    const auto* n = get(key);
+    if (!n) return out;
+    const auto* arr = n->as_array();
+    if (!arr) fail("'" + std::string(key) + "' must be an array of strings", n);
+    for (const auto& item : *arr) {
+      if (auto s = item.value<std::string>())
+        out.emplace_back(*s, &item);
+      else if (auto i = item.value<int64_t>())
+        out.emplace_back(std::to_string(*i), &item);
+      else
+        fail("'" + std::string(key) + "' must be an array of strings", n);
+    }
+    return out;
+  }
+
+ private:
+  const toml::table& t_;
+  std::string file_, what_;
+};
+
+DeformationKind parse_kind(const Reader& r, const std::string& s, const toml::node* n) {
+  if (s == "rigid") return DeformationKind::kRigid;
+  if (s == "flexible") return DeformationKind::kFlexible;
+  if (s == "released") return DeformationKind::kReleased;
+  r.fail("deformation mode '" + s + "' is not one of rigid, flexible, released", n);
+}
+
+void require_positive(const Reader& r, const char* key, double v) {
+  if (!(v > 0)) r.fail("'" + std::string(key) + "' must be positive", r.get(key));
+}
+
+// Keeps only the stiffness/damping of flexible modes (rigid and released carry none from S).
+void mask_modes(Element& el) {
+  for (int k = 0; k < el.deformation_count(); ++k) {
+    if (el.kinds[k] != DeformationKind::kFlexible) {
+      el.stiffness.row(k).setZero();
+      el.stiffness.col(k).setZero();
+    }
+    if (el.kinds[k] == DeformationKind::kRigid) {
+      el.damping.row(k).setZero();
+      el.damping.col(k).setZero();
+    }
+  }
+}
+
+void read_modes_and_damping(const Reader& r, Element& el, int n) {
+  el.kinds.assign(n, DeformationKind::kFlexible);
+  if (r.has("modes")) {
+    auto modes = r.strings("modes");
+    if (static_cast<int>(modes.size()) != n)
+      r.fail("'modes' must list " + std::to_string(n) + " modes", r.get("modes"));
+    for (int k = 0; k < n; ++k) el.kinds[k] = parse_kind(r, modes[k].first, modes[k].second);
+  }
+  el.damping = Eigen::MatrixXd::Zero(n, n);
+  if (r.has("damping")) el.damping.diagonal() = r.vector("damping", n);
+  el.actuated.assign(n, false);
+  if (r.has("actuated")) {
+    auto* arr = r.get("actuated")->as_array();
+    if (!arr || static_cast<int>(arr->size()) != n)
+      r.fail("'actuated' must list " + std::to_string(n) + " booleans", r.get("actuated"));
+    for (int k = 0; k < n; ++k) {
+      auto b = (*arr)[k].value<bool>();
+      if (!b) r.fail("'actuated' must list booleans", r.get("actuated"));
+      el.actuated[k] = *b;
+    }
+  }
+}
+
+}  // namespace
+
+int Model::coordinate_index(const std::string& label) const {
+  auto it = std::find(coordinate_labels.begin(), coordinate_labels.end(), label);
+  return it == coordinate_labels.end() ? -1 : static_cast<int>(it - coordinate_labels.begin());
+}
+
+int Model::deformation_index(const std::string& label) const {
+  auto it = std::find(deformation_labels.begin(), deformation_labels.end(), label);
+  return it == deformation_labels.end() ? -1 : static_cast<int>(it - deformation_labels.begin());
+}
+
+Model parse_model(const std::string& text, const std::string& file) {
+  toml::table root;
+  try {
+    root = toml::parse(text, file);
+  } catch (const toml::parse_error& e) {
+    throw InputError(file + ":" + std::to_string(e.source().begin.line),
+                     std::string(e.description()));
+  }
+  Reader top(root, file, "model file");
+  top.allow_only({"model", "node", "element", "coordinates"});
+
+  Model m;
+  m.file = file;
+  const auto* model_tbl = root["model"].as_table();
+  if (!model_tbl) top.fail("missing [model] table");
+  Reader mr(*model_tbl, file, "[model]");
+  mr.allow_only({"name", "dimension", "gravity"});
+  m.name = mr.string("name", std::string("unnamed"));
+  const double dim = mr.number("dimension", 3.0);
+  if (dim != 2.0 && dim != 3.0) mr.fail("'dimension' must be 2 or 3", mr.get("dimension"));
+  m.dim = static_cast<int>(dim);
+  m.gravity = mr.has("gravity") ? mr.vector("gravity", m.dim) : Eigen::VectorXd::Zero(m.dim);
+  const char* axes = "xyz";
+
+  // Nodes and their coordinates.
+  std::map<std::string, int> node_index;
+  const auto* nodes = root["node"].as_array();
+  if (!nodes || nodes->empty()) top.fail("no [[node]] entries");
+  for (const auto& item : *nodes) {
+    const auto* t = item.as_table();
+    if (!t) top.fail("[[node]] entries must be tables", &item);
+    Reader r(*t, file, "node");
+    r.allow_only(
+        {"id", "position", "rotational", "angle", "orientation", "mass", "inertia", "force"});
+    Node n;
+    n.id = r.string("id");
+    n.source = r.source();
+    if (node_index.count(n.id))
+      r.fail("duplicate node id '" + n.id + "' (first at " +
+             m.nodes[node_index[n.id]].source.str() + ")");
+    n.position = r.vector("position", m.dim);
+    n.rotational =
+        r.boolean("rotational", r.has("angle") || r.has("orientation") || r.has("inertia"));
+    n.phi = r.number("angle", 0.0);
+    if (r.has("orientation")) {
+      if (m.dim != 3)
+        r.fail("'orientation' (Euler parameters) is for 3-D models; use 'angle' in 2-D",
+               r.get("orientation"));
+      n.lambda = r.vector("orientation", 4);
+      if (std::abs(n.lambda.norm() - 1.0) > 1e-9)
+        r.fail("'orientation' Euler parameters must have unit norm", r.get("orientation"));
+    }
+    n.mass = r.number("mass", 0.0);
+    if (n.mass < 0) r.fail("'mass' must not be negative", r.get("mass"));
+    if (r.has("inertia")) {
+      if (m.dim == 2) {
+        n.inertia(2, 2) = r.number("inertia");
+      } else {
+        const auto* in = r.get("inertia");
+        const auto* arr = in->as_array();
+        if (arr && arr->size() == 3) {
+          n.inertia.diagonal() = r.vector("inertia", 3);
+        } else if (arr && arr->size() == 6) {  // Ixx Iyy Izz Ixy Ixz Iyz
+          Eigen::VectorXd v = r.vector("inertia", 6);
+          n.inertia << v(0), v(3), v(4), v(3), v(1), v(5), v(4), v(5), v(2);
+        } else {
+          r.fail("'inertia' must be [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz]", in);
+        }
+      }
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(n.inertia);
+      if (es.eigenvalues().minCoeff() < 0)
+        r.fail("'inertia' must be positive semi-definite", r.get("inertia"));
+    }
+    n.force = r.has("force") ? r.vector("force", m.dim) : Eigen::VectorXd::Zero(m.dim);
+    n.first_coordinate = static_cast<int>(m.coordinate_labels.size());
+    for (int a = 0; a < m.dim; ++a)
+      m.coordinate_labels.push_back(std::string(1, axes[a]) + "." + n.id);
+    if (n.rotational) {
+      if (m.dim == 2) {
+        m.coordinate_labels.push_back("phi." + n.id);
+      } else {
+        for (int a = 0; a < 4; ++a)
+          m.coordinate_labels.push_back("l" + std::to_string(a) + "." + n.id);
+      }
+    }
+    n.coordinate_count = static_cast<int>(m.coordinate_labels.size()) - n.first_coordinate;
+    node_index[n.id] = static_cast<int>(m.nodes.size());
+    m.nodes.push_back(std::move(n));
+  }
+  m.x_reference.resize(m.nx());
+  for (const auto& n : m.nodes) {
+    m.x_reference.segment(n.first_coordinate, m.dim) = n.position;
+    if (n.rotational) {
+      if (m.dim == 2)
+        m.x_reference(n.first_coordinate + 2) = n.phi;
+      else
+        m.x_reference.segment<4>(n.first_coordinate + 3) = n.lambda;
+    }
+  }
+
+  // Elements.
+  std::set<std::string> element_ids;
+  const auto* elements = root["element"].as_array();
+  if (elements) {
+    for (const auto& item : *elements) {
+      const auto* t = item.as_table();
+      if (!t) top.fail("[[element]] entries must be tables", &item);
+      Reader r(*t, file, "element");
+      Element el;
+      el.id = r.string("id");
+      el.source = r.source();
+      if (!element_ids.insert(el.id).second)
+        r.fail("duplicate element id '" + el.id + "'", r.get("id"));
+      const std::string type = r.string("type");
+      auto node_refs = r.strings("nodes");
+      if (node_refs.size() != 2) r.fail("'nodes' must list two node ids", r.get("nodes"));
+      for (const auto& [id, n] : node_refs) {
+        auto it = node_index.find(id);
+        if (it == node_index.end()) r.fail("unknown node '" + id + "'", n);
+        el.nodes.push_back(it->second);
+      }
+      const Node& p = m.nodes[el.nodes[0]];
+      const Node& q = m.nodes[el.nodes[1]];
+      el.length = (q.position - p.position).norm();
+      if (!(el.length > 1e-12))
+        r.fail("zero-length element: nodes '" + p.id + "' and '" + q.id + "' coincide");
+      const std::string mass_model = r.string("mass_model", std::string("lumped"));
+      if (mass_model != "lumped" && mass_model != "consistent")
+        r.fail("'mass_model' must be lumped or consistent", r.get("mass_model"));
+      el.consistent_mass = mass_model == "consistent";
+
+      if (type == "truss") {
+        r.allow_only({"id", "type", "nodes", "stiffness", "damping", "actuator", "mode", "mass",
+                      "mass_model"});
+        el.type = ElementType::kTruss;
+        el.stiffness = Eigen::MatrixXd::Constant(1, 1, r.number("stiffness", 0.0));
+        el.damping = Eigen::MatrixXd::Constant(1, 1, r.number("damping", 0.0));
+        if (el.stiffness(0, 0) < 0 || el.damping(0, 0) < 0)
+          r.fail("'stiffness' and 'damping' must not be negative");
+        const std::string def =
+            el.stiffness(0, 0) > 0 || el.damping(0, 0) > 0 || r.boolean("actuator", false)
+                ? "flexible"
+                : "rigid";
+        el.kinds = {parse_kind(r, r.string("mode", def), r.get("mode"))};
+        el.actuated = {r.boolean("actuator", false)};
+        el.mass = r.number("mass", 0.0);
+      } else if (type == "planar_beam") {
+        r.allow_only({"id", "type", "nodes", "E", "A", "I", "rho", "modes", "damping", "actuated",
+                      "mass_model"});
+        if (m.dim != 2) r.fail("planar_beam needs a 2-D model (dimension = 2)", r.get("type"));
+        if (!p.rotational || !q.rotational)
+          r.fail("planar_beam nodes must be rotational (give them 'rotational = true')");
+        el.type = ElementType::kPlanarBeam;
+        const double E = r.number("E"), A = r.number("A"), I = r.number("I");
+        require_positive(r, "E", E), require_positive(r, "A", A), require_positive(r, "I", I);
+        read_modes_and_damping(r, el, 3);
+        el.stiffness = planar_beam_stiffness(E, A, I, el.length);
+        el.mass = r.number("rho", 0.0) * A * el.length;
+        el.planar_ref = make_planar_beam_reference(p.position, p.phi, q.position, q.phi);
+      } else if (type == "beam") {
+        r.allow_only({"id", "type", "nodes", "E", "G", "A", "Iy", "Iz", "J", "rho", "modes",
+                      "damping", "actuated", "y_axis", "mass_model"});
+        if (m.dim != 3) r.fail("beam needs a 3-D model; use planar_beam in 2-D", r.get("type"));
+        if (!p.rotational || !q.rotational)
+          r.fail("beam nodes must be rotational (give them 'rotational = true')");
+        el.type = ElementType::kSpatialBeam;
+        read_modes_and_damping(r, el, 6);
+        BeamSection s{};
+        // A section parameter is required only when a mode that uses it is flexible.
+        auto flexible = [&](std::initializer_list<int> ks) {
+          return std::any_of(ks.begin(), ks.end(),
+                             [&](int k) { return el.kinds[k] == DeformationKind::kFlexible; });
+        };
+        auto param = [&](const char* key, bool needed) {
+          return needed ? r.number(key) : r.number(key, 1.0);
+        };
+        s.E = param("E", flexible({0, 2, 3, 4, 5}));
+        s.A = param("A", flexible({0}));
+        s.G = param("G", flexible({1}));
+        s.J = param("J", flexible({1}));
+        s.Iy = param("Iy", flexible({2, 3, 4, 5}));
+        s.Iz = param("Iz", flexible({2, 3, 4, 5}));
+        s.rho = r.number("rho", 0.0);
+        for (double v : {s.E, s.A, s.G, s.J, s.Iy, s.Iz})
+          if (!(v > 0)) r.fail("section properties E, G, A, Iy, Iz, J must be positive");
+        el.stiffness = spatial_beam_stiffness(s, el.length);
+        el.mass = s.rho * (r.has("A") ? s.A : 0.0) * el.length;
+        Eigen::Vector3d hint =
+            r.has("y_axis") ? Eigen::Vector3d(r.vector("y_axis", 3)) : Eigen::Vector3d::Zero();
+        const Eigen::Vector3d axis = (q.position - p.position).normalized();
+        if (!r.has("y_axis")) {  // any axis not parallel to the beam
+          hint = std::abs(axis.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+          hint = hint.cross(axis);
+        }
+        try {
+          el.spatial_ref =
+              make_spatial_beam_reference(p.position, p.lambda, q.position, q.lambda, hint);
+        } catch (const std::exception& e) {
+          r.fail(e.what(), r.get("y_axis"));
+        }
+      } else {
+        r.fail("unknown element type '" + type + "' (truss, planar_beam or beam)", r.get("type"));
+      }
+      if (el.mass < 0) r.fail("'mass' must not be negative", r.get("mass"));
+      mask_modes(el);
+      el.first_deformation = static_cast<int>(m.deformation_labels.size());
+      for (int k = 0; k < el.deformation_count(); ++k)
+        m.deformation_labels.push_back("e" + std::to_string(k + 1) + "." + el.id);
+      m.elements.push_back(std::move(el));
+    }
+  }
+  for (auto& n : m.nodes) {
+    if (m.dim == 3 && n.rotational) {
+      n.euler_deformation = static_cast<int>(m.deformation_labels.size());
+      m.deformation_labels.push_back("euler." + n.id);
+    }
+  }
+
+  // Partition.
+  m.coordinate_roles.assign(m.nx(), CoordinateRole::kDependent);
+  m.deformation_roles.assign(m.ne(), DeformationRole::kDependent);
+  for (const auto& el : m.elements)
+    for (int k = 0; k < el.deformation_count(); ++k)
+      if (el.kinds[k] == DeformationKind::kRigid)
+        m.deformation_roles[el.first_deformation + k] = DeformationRole::kRigid;
+  for (const auto& n : m.nodes)
+    if (n.euler_deformation >= 0)
+      m.deformation_roles[n.euler_deformation] = DeformationRole::kRigid;
+
+  const auto* coords = root["coordinates"].as_table();
+  if (!coords)
+    top.fail("missing [coordinates] table (which coordinates are fixed, dynamic, prescribed)");
+  Reader cr(*coords, file, "[coordinates]");
+  cr.allow_only({"fixed", "fixed_nodes", "dynamic", "prescribed"});
+  std::set<std::string> assigned;
+  auto claim = [&](const std::string& label, const toml::node* n) {
+    if (!assigned.insert(label).second) cr.fail("'" + label + "' is listed twice", n);
+  };
+  for (const auto& [id, n] : cr.strings("fixed_nodes")) {
+    auto it = node_index.find(id);
+    if (it == node_index.end()) cr.fail("unknown node '" + id + "'", n);
+    const Node& node = m.nodes[it->second];
+    for (int i = 0; i < node.coordinate_count; ++i) {
+      claim(m.coordinate_labels[node.first_coordinate + i], n);
+      m.coordinate_roles[node.first_coordinate + i] = CoordinateRole::kFixed;
+    }
+  }
+  for (const auto& [label, n] : cr.strings("fixed")) {
+    const int i = m.coordinate_index(label);
+    if (i < 0)
+      cr.fail("unknown coordinate '" + label +
+                  "' (coordinates are x.<node>, y.<node>, z.<node>, phi.<node>, l0..l3.<node>)",
+              n);
+    claim(label, n);
+    m.coordinate_roles[i] = CoordinateRole::kFixed;
+  }
+  std::vector<std::string> prescribed;
+  for (const char* key : {"dynamic", "prescribed"}) {
+    const bool dynamic = std::string(key) == "dynamic";
+    for (const auto& [label, n] : cr.strings(key)) {
+      claim(label, n);
+      if (const int i = m.coordinate_index(label); i >= 0) {
+        m.coordinate_roles[i] = dynamic ? CoordinateRole::kDynamic : CoordinateRole::kPrescribed;
+      } else if (const int k = m.deformation_index(label); k >= 0) {
+        if (m.deformation_roles[k] == DeformationRole::kRigid)
+          cr.fail("'" + label +
+                      "' is a rigid deformation (always zero); declare the mode flexible or "
+                      "released to use it as a coordinate",
+                  n);
+        m.deformation_roles[k] = dynamic ? DeformationRole::kDynamic : DeformationRole::kPrescribed;
+      } else {
+        cr.fail("unknown coordinate or deformation '" + label + "'", n);
+      }
+      (dynamic ? m.generalised : prescribed).push_back(label);
+    }
+  }
+  m.dynamic_count = static_cast<int>(m.generalised.size());
+
+  // Rigid deformations that involve fixed coordinates only are identities, not equations.
+  auto all_fixed = [&](const Node& n, int first, int count) {
+    for (int c = first; c < first + count; ++c)
+      if (m.coordinate_roles[n.first_coordinate + c] != CoordinateRole::kFixed) return false;
+    return true;
+  };
+  for (const auto& n : m.nodes)
+    if (n.euler_deformation >= 0 && all_fixed(n, 3, 4))
+      m.deformation_roles[n.euler_deformation] = DeformationRole::kInert;
+  for (const auto& el : m.elements) {
+    const Node& p = m.nodes[el.nodes[0]];
+    const Node& q = m.nodes[el.nodes[1]];
+    if (!all_fixed(p, 0, p.coordinate_count) || !all_fixed(q, 0, q.coordinate_count)) continue;
+    for (int k = 0; k < el.deformation_count(); ++k)
+      if (m.deformation_roles[el.first_deformation + k] == DeformationRole::kRigid)
+        m.deformation_roles[el.first_deformation + k] = DeformationRole::kInert;
+  }
+  m.generalised.insert(m.generalised.end(), prescribed.begin(), prescribed.end());
+  if (m.dynamic_count == 0) cr.fail("no dynamic coordinates: list at least one in 'dynamic'");
+
+  // Count check: the dependent coordinates are solved from the rigid and generalised deformations.
+  int n_dependent = 0, n_equations = 0;
+  for (auto r : m.coordinate_roles) n_dependent += r == CoordinateRole::kDependent;
+  for (auto r : m.deformation_roles)
+    n_equations += r == DeformationRole::kRigid || r == DeformationRole::kDynamic ||
+                   r == DeformationRole::kPrescribed;
+  if (n_dependent != n_equations) {
+    std::ostringstream os;
+    os << n_dependent << " dependent nodal coordinates but " << n_equations
+       << " rigid or generalised deformations determine them; "
+       << (n_dependent > n_equations ? "the mechanism has free coordinates: fix them, make them "
+                                       "generalised, or make more deformations rigid"
+                                     : "it is over-constrained: release or free some rigid "
+                                       "deformations, or make fewer deformations generalised");
+    cr.fail(os.str());
+  }
+  return m;
+}
+
+Model load_model(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, "cannot open model file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return parse_model(ss.str(), path);
+}
+
+}  // namespace flexloop::plant::model

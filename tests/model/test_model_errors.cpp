@@ -1,0 +1,135 @@
+// A bad model file gets "file:line: what is wrong": unknown node, zero-length element,
+// duplicate ids, unknown keys, singular kinematics (naming coordinates and deformations),
+// a singular mass matrix (naming the coordinates), wrong coordinate counts.
+#include <catch2/catch.hpp>
+#include <string>
+
+#include "plant/lti/state_space_builder.hpp"
+#include "plant/model/input_error.hpp"
+#include "plant/model/linearisation.hpp"
+#include "plant/model/model_parser.hpp"
+
+using namespace flexloop::plant;
+using flexloop::InputError;
+
+namespace {
+
+const std::string kHead = R"([model]
+dimension = 2
+[[node]]
+id = "1"
+position = [0.0, 0.0]
+[[node]]
+id = "2"
+position = [1.0, 0.0]
+mass = 1.0
+)";
+
+std::string error_of(const std::string& text) {
+  try {
+    const auto m = model::parse_model(text, "bad.toml");
+    const auto lin = model::linearise(m);
+    lti::build_state_space(m, lin, {}, {});
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+}  // namespace
+
+TEST_CASE("model errors: unknown node, with file and line") {
+  const auto msg = error_of(kHead + R"([[element]]
+id = "s"
+type = "truss"
+nodes = ["1", "3"]
+stiffness = 1.0
+[coordinates]
+fixed = ["y.1", "y.2", "x.1"]
+dynamic = ["e1.s"]
+)");
+  CHECK_THAT(msg, Catch::Contains("bad.toml:13") && Catch::Contains("unknown node '3'"));
+}
+
+TEST_CASE("model errors: zero-length element and duplicate ids") {
+  CHECK_THAT(error_of(kHead + R"([[element]]
+id = "s"
+type = "truss"
+nodes = ["1", "1"]
+)"),
+             Catch::Contains("bad.toml:10") && Catch::Contains("zero-length element"));
+  CHECK_THAT(error_of(kHead + R"([[node]]
+id = "2"
+position = [3.0, 0.0]
+)"),
+             Catch::Contains("bad.toml:10") && Catch::Contains("duplicate node id '2'"));
+}
+
+TEST_CASE("model errors: unknown key and bad values name the line") {
+  CHECK_THAT(
+      error_of(
+          kHead +
+          "[[element]]\nid = \"s\"\ntype = \"truss\"\nnodes = [\"1\", \"2\"]\nstifness = 3.0\n"),
+      Catch::Contains("bad.toml:14") && Catch::Contains("unknown key 'stifness'"));
+  CHECK_THAT(error_of("[model]\ndimension = 4\n"),
+             Catch::Contains("bad.toml:2") && Catch::Contains("2 or 3"));
+  CHECK_THAT(error_of("[model\n"), Catch::Contains("bad.toml:1"));
+}
+
+TEST_CASE("model errors: coordinate counts that do not close") {
+  // y.2 neither fixed nor generalised: two dependent coordinates, one equation.
+  CHECK_THAT(error_of(kHead + R"([[element]]
+id = "s"
+type = "truss"
+nodes = ["1", "2"]
+stiffness = 1.0
+[coordinates]
+fixed_nodes = ["1"]
+dynamic = ["e1.s"]
+)"),
+             Catch::Contains("2 dependent nodal coordinates but 1"));
+}
+
+TEST_CASE("model errors: a singular kinematic Jacobian names the coordinates and deformations") {
+  // The truss is along x, so its elongation cannot determine y.2 (with x.2 generalised).
+  const auto msg = error_of(kHead + R"([[element]]
+id = "s"
+type = "truss"
+nodes = ["1", "2"]
+mode = "rigid"
+[coordinates]
+fixed_nodes = ["1"]
+dynamic = ["x.2"]
+)");
+  CHECK_THAT(msg, Catch::Contains("singular") && Catch::Contains("y.2") && Catch::Contains("e1.s"));
+}
+
+TEST_CASE("model errors: a massless dynamic coordinate is named") {
+  const auto msg = error_of(R"([model]
+dimension = 2
+[[node]]
+id = "1"
+position = [0.0, 0.0]
+[[node]]
+id = "2"
+position = [1.0, 0.0]
+[[node]]
+id = "3"
+position = [2.0, 0.0]
+mass = 1.0
+[[element]]
+id = "a"
+type = "truss"
+nodes = ["1", "2"]
+stiffness = 1.0
+[[element]]
+id = "b"
+type = "truss"
+nodes = ["1", "3"]
+stiffness = 1.0
+[coordinates]
+fixed = ["x.1", "y.1", "y.2", "y.3"]
+dynamic = ["e1.a", "e1.b"]
+)");
+  CHECK_THAT(msg, Catch::Contains("mass matrix") && Catch::Contains("e1.a"));
+}
