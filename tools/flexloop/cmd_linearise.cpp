@@ -4,17 +4,16 @@
 #include <cstdio>
 #include <memory>
 
-#include "plant/lti/modal_analysis.hpp"
-#include "plant/lti/state_space_builder.hpp"
 #include "plant/lti/state_space_json.hpp"
-#include "plant/model/linearisation.hpp"
-#include "plant/model/model_parser.hpp"
+#include "tools/flexloop/linearised_model.hpp"
 #include "tools/flexloop/provenance.hpp"
 #include "tools/flexloop/subcommands.hpp"
 
 namespace flexloop::cli {
 
 namespace {
+
+namespace lti = plant::lti;
 
 struct LineariseArgs {
   std::string model, output;
@@ -31,34 +30,16 @@ nlohmann::json matrix_json(const Eigen::MatrixXd& M) {
   return rows;
 }
 
-// Default channels: every prescribed coordinate as an acceleration and every actuated
-// deformation as a stress in; every dynamic coordinate's position out.
-void default_channels(const plant::model::Model& m, LineariseArgs& a) {
-  if (a.inputs.empty()) {
-    for (int i = m.nd(); i < m.nq(); ++i) a.inputs.push_back("acc:" + m.generalised[i]);
-    for (const auto& el : m.elements)
-      for (int k = 0; k < el.deformation_count(); ++k)
-        if (el.actuated[k])
-          a.inputs.push_back("stress:" + m.deformation_labels[el.first_deformation + k]);
-  }
-  if (a.outputs.empty())
-    for (int i = 0; i < m.nd(); ++i) a.outputs.push_back("pos:" + m.generalised[i]);
-}
-
-void run(LineariseArgs a) {
-  namespace model = plant::model;
-  namespace lti = plant::lti;
-  const model::Model m = model::load_model(a.model);
-  default_channels(m, a);
-  const model::Linearisation lin = model::linearise(m);
-  const lti::StateSpace ss = lti::build_state_space(m, lin, a.inputs, a.outputs);
+void run(const LineariseArgs& a) {
+  const LinearisedModel r = linearise_model_file(a.model, a.inputs, a.outputs);
+  const auto& m = r.model;
+  const auto& lin = r.lin;
+  const auto& ss = r.ss;
   const int nd = m.nd();
-  const lti::Modes modes = lti::natural_modes(lin.M.topLeftCorner(nd, nd),
-                                              (lin.K + lin.N + lin.G).topLeftCorner(nd, nd));
+  const Eigen::VectorXd& f = r.natural_frequencies_hz;
 
   nlohmann::json j = lti::to_json(ss, make_provenance(a.model, "flexloop linearise"));
-  j["natural_frequencies_hz"] =
-      std::vector<double>(modes.frequencies_hz.data(), modes.frequencies_hz.data() + nd);
+  j["natural_frequencies_hz"] = std::vector<double>(f.data(), f.data() + f.size());
   j["generalised_coordinates"] = m.generalised;
   j["dynamic_count"] = nd;
   j["matrices"] = {{"M", matrix_json(lin.M)}, {"C", matrix_json(lin.C)}, {"D", matrix_json(lin.D)},
@@ -72,7 +53,9 @@ void run(LineariseArgs a) {
   std::printf("state      %ld states, %ld inputs, %ld outputs\n", static_cast<long>(ss.nx()),
               static_cast<long>(ss.nu()), static_cast<long>(ss.ny()));
   std::printf("frequencies (Hz):");
-  for (int i = 0; i < nd; ++i) std::printf(" %.4g", modes.frequencies_hz(i));
+  for (Eigen::Index i = 0; i < f.size(); ++i) std::printf(" %.4g", f(i));
+  if (r.massless_condensed > 0)
+    std::printf(" (%d massless directions condensed)", r.massless_condensed);
   std::printf("\ngeometric stiffness |G|/|K| = %.3g\n",
               lin.G.norm() / std::max(lin.K.norm(), 1e-300));
   std::printf("wrote      %s\n", a.output.c_str());

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   app.set_help_all_flag("--help-all", "Help for every subcommand");
   flexloop::cli::register_version(app);
   flexloop::cli::register_linearise(app);
+  flexloop::cli::register_analyse(app);
   flexloop::cli::register_discretise(app);
   try {
     app.parse(argc, argv);

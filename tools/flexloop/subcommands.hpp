@@ -9,5 +9,6 @@ namespace flexloop::cli {
 void register_version(CLI::App& app);
 void register_discretise(CLI::App& app);
 void register_linearise(CLI::App& app);
+void register_analyse(CLI::App& app);
 
 }  // namespace flexloop::cli

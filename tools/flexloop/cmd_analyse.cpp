@@ -1,0 +1,135 @@
+// `flexloop analyse MODEL [--input NAME]... [--output NAME]... [--out-dir DIR]`
+// Modes, buckling multipliers and the frequency response of a linearised model: printed, and
+// written as analysis.json, frequency_response.csv, singular_values.csv, bode.png and
+// singular_values.png in DIR.
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+
+#include "plant/lti/frequency_response.hpp"
+#include "plant/lti/modal_analysis.hpp"
+#include "plant/lti/state_space_json.hpp"
+#include "plant/model/input_error.hpp"
+#include "tools/flexloop/linearised_model.hpp"
+#include "tools/flexloop/provenance.hpp"
+#include "tools/flexloop/subcommands.hpp"
+#include "tools/report/csv_writer.hpp"
+#include "tools/report/plot.hpp"
+
+namespace flexloop::cli {
+
+namespace {
+
+namespace lti = plant::lti;
+
+struct AnalyseArgs {
+  std::string model, out_dir = "out/analyse";
+  std::vector<std::string> inputs, outputs;
+  double f_min = 0.01, f_max = 1000.0;
+  int points = 400;
+};
+
+void run(const AnalyseArgs& a) {
+  if (!(a.f_min > 0 && a.f_max > a.f_min && a.points >= 2))
+    throw InputError("--fmin/--fmax/--points", "need 0 < fmin < fmax and at least 2 points");
+  const LinearisedModel r = linearise_model_file(a.model, a.inputs, a.outputs);
+  const auto& m = r.model;
+  const auto& ss = r.ss;
+  const int nd = m.nd();
+  std::filesystem::create_directories(a.out_dir);
+  const std::string dir = a.out_dir + "/";
+
+  // Modes and buckling.
+  std::printf("natural frequencies of %s (%d dynamic coordinates", m.name.c_str(), nd);
+  if (r.massless_condensed) std::printf(", %d massless directions condensed", r.massless_condensed);
+  std::printf("):\n");
+  for (Eigen::Index i = 0; i < r.natural_frequencies_hz.size(); ++i)
+    std::printf("  mode %2ld  %12.6g Hz\n", static_cast<long>(i + 1), r.natural_frequencies_hz(i));
+  const Eigen::MatrixXd Kdd = r.lin.K.topLeftCorner(nd, nd), Gdd = r.lin.G.topLeftCorner(nd, nd);
+  Eigen::VectorXd buckling;
+  if (Gdd.norm() > 1e-12 * std::max(Kdd.norm(), 1e-300)) {
+    buckling = lti::buckling_multipliers(Kdd, Gdd);
+    std::printf("buckling multipliers (det(K + lambda G) = 0, load = lambda x present preload):");
+    for (Eigen::Index i = 0; i < std::min<Eigen::Index>(buckling.size(), 6); ++i)
+      std::printf(" %.6g", buckling(i));
+    std::printf("\n");
+  } else {
+    std::printf("no preload: geometric stiffness is zero, no buckling multipliers\n");
+  }
+
+  // Frequency response and singular values.
+  const auto f = lti::log_frequency_grid_hz(a.f_min, a.f_max, a.points);
+  const auto G = lti::frequency_response(ss, f);
+  const Eigen::MatrixXd sv = lti::singular_values(G);
+  std::vector<std::string> header{"frequency_hz"};
+  std::vector<std::vector<double>> cols{f};
+  std::vector<report::BodeSeries> bode;
+  for (Eigen::Index o = 0; o < ss.ny(); ++o) {
+    for (Eigen::Index i = 0; i < ss.nu(); ++i) {
+      const auto g = report::channel(G, o, i);
+      const std::string name = ss.outputs[o] + " / " + ss.inputs[i];
+      std::vector<double> mag, ph;
+      for (const auto& c : g)
+        mag.push_back(20 * std::log10(std::abs(c))), ph.push_back(std::arg(c) * 180 / M_PI);
+      header.push_back(name + " [dB]");
+      header.push_back(name + " [deg]");
+      cols.push_back(mag);
+      cols.push_back(ph);
+      if (bode.size() < 8) bode.push_back({name, f, g, ""});
+    }
+  }
+  report::write_csv_columns(dir + "frequency_response.csv", header, cols);
+  std::vector<std::string> sv_header{"frequency_hz"};
+  std::vector<std::vector<double>> sv_cols{f};
+  for (Eigen::Index k = 0; k < sv.cols(); ++k) {
+    sv_header.push_back("sigma" + std::to_string(k + 1) + " [dB]");
+    std::vector<double> col;
+    for (Eigen::Index i = 0; i < sv.rows(); ++i) col.push_back(20 * std::log10(sv(i, k)));
+    sv_cols.push_back(col);
+  }
+  report::write_csv_columns(dir + "singular_values.csv", sv_header, sv_cols);
+  report::plot_bode({m.name + ": frequency response", "", "", true, false}, bode, dir + "bode.png");
+  report::plot_singular_values({m.name + ": singular values", "", "", true, false},
+                               {{m.name, f, sv, ""}}, dir + "singular_values.png");
+
+  nlohmann::json j = {
+      {"natural_frequencies_hz",
+       std::vector<double>(r.natural_frequencies_hz.data(),
+                           r.natural_frequencies_hz.data() + r.natural_frequencies_hz.size())},
+      {"buckling_multipliers",
+       std::vector<double>(buckling.data(), buckling.data() + buckling.size())},
+      {"state_space", lti::to_json(ss)},
+      {"provenance", make_provenance(a.model, "flexloop analyse")}};
+  nlohmann::json poles = nlohmann::json::array();
+  for (const auto& p : lti::poles(ss)) poles.push_back({p.real(), p.imag()});
+  j["poles"] = poles;
+  lti::write_json_atomically(dir + "analysis.json", j);
+  std::printf(
+      "wrote %s{analysis.json, frequency_response.csv, singular_values.csv, bode.png, "
+      "singular_values.png}\n",
+      dir.c_str());
+}
+
+}  // namespace
+
+void register_analyse(CLI::App& app) {
+  auto args = std::make_shared<AnalyseArgs>();
+  auto* cmd = app.add_subcommand("analyse",
+                                 "Modes, buckling multipliers and frequency response of a model");
+  cmd->add_option("model", args->model, "Model file (TOML)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--input,-i", args->inputs, "Input channel (as for linearise)");
+  cmd->add_option("--output,-O", args->outputs, "Output channel (as for linearise)");
+  cmd->add_option("--out-dir", args->out_dir, "Directory for JSON, CSV and PNG files")
+      ->capture_default_str();
+  cmd->add_option("--fmin", args->f_min, "Lowest frequency, Hz")->capture_default_str();
+  cmd->add_option("--fmax", args->f_max, "Highest frequency, Hz")->capture_default_str();
+  cmd->add_option("--points", args->points, "Frequencies on the log grid")->capture_default_str();
+  cmd->footer(
+      "Example:\n  flexloop analyse tools/models/cart.toml -i acc:x.1 -O pos:x.2 --out-dir "
+      "out/cart");
+  cmd->callback([args] { run(*args); });
+}
+
+}  // namespace flexloop::cli
