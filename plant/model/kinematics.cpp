@@ -92,6 +92,37 @@ std::vector<Eigen::MatrixXd> block_hessians(const Model& m, const DeformationBlo
   return H;
 }
 
+// Gradient over the local coordinates of v^T Hessian(D_k) v for each k: a second directional
+// derivative along v (two nested one-direction levels) on a base scalar that carries the
+// gradient over x, i.e. third derivatives of D contracted twice with v.
+Eigen::MatrixXd block_curvature_gradient(const Model& m, const DeformationBlock& b,
+                                         const Eigen::VectorXd& xl, const Eigen::VectorXd& vl) {
+  using Base = Ad;
+  using BaseVec = Eigen::Matrix<Base, Eigen::Dynamic, 1>;
+  using L1 = Eigen::AutoDiffScalar<BaseVec>;
+  using L2 = Eigen::AutoDiffScalar<Eigen::Matrix<L1, Eigen::Dynamic, 1>>;
+  const auto n = xl.size();
+  auto constant = [&](double v) { return Base(v, Eigen::VectorXd::Zero(n)); };
+  Eigen::Matrix<L2, Eigen::Dynamic, 1> xa(n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    // x_i + t1 v_i + t2 v_i: the t1 t2 coefficient of D is v^T Hess(D) v.
+    const L1 value(Base(xl(i), n, i), BaseVec::Constant(1, constant(vl(i))));
+    Eigen::Matrix<L1, Eigen::Dynamic, 1> der(1);
+    der(0) = L1(constant(vl(i)), BaseVec::Constant(1, constant(0.0)));
+    xa(i) = L2(value, der);
+  }
+  const auto e = block_deformations<L2>(m, b, xa);
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(b.count, n);
+  for (int k = 0; k < b.count; ++k) {
+    const auto& d1 = e(k).derivatives();
+    if (d1.size() != 1) continue;
+    const auto& d2 = d1(0).derivatives();
+    if (d2.size() != 1 || d2(0).derivatives().size() != n) continue;
+    G.row(k) = d2(0).derivatives().transpose();
+  }
+  return G;
+}
+
 }  // namespace
 
 std::vector<DeformationBlock> deformation_blocks(const Model& m) {
@@ -167,6 +198,37 @@ Eigen::VectorXd deformation_curvature(const Model& m, const std::vector<Deformat
     for (int k = 0; k < b.count; ++k) c(b.first + k) = vl.dot(Hl[static_cast<std::size_t>(k)] * vl);
   }
   return c;
+}
+
+Eigen::MatrixXd deformation_hessian_times(const Model& m,
+                                          const std::vector<DeformationBlock>& blocks,
+                                          const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
+  Eigen::MatrixXd Hv = Eigen::MatrixXd::Zero(m.ne(), m.nx());
+  for (const auto& b : blocks) {
+    const Eigen::VectorXd vl = gather(b, v);
+    if (vl.isZero(0.0)) continue;
+    const auto Hl = block_hessians(m, b, gather(b, x));
+    for (int k = 0; k < b.count; ++k) {
+      const Eigen::VectorXd row = Hl[static_cast<std::size_t>(k)] * vl;
+      for (std::size_t i = 0; i < b.coords.size(); ++i)
+        Hv(b.first + k, b.coords[i]) += row(static_cast<Eigen::Index>(i));
+    }
+  }
+  return Hv;
+}
+
+Eigen::MatrixXd deformation_curvature_gradient(const Model& m,
+                                               const std::vector<DeformationBlock>& blocks,
+                                               const Eigen::VectorXd& x, const Eigen::VectorXd& v) {
+  Eigen::MatrixXd G = Eigen::MatrixXd::Zero(m.ne(), m.nx());
+  for (const auto& b : blocks) {
+    const Eigen::VectorXd vl = gather(b, v);
+    if (vl.isZero(0.0)) continue;
+    const Eigen::MatrixXd Gl = block_curvature_gradient(m, b, gather(b, x), vl);
+    for (std::size_t i = 0; i < b.coords.size(); ++i)
+      G.block(b.first, b.coords[i], b.count, 1) += Gl.col(static_cast<Eigen::Index>(i));
+  }
+  return G;
 }
 
 }  // namespace flexloop::plant::model

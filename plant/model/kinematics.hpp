@@ -38,4 +38,14 @@ Eigen::MatrixXd weighted_deformation_hessian(const Model& m,
 Eigen::VectorXd deformation_curvature(const Model& m, const std::vector<DeformationBlock>& blocks,
                                       const Eigen::VectorXd& x, const Eigen::VectorXd& v);
 
+/// Rows k = (Hessian(D_k)(x) v)^T: the directional derivative of the Jacobian, (n_e x n_x).
+Eigen::MatrixXd deformation_hessian_times(const Model& m,
+                                          const std::vector<DeformationBlock>& blocks,
+                                          const Eigen::VectorXd& x, const Eigen::VectorXd& v);
+
+/// Rows k = gradient over x of v^T Hessian(D_k)(x) v (third derivatives of D), (n_e x n_x).
+Eigen::MatrixXd deformation_curvature_gradient(const Model& m,
+                                               const std::vector<DeformationBlock>& blocks,
+                                               const Eigen::VectorXd& x, const Eigen::VectorXd& v);
+
 }  // namespace flexloop::plant::model

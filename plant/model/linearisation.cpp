@@ -1,6 +1,8 @@
 #include "plant/model/linearisation.hpp"
 
+#include <unsupported/Eigen/AutoDiff>
 #include "plant/model/inertia.hpp"
+
 #include "plant/model/input_error.hpp"
 #include "plant/model/kinematics.hpp"
 
@@ -14,6 +16,64 @@ Eigen::MatrixXd dependent_block(const Eigen::MatrixXd& J, const Partition& p) {
     for (std::size_t j = 0; j < p.x_dependent.size(); ++j)
       B(i, j) = J(p.g_rows[i], p.x_dependent[j]);
   return B;
+}
+
+// Solves J_gc Y_c = -RHS_g for the dependent rows (other rows of Y are zero); RHS has n_e rows,
+// of which the rigid and generalised (g) rows are used.
+Eigen::MatrixXd implicit_solve(const Model& m, const Partition& p,
+                               const Eigen::PartialPivLU<Eigen::MatrixXd>& lu,
+                               const Eigen::MatrixXd& rhs_e) {
+  Eigen::MatrixXd Y = Eigen::MatrixXd::Zero(m.nx(), rhs_e.cols());
+  if (p.x_dependent.empty()) return Y;
+  Eigen::MatrixXd rhs_g(p.g_rows.size(), rhs_e.cols());
+  for (std::size_t k = 0; k < p.g_rows.size(); ++k)
+    rhs_g.row(static_cast<Eigen::Index>(k)) = rhs_e.row(p.g_rows[k]);
+  const Eigen::MatrixXd Yc = lu.solve(-rhs_g);
+  for (std::size_t j = 0; j < p.x_dependent.size(); ++j)
+    Y.row(p.x_dependent[j]) = Yc.row(static_cast<Eigen::Index>(j));
+  return Y;
+}
+
+// Inertia force of a 3-D rotational node, 4 L^T J L l'' + 8 L(l')^T J L(l) l', for AD.
+template <class T>
+Eigen::Matrix<T, 4, 1> euler_inertia_force(const Eigen::Matrix3d& Jb,
+                                           const Eigen::Matrix<T, 4, 1>& l,
+                                           const Eigen::Matrix<T, 4, 1>& ld,
+                                           const Eigen::Matrix<T, 4, 1>& ldd) {
+  auto Lm = [](const Eigen::Matrix<T, 4, 1>& a) {
+    Eigen::Matrix<T, 3, 4> L;
+    L << -a(1), a(0), a(3), -a(2), -a(2), -a(3), a(0), a(1), -a(3), a(2), -a(1), a(0);
+    return L;
+  };
+  const Eigen::Matrix<T, 3, 3> Jt = Jb.cast<T>();
+  const Eigen::Matrix<T, 3, 4> L = Lm(l);
+  return T(4.0) * L.transpose() * (Jt * (L * ldd)) + T(8.0) * Lm(ld).transpose() * (Jt * (L * ld));
+}
+
+// d(g_in)/dx and d(g_in)/dx' at (x, x', x''), n_x x n_x each (translations and planar
+// rotations have constant mass and no velocity terms).
+void inertia_force_derivatives(const Model& m, const Eigen::VectorXd& x, const Eigen::VectorXd& xd,
+                               const Eigen::VectorXd& xdd, Eigen::MatrixXd& dgdx,
+                               Eigen::MatrixXd& dgdxd) {
+  using Ad = Eigen::AutoDiffScalar<Eigen::VectorXd>;
+  dgdx = Eigen::MatrixXd::Zero(m.nx(), m.nx());
+  dgdxd = Eigen::MatrixXd::Zero(m.nx(), m.nx());
+  if (m.dim != 3) return;
+  for (const auto& n : m.nodes) {
+    if (!n.rotational) continue;
+    const int r = n.first_coordinate + 3;
+    Eigen::Matrix<Ad, 4, 1> l, ld, ldd;
+    for (int i = 0; i < 4; ++i) {
+      l(i) = Ad(x(r + i), 8, i);
+      ld(i) = Ad(xd(r + i), 8, 4 + i);
+      ldd(i) = Ad(xdd(r + i), Eigen::VectorXd::Zero(8));
+    }
+    const auto g = euler_inertia_force<Ad>(n.inertia, l, ld, ldd);
+    for (int i = 0; i < 4; ++i) {
+      dgdx.block<1, 4>(r + i, r) = g(i).derivatives().head<4>().transpose();
+      dgdxd.block<1, 4>(r + i, r) = g(i).derivatives().tail<4>().transpose();
+    }
+  }
 }
 
 bool is_zero(const Eigen::VectorXd& v) {
@@ -46,11 +106,7 @@ Linearisation linearise(const Model& m, const OperatingPoint& op) {
   L.qd = op.qd.size() ? op.qd : Eigen::VectorXd::Zero(nq);
   L.qdd = op.qdd.size() ? op.qdd : Eigen::VectorXd::Zero(nq);
   const Eigen::VectorXd sigma_a = op.sigma_a.size() ? op.sigma_a : Eigen::VectorXd::Zero(m.ne());
-  if (!is_zero(L.qd) || !is_zero(L.qdd))
-    throw InputError(
-        m.file,
-        "linearisation about a moving configuration (non-zero q' or q'') is not implemented yet; "
-        "linearise about a stationary configuration");
+  const bool stationary = is_zero(L.qd) && is_zero(L.qdd);
 
   // Kinematics: x, DF, x', x''.
   L.x = solve_configuration(m, p, blocks, L.q, m.x_reference);
@@ -92,10 +148,32 @@ Linearisation linearise(const Model& m, const OperatingPoint& op) {
   L.D = L.DFe.transpose() * L.Sd * L.DFe;
   L.G = L.DFx.transpose() * weighted_deformation_hessian(m, blocks, L.x, L.sigma) * L.DFx;
 
-  // Velocity and acceleration dependent terms vanish at a stationary point.
+  // Velocity and acceleration terms (all zero at a stationary point).
   L.Vx = L.Wx = L.Zx = Eigen::MatrixXd::Zero(m.nx(), nq);
   L.Ved = Eigen::MatrixXd::Zero(m.ne(), nq);
   L.C = L.N = Eigen::MatrixXd::Zero(nq, nq);
+  if (!stationary) {
+    Eigen::PartialPivLU<Eigen::MatrixXd> lu;
+    if (!p.x_dependent.empty()) lu.compute(dependent_block(L.J, p));
+    const Eigen::MatrixXd Hxd = deformation_hessian_times(m, blocks, L.x, L.xd);  // rows (H_k x')^T
+    const Eigen::MatrixXd Hxdd =
+        deformation_hessian_times(m, blocks, L.x, L.xdd);  // rows (H_k x'')^T
+    const Eigen::MatrixXd dc_dx = deformation_curvature_gradient(m, blocks, L.x, L.xd);
+    // Differentiate J_g x' = P_e q' and J_g x'' + x'^T H_g x' = P_e q'' (x(o), x(m) rows known):
+    //   V = dx'/dq:    J_g V = -(H x')_g DF
+    //   Z = dx''/dq':  J_g Z = -2 (H x')_g DF
+    //   W = dx''/dq:   J_g W = -[(H x'')_g DF + d(x'^T H x')/dx DF + 2 (H x')_g V]
+    L.Vx = implicit_solve(m, p, lu, Hxd * L.DFx);
+    L.Zx = implicit_solve(m, p, lu, 2.0 * Hxd * L.DFx);
+    L.Wx = implicit_solve(m, p, lu, Hxdd * L.DFx + dc_dx * L.DFx + 2.0 * Hxd * L.Vx);
+    L.Ved = Hxd * L.DFx + L.J * L.Vx;  // e' = J x'
+    Eigen::MatrixXd dgdx, dgdxd;
+    inertia_force_derivatives(m, L.x, L.xd, L.xdd, dgdx, dgdxd);
+    // R = DF^T a + DF(e)^T sigma with a = g_in(x, x', x'') - f and sigma = S e + S_d e' + sigma_a.
+    L.C = L.DFx.transpose() * (L.Mx * L.Zx + dgdxd * L.DFx);
+    L.N = L.DFx.transpose() * (dgdx * L.DFx + dgdxd * L.Vx + L.Mx * L.Wx) +
+          L.DFe.transpose() * L.Sd * L.Ved;
+  }
   return L;
 }
 

@@ -13,9 +13,10 @@
 //          is the stress that balances the nodal forces (equations of reaction),
 //   Nbar = dR/dq - Kbar - Gbar (velocity and acceleration terms; zero at a stationary point).
 // The second-order geometric transfer function enters Gbar through the Lagrangian form of
-// implicit differentiation, with element Hessians from nested automatic differentiation.
-// Scope today: stationary operating points (q' = q'' = 0), where Cbar = Nbar = 0; a moving
-// operating point is refused (it needs third derivatives of the deformations for Nbar).
+// implicit differentiation, with element Hessians from nested automatic differentiation; at a
+// moving operating point, Cbar and Nbar need D2F(x) q' and D3F(x) q' q', obtained by
+// differentiating the velocity and acceleration constraints once more (third derivatives of the
+// deformations by three-level nested AD, contracted twice with x').
 #include <Eigen/Dense>
 
 #include "plant/model/configuration.hpp"
@@ -46,8 +47,7 @@ struct Linearisation {
   Eigen::MatrixXd M, C, D, K, N, G;  // the linearised matrices (n_q x n_q)
 };
 
-/// Linearise about `op`. Throws flexloop::InputError for a kinematic singularity or a moving
-/// operating point.
+/// Linearise about `op`. Throws flexloop::InputError for a kinematic singularity.
 Linearisation linearise(const Model& m, const OperatingPoint& op = {});
 
 /// The nonlinear residual R(q, q', q'') of the equations of motion (n_q), for tests and
