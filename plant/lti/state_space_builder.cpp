@@ -3,6 +3,7 @@
 #include <sstream>
 
 #include "plant/model/input_error.hpp"
+#include "plant/model/released_model.hpp"
 
 namespace flexloop::plant::lti {
 
@@ -225,12 +226,34 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
         combine(2, lin.DFx.row(i), s), combine(1, lin.Zx.row(i), s), combine(0, lin.Wx.row(i), s);
     } else if (k >= 0 && kind == "pos") {
       combine(0, lin.DFe.row(k), s);
+    } else if ((i >= 0 && kind == "reaction") ||
+               (k >= 0 && kind == "stress" &&
+                (m.deformation_roles[k] == model::DeformationRole::kRigid ||
+                 m.deformation_roles[k] == model::DeformationRole::kInert))) {
+      // Equations of reaction by virtual work: release the coordinate into a prescribed one held
+      // at its value; its generalised force is the support force (a rigid deformation's stress is
+      // minus it, since d e_k / d q_k = 1).
+      const model::Model released = model::release_to_prescribed(m, target);
+      model::OperatingPoint op;
+      op.q = model::reference_generalised(released);
+      op.q.head(m.nq()) = lin.q;
+      op.qd = Eigen::VectorXd::Zero(released.nq());
+      op.qdd = Eigen::VectorXd::Zero(released.nq());
+      op.qd.head(m.nq()) = lin.qd;
+      op.qdd.head(m.nq()) = lin.qdd;
+      op.sigma_a = lin.sigma_a;
+      const model::Linearisation rl = model::linearise(released, op);
+      const int ia = m.nq();
+      const double sign = kind == "reaction" ? 1.0 : -1.0;
+      combine(2, sign * rl.M.row(ia).head(m.nq()), s);
+      combine(1, sign * (rl.C + rl.D).row(ia).head(m.nq()), s);
+      combine(0, sign * (rl.K + rl.N + rl.G).row(ia).head(m.nq()), s);
+      for (int j = 0; j < nu; ++j) {
+        const auto [in_kind, in_target] = split(inputs[j], "input");
+        if (in_kind == "force") s.du(j) -= sign * rl.DFx(m.coordinate_index(in_target), ia);
+        if (in_kind == "stress") s.du(j) += sign * rl.DFe(m.deformation_index(in_target), ia);
+      }
     } else if (k >= 0 && kind == "stress") {
-      if (m.deformation_roles[k] == model::DeformationRole::kRigid ||
-          m.deformation_roles[k] == model::DeformationRole::kInert)
-        throw InputError(
-            place,
-            "stress outputs of rigid deformations (reaction stresses) are not available yet");
       combine(0, lin.S.row(k) * lin.DFe + lin.Sd.row(k) * lin.Ved, s);
       combine(1, lin.Sd.row(k) * lin.DFe, s);
       if (stress_in[k] >= 0) s.du(stress_in[k]) += 1.0;
@@ -240,7 +263,8 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
       throw InputError(
           place,
           "unknown output kind '" + kind +
-              "' for this target (pos/vel/acc of a nodal coordinate, pos/stress of a deformation)");
+              "' for this target (pos/vel/acc/reaction of a nodal coordinate, pos/stress of a "
+              "deformation)");
     }
     ss.C.row(static_cast<Eigen::Index>(o)) = s.cz;
     ss.D.row(static_cast<Eigen::Index>(o)) = s.du;

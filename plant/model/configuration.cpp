@@ -11,9 +11,14 @@ namespace {
 
 Eigen::MatrixXd select(const Eigen::MatrixXd& A, const std::vector<int>& rows,
                        const std::vector<int>& cols) {
+  // Column-major on both sides: the inner loop runs down a column (a strided row-wise walk of
+  // a large A costs a cache miss per entry).
   Eigen::MatrixXd S(rows.size(), cols.size());
-  for (std::size_t i = 0; i < rows.size(); ++i)
-    for (std::size_t j = 0; j < cols.size(); ++j) S(i, j) = A(rows[i], cols[j]);
+  for (std::size_t j = 0; j < cols.size(); ++j) {
+    const auto a = A.col(cols[j]);
+    for (std::size_t i = 0; i < rows.size(); ++i)
+      S(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(j)) = a(rows[i]);
+  }
   return S;
 }
 

@@ -1,5 +1,7 @@
 #include "plant/model/linearisation.hpp"
 
+#include <algorithm>
+
 #include <unsupported/Eigen/AutoDiff>
 #include "plant/model/inertia.hpp"
 
@@ -97,6 +99,21 @@ Eigen::VectorXd reference_generalised(const Model& m) {
   return generalised_from_x(m, p, deformation_blocks(m), m.x_reference);
 }
 
+OperatingPoint model_operating_point(const Model& m) {
+  OperatingPoint op;
+  op.q = reference_generalised(m);
+  op.qd = Eigen::VectorXd::Zero(m.nq());
+  op.qdd = Eigen::VectorXd::Zero(m.nq());
+  auto index = [&](const std::string& label) {
+    return static_cast<Eigen::Index>(std::find(m.generalised.begin(), m.generalised.end(), label) -
+                                     m.generalised.begin());
+  };
+  for (const auto& [label, v] : m.op_q) op.q(index(label)) = v;
+  for (const auto& [label, v] : m.op_qd) op.qd(index(label)) = v;
+  for (const auto& [label, v] : m.op_qdd) op.qdd(index(label)) = v;
+  return op;
+}
+
 Linearisation linearise(const Model& m, const OperatingPoint& op) {
   const Partition p = make_partition(m);
   const auto blocks = deformation_blocks(m);
@@ -105,7 +122,8 @@ Linearisation linearise(const Model& m, const OperatingPoint& op) {
   L.q = op.q.size() ? op.q : generalised_from_x(m, p, blocks, m.x_reference);
   L.qd = op.qd.size() ? op.qd : Eigen::VectorXd::Zero(nq);
   L.qdd = op.qdd.size() ? op.qdd : Eigen::VectorXd::Zero(nq);
-  const Eigen::VectorXd sigma_a = op.sigma_a.size() ? op.sigma_a : Eigen::VectorXd::Zero(m.ne());
+  L.sigma_a = op.sigma_a.size() ? op.sigma_a : Eigen::VectorXd::Zero(m.ne());
+  const Eigen::VectorXd& sigma_a = L.sigma_a;
   const bool stationary = is_zero(L.qd) && is_zero(L.qdd);
 
   // Kinematics: x, DF, x', x''.

@@ -33,6 +33,7 @@ struct OperatingPoint {
 struct Linearisation {
   Eigen::VectorXd q, qd, qdd;  // the operating point
   Eigen::VectorXd x, xd, xdd;  // nodal coordinates and rates there
+  Eigen::VectorXd sigma_a;     // actuator stresses of the operating point (n_e)
   Eigen::VectorXd e, ed,
       sigma;                 // deformations, rates, stresses (rigid/generalised: from equilibrium)
   Eigen::VectorXd f;         // applied nodal forces
@@ -58,6 +59,9 @@ Eigen::VectorXd equations_of_motion_residual(const Model& m, const Eigen::Vector
 
 /// Global stiffness S and damping S_d (n_e x n_e, block diagonal over elements).
 void global_constitutive(const Model& m, Eigen::MatrixXd& S, Eigen::MatrixXd& Sd);
+
+/// The operating point the model file asks for ([configuration]; reference and at rest if absent).
+OperatingPoint model_operating_point(const Model& m);
 
 /// Reference (undeformed) generalised coordinates q0.
 Eigen::VectorXd reference_generalised(const Model& m);

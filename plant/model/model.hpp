@@ -86,6 +86,9 @@ struct Model {
   std::vector<std::string> generalised;  // q labels, dynamic first, then prescribed
   int dynamic_count = 0;                 // number of q_d
   Eigen::VectorXd x_reference;           // the undeformed configuration
+  // The operating point from the [configuration] table: values per generalised coordinate label
+  // (q: absolute nodal value or deformation; qd, qdd: rates). Unlisted: reference, zero, zero.
+  std::vector<std::pair<std::string, double>> op_q, op_qd, op_qdd;
 
   int nx() const { return static_cast<int>(coordinate_labels.size()); }
   int ne() const { return static_cast<int>(deformation_labels.size()); }

@@ -168,6 +168,29 @@ int Model::deformation_index(const std::string& label) const {
   return it == deformation_labels.end() ? -1 : static_cast<int>(it - deformation_labels.begin());
 }
 
+void mark_inert_deformations(Model& m) {
+  // Rigid deformations that involve fixed coordinates only are identities, not equations.
+  for (auto& role : m.deformation_roles)
+    if (role == DeformationRole::kInert) role = DeformationRole::kRigid;
+  auto all_fixed = [&](const Node& n, int first, int count) {
+    for (int c = first; c < first + count; ++c)
+      if (m.coordinate_roles[n.first_coordinate + c] != CoordinateRole::kFixed) return false;
+    return true;
+  };
+  for (const auto& n : m.nodes)
+    if (n.euler_deformation >= 0 && all_fixed(n, 3, 4) &&
+        m.deformation_roles[n.euler_deformation] == DeformationRole::kRigid)
+      m.deformation_roles[n.euler_deformation] = DeformationRole::kInert;
+  for (const auto& el : m.elements) {
+    const Node& p = m.nodes[el.nodes[0]];
+    const Node& q = m.nodes[el.nodes[1]];
+    if (!all_fixed(p, 0, p.coordinate_count) || !all_fixed(q, 0, q.coordinate_count)) continue;
+    for (int k = 0; k < el.deformation_count(); ++k)
+      if (m.deformation_roles[el.first_deformation + k] == DeformationRole::kRigid)
+        m.deformation_roles[el.first_deformation + k] = DeformationRole::kInert;
+  }
+}
+
 Model parse_model(const std::string& text, const std::string& file) {
   toml::table root;
   try {
@@ -177,7 +200,7 @@ Model parse_model(const std::string& text, const std::string& file) {
                      std::string(e.description()));
   }
   Reader top(root, file, "model file");
-  top.allow_only({"model", "node", "element", "coordinates"});
+  top.allow_only({"model", "node", "element", "coordinates", "configuration"});
 
   Model m;
   m.file = file;
@@ -445,26 +468,32 @@ Model parse_model(const std::string& text, const std::string& file) {
     }
   }
   m.dynamic_count = static_cast<int>(m.generalised.size());
-
-  // Rigid deformations that involve fixed coordinates only are identities, not equations.
-  auto all_fixed = [&](const Node& n, int first, int count) {
-    for (int c = first; c < first + count; ++c)
-      if (m.coordinate_roles[n.first_coordinate + c] != CoordinateRole::kFixed) return false;
-    return true;
-  };
-  for (const auto& n : m.nodes)
-    if (n.euler_deformation >= 0 && all_fixed(n, 3, 4))
-      m.deformation_roles[n.euler_deformation] = DeformationRole::kInert;
-  for (const auto& el : m.elements) {
-    const Node& p = m.nodes[el.nodes[0]];
-    const Node& q = m.nodes[el.nodes[1]];
-    if (!all_fixed(p, 0, p.coordinate_count) || !all_fixed(q, 0, q.coordinate_count)) continue;
-    for (int k = 0; k < el.deformation_count(); ++k)
-      if (m.deformation_roles[el.first_deformation + k] == DeformationRole::kRigid)
-        m.deformation_roles[el.first_deformation + k] = DeformationRole::kInert;
-  }
   m.generalised.insert(m.generalised.end(), prescribed.begin(), prescribed.end());
   if (m.dynamic_count == 0) cr.fail("no dynamic coordinates: list at least one in 'dynamic'");
+
+  mark_inert_deformations(m);
+
+  // Operating point (optional): { label = value } tables for q, qd, qdd.
+  if (const auto* cfg = root["configuration"].as_table()) {
+    Reader fr(*cfg, file, "[configuration]");
+    fr.allow_only({"q", "qd", "qdd"});
+    for (const auto& [key, out] :
+         {std::pair{"q", &m.op_q}, std::pair{"qd", &m.op_qd}, std::pair{"qdd", &m.op_qdd}}) {
+      const auto* n = fr.get(key);
+      if (!n) continue;
+      const auto* t = n->as_table();
+      if (!t)
+        fr.fail("'" + std::string(key) + "' must be a table of generalised coordinate = value", n);
+      for (const auto& [label, value] : *t) {
+        const std::string l(label.str());
+        if (std::find(m.generalised.begin(), m.generalised.end(), l) == m.generalised.end())
+          fr.fail("'" + l + "' is not a generalised coordinate (dynamic or prescribed)", &value);
+        const auto v = value.value<double>();
+        if (!v || !std::isfinite(*v)) fr.fail("'" + l + "' must be a finite number", &value);
+        out->emplace_back(l, *v);
+      }
+    }
+  }
 
   // Count check: the dependent coordinates are solved from the rigid and generalised deformations.
   int n_dependent = 0, n_equations = 0;

@@ -11,4 +11,8 @@ namespace flexloop::plant::model {
 Model load_model(const std::string& path);
 Model parse_model(const std::string& toml_text, const std::string& file_name);
 
+/// Marks rigid deformations whose coordinates are all fixed as inert (identities, not equations);
+/// called again whenever the partition changes.
+void mark_inert_deformations(Model& m);
+
 }  // namespace flexloop::plant::model

@@ -133,3 +133,24 @@ dynamic = ["e1.a", "e1.b"]
 )");
   CHECK_THAT(msg, Catch::Contains("mass matrix") && Catch::Contains("e1.a"));
 }
+
+TEST_CASE("model file: [configuration] sets the operating point, and names bad labels") {
+  const std::string base = kHead + R"([[element]]
+id = "s"
+type = "truss"
+nodes = ["1", "2"]
+stiffness = 10.0
+[coordinates]
+fixed = ["x.1", "y.1", "y.2"]
+dynamic = ["e1.s"]
+)";
+  const auto m = model::parse_model(
+      base + "[configuration]\nq = { \"e1.s\" = 0.02 }\nqd = { \"e1.s\" = -0.5 }\n", "cfg.toml");
+  const auto op = model::model_operating_point(m);
+  CHECK(op.q(0) == 0.02);
+  CHECK(op.qd(0) == -0.5);
+  CHECK(op.qdd(0) == 0.0);
+  CHECK_THAT(
+      error_of(base + "[configuration]\nq = { \"x.2\" = 1.0 }\n"),
+      Catch::Contains("bad.toml:19") && Catch::Contains("'x.2' is not a generalised coordinate"));
+}

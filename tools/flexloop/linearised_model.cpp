@@ -21,9 +21,15 @@ LinearisedModel linearise_model_file(const std::string& path, std::vector<std::s
   }
   if (outputs.empty())
     for (int i = 0; i < m.nd(); ++i) outputs.push_back("pos:" + m.generalised[i]);
-  r.lin = model::linearise(m);
+  r.lin = model::linearise(m, model::model_operating_point(m));
   r.ss = plant::lti::build_state_space(m, r.lin, inputs, outputs);
-  const auto c = model::condense_massless(m, r.lin, {});
+  // Frequencies of the linearised dynamics about the operating point (Kbar + Nbar + Gbar; at a
+  // moving point the velocity terms C + D are carried as damping).
+  const int nd = m.nd();
+  const std::vector<std::string> labels(m.generalised.begin(), m.generalised.begin() + nd);
+  auto dd = [nd](const Eigen::MatrixXd& A) { return Eigen::MatrixXd(A.topLeftCorner(nd, nd)); };
+  const auto c = model::condense_massless(dd(r.lin.M), dd(r.lin.K + r.lin.N), dd(r.lin.C + r.lin.D),
+                                          dd(r.lin.G), {}, labels);
   r.massless_condensed = c.massless_count;
   r.natural_frequencies_hz = plant::lti::natural_modes(c.M, c.K + c.G).frequencies_hz;
   return r;
