@@ -102,6 +102,13 @@ void run(const AnalyseArgs& a) {
        std::vector<double>(buckling.data(), buckling.data() + buckling.size())},
       {"state_space", lti::to_json(ss)},
       {"provenance", make_provenance(a.model, "flexloop analyse")}};
+  nlohmann::json shapes = nlohmann::json::array();
+  for (Eigen::Index c = 0; c < r.mode_shapes.cols(); ++c)
+    shapes.push_back(std::vector<double>(r.mode_shapes.col(c).data(),
+                                         r.mode_shapes.col(c).data() + r.mode_shapes.rows()));
+  j["mode_shapes"] = shapes;
+  j["mode_shape_coordinates"] =
+      std::vector<std::string>(m.generalised.begin(), m.generalised.begin() + nd);
   nlohmann::json poles = nlohmann::json::array();
   for (const auto& p : lti::poles(ss)) poles.push_back({p.real(), p.imag()});
   j["poles"] = poles;

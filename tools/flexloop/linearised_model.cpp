@@ -10,7 +10,7 @@ namespace flexloop::cli {
 LinearisedModel linearise_model_file(const std::string& path, std::vector<std::string> inputs,
                                      std::vector<std::string> outputs) {
   namespace model = plant::model;
-  LinearisedModel r{model::load_model(path), {}, {}, {}, 0};
+  LinearisedModel r{model::load_model(path), {}, {}, {}, {}, 0};
   const model::Model& m = r.model;
   if (inputs.empty()) {
     for (int i = m.nd(); i < m.nq(); ++i) inputs.push_back("acc:" + m.generalised[i]);
@@ -31,7 +31,9 @@ LinearisedModel linearise_model_file(const std::string& path, std::vector<std::s
   const auto c = model::condense_massless(dd(r.lin.M), dd(r.lin.K + r.lin.N), dd(r.lin.C + r.lin.D),
                                           dd(r.lin.G), {}, labels);
   r.massless_condensed = c.massless_count;
-  r.natural_frequencies_hz = plant::lti::natural_modes(c.M, c.K + c.G).frequencies_hz;
+  const auto modes = plant::lti::natural_modes(c.M, c.K + c.G);
+  r.natural_frequencies_hz = modes.frequencies_hz;
+  r.mode_shapes = c.T * modes.shapes;  // back from the massive coordinates to q_d
   return r;
 }
 

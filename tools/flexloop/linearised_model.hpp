@@ -17,7 +17,8 @@ struct LinearisedModel {
   plant::model::Linearisation lin;
   plant::lti::StateSpace ss;
   Eigen::VectorXd natural_frequencies_hz;
-  int massless_condensed = 0;  // dynamic directions without mass, condensed for the frequencies
+  Eigen::MatrixXd mode_shapes;  // columns over the dynamic coordinates, mass-normalised
+  int massless_condensed = 0;   // dynamic directions without mass, condensed for the frequencies
 };
 
 /// Channels: defaults when empty (every prescribed coordinate as acc:, every actuated
