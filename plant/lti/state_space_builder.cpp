@@ -52,12 +52,14 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
                         KNGdr = KNG.topRightCorner(nd, nr);
   Eigen::LDLT<Eigen::MatrixXd> mdd(Mdd);
   {
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Mdd);
+    // Eigenvalues only for the check; the eigenvectors just to name the massless coordinates.
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Mdd, Eigen::EigenvaluesOnly);
     const double top = es.eigenvalues().cwiseAbs().maxCoeff();
     if (!(es.eigenvalues().minCoeff() > 1e-12 * top)) {
       std::ostringstream os;
       os << "the mass matrix of the dynamic coordinates is singular: no mass is associated with ";
-      const Eigen::VectorXd v = es.eigenvectors().col(0);
+      const Eigen::VectorXd v =
+          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Mdd).eigenvectors().col(0);
       bool first = true;
       for (int i = 0; i < nd; ++i)
         if (std::abs(v(i)) > 0.1) os << (first ? "" : ", ") << m.generalised[i], first = false;
