@@ -195,23 +195,32 @@ Linearisation linearise(const Model& m, const OperatingPoint& op) {
   return L;
 }
 
+NodalMotion nodal_motion(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                         const Eigen::VectorXd& qdd) {
+  const Partition p = make_partition(m);
+  const auto blocks = deformation_blocks(m);
+  NodalMotion n;
+  n.x = solve_configuration(m, p, blocks, q, m.x_reference);
+  n.J = deformation_jacobian(m, blocks, n.x);
+  n.DF = geometric_transfer(m, p, n.J);
+  n.xd = n.DF * qd;
+  n.xdd = n.DF * qdd + convective_acceleration(m, p, blocks, n.x, n.J, n.xd);
+  return n;
+}
+
 Eigen::VectorXd equations_of_motion_residual(const Model& m, const Eigen::VectorXd& q,
                                              const Eigen::VectorXd& qd, const Eigen::VectorXd& qdd,
                                              const Eigen::VectorXd& sigma_a_in) {
   const Partition p = make_partition(m);
   const auto blocks = deformation_blocks(m);
-  const Eigen::VectorXd x = solve_configuration(m, p, blocks, q, m.x_reference);
-  const Eigen::MatrixXd J = deformation_jacobian(m, blocks, x);
-  const Eigen::MatrixXd DF = geometric_transfer(m, p, J);
-  const Eigen::VectorXd xd = DF * qd;
-  const Eigen::VectorXd xdd = DF * qdd + convective_acceleration(m, p, blocks, x, J, xd);
+  const NodalMotion n = nodal_motion(m, q, qd, qdd);
   Eigen::MatrixXd S, Sd;
   global_constitutive(m, S, Sd);
   const Eigen::VectorXd sigma_a = sigma_a_in.size() ? sigma_a_in : Eigen::VectorXd::Zero(m.ne());
-  Eigen::VectorXd sigma = S * deformations(m, blocks, x) + Sd * (J * xd) + sigma_a;
+  Eigen::VectorXd sigma = S * deformations(m, blocks, n.x) + Sd * (n.J * n.xd) + sigma_a;
   for (int k : p.e_rigid) sigma(k) = 0.0;  // DF(e) rows of rigid deformations vanish
-  return DF.transpose() * (inertia_forces(m, x, xd, xdd) - applied_forces(m)) +
-         (J * DF).transpose() * sigma;
+  return n.DF.transpose() * (inertia_forces(m, n.x, n.xd, n.xdd) - applied_forces(m)) +
+         (n.J * n.DF).transpose() * sigma;
 }
 
 }  // namespace flexloop::plant::model

@@ -51,6 +51,15 @@ struct Linearisation {
 /// Linearise about `op`. Throws flexloop::InputError for a kinematic singularity.
 Linearisation linearise(const Model& m, const OperatingPoint& op = {});
 
+/// The nonlinear kinematics at (q, q', q''): x = F(x)(q), x' = DF q', x'' = DF q'' + D2F q' q',
+/// with the deformation Jacobian J and DF(x) there.
+struct NodalMotion {
+  Eigen::VectorXd x, xd, xdd;
+  Eigen::MatrixXd J, DF;
+};
+NodalMotion nodal_motion(const Model& m, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
+                         const Eigen::VectorXd& qdd);
+
 /// The nonlinear residual R(q, q', q'') of the equations of motion (n_q), for tests and
 /// equilibrium iterations.
 Eigen::VectorXd equations_of_motion_residual(const Model& m, const Eigen::VectorXd& q,

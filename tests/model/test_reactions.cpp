@@ -39,51 +39,6 @@ fixed = ["x.1", "y.1", "x.2"]
 dynamic = ["e1.s"]
 )";
 
-const char* kMechanism = R"(
-[model]
-dimension = 2
-gravity = [0.0, -9.81]
-[[node]]
-id = "1"
-position = [0.0, 0.0]
-[[node]]
-id = "2"
-position = [1.0, 0.6]
-mass = 3.0
-[[node]]
-id = "3"
-position = [2.2, 0.0]
-[[node]]
-id = "4"
-position = [1.3, -0.7]
-mass = 1.5
-[[element]]
-id = "a"
-type = "truss"
-nodes = ["1", "2"]
-stiffness = 2.0e4
-damping = 3.0
-[[element]]
-id = "b"
-type = "truss"
-nodes = ["2", "3"]
-stiffness = 1.5e4
-[[element]]
-id = "c"
-type = "truss"
-nodes = ["2", "4"]
-mode = "rigid"
-[[element]]
-id = "d"
-type = "truss"
-nodes = ["3", "4"]
-stiffness = 9.0e3
-damping = 1.0
-[coordinates]
-fixed_nodes = ["1", "3"]
-dynamic = ["e1.a", "e1.b", "e1.d"]
-)";
-
 Eigen::VectorXd fd(const std::function<double(const Eigen::VectorXd&)>& f, const Eigen::VectorXd& v,
                    double h) {
   Eigen::VectorXd g(v.size());
@@ -115,7 +70,7 @@ TEST_CASE("reactions: the support force of a spring-mass obeys Newton's law on t
 TEST_CASE(
     "reactions: the stress in a rigid link equals finite differences of the equations of "
     "reaction") {
-  const auto m = model::parse_model(kMechanism, "mechanism.toml");
+  const auto m = model::load_model("tests/model/models/truss_mechanism.toml");
   const int k = m.deformation_index("e1.c");
   model::OperatingPoint op;
   op.q = model::reference_generalised(m) + Eigen::Vector3d(0.01, -0.02, 0.015);
