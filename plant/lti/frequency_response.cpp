@@ -79,21 +79,20 @@ Eigen::VectorXd balancing_scaling(const Eigen::MatrixXd& A) {
   return t;
 }
 
-std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys,
-                                                 const std::vector<double>& freqs_hz,
-                                                 const FrequencyResponseOptions& options) {
+std::vector<Eigen::MatrixXcd> transfer_at(const StateSpace& sys,
+                                          const std::vector<std::complex<double>>& points,
+                                          const FrequencyResponseOptions& options) {
   sys.validate();
-  for (double f : freqs_hz)
-    if (!std::isfinite(f))
-      throw std::invalid_argument("frequency_response: frequency " + to_string_g(f) +
-                                  " Hz is not finite");
+  for (const cd& p : points)
+    if (!std::isfinite(p.real()) || !std::isfinite(p.imag()))
+      throw std::invalid_argument("transfer_at: evaluation point is not finite");
 
   const Eigen::Index n = sys.nx(), m = sys.nu(), p = sys.ny();
   const Eigen::MatrixXcd Dc = sys.D.cast<cd>();
   std::vector<Eigen::MatrixXcd> out;
-  out.reserve(freqs_hz.size());
+  out.reserve(points.size());
   if (n == 0) {  // static gain
-    out.assign(freqs_hz.size(), Dc);
+    out.assign(points.size(), Dc);
     return out;
   }
 
@@ -113,11 +112,10 @@ std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys,
   const Eigen::MatrixXcd Bh = (Q.transpose() * Bb).cast<cd>();
   const Eigen::MatrixXcd Ch = (Cb * Q).cast<cd>();
 
-  Eigen::MatrixXcd W(n, n), X(n, m);  // workspace reused for every frequency
-  for (double f : freqs_hz) {
-    const cd jw(0.0, kTwoPi * f);
+  Eigen::MatrixXcd W(n, n), X(n, m);  // workspace reused for every point
+  for (const cd& s : points) {
     W = -Hc;
-    W.diagonal().array() += jw;
+    W.diagonal().array() += s;
     X = Bh;
     // Givens QR of the Hessenberg matrix: one rotation per subdiagonal entry, applied to the
     // trailing columns only (the leading ones are already zero in both rows).
@@ -129,18 +127,66 @@ std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys,
       W(k + 1, k) = 0.0;
     }
     if ((W.diagonal().array() == cd(0.0, 0.0)).any())
-      throw std::domain_error("frequency_response: j*2*pi*" + to_string_g(f) +
-                              " rad/s is an eigenvalue of A (the response is infinite at " +
-                              to_string_g(f) + " Hz)");
+      throw std::domain_error("transfer_at: " + to_string_g(s.real()) + "+" +
+                              to_string_g(s.imag()) + "j is an eigenvalue of A");
     W.triangularView<Eigen::Upper>().solveInPlace(X);
     Eigen::MatrixXcd G = Dc;
     if (p > 0 && m > 0) G.noalias() += Ch * X;
     if (!G.allFinite())
-      throw std::domain_error("frequency_response: response at " + to_string_g(f) +
-                              " Hz is not finite (frequency on or next to a pole of A)");
+      throw std::domain_error("transfer_at: not finite at " + to_string_g(s.real()) + "+" +
+                              to_string_g(s.imag()) + "j (on or next to a pole of A)");
     out.push_back(std::move(G));
   }
   return out;
+}
+
+namespace {
+
+// Evaluates at the points and turns transfer_at's messages into ones that name the frequency.
+std::vector<Eigen::MatrixXcd> response_at_frequencies(const StateSpace& sys,
+                                                      const std::vector<double>& freqs_hz,
+                                                      const std::vector<cd>& points,
+                                                      const FrequencyResponseOptions& options) {
+  for (double f : freqs_hz)
+    if (!std::isfinite(f))
+      throw std::invalid_argument("frequency_response: frequency " + to_string_g(f) +
+                                  " Hz is not finite");
+  try {
+    return transfer_at(sys, points, options);
+  } catch (const std::domain_error&) {
+    // Find the first frequency that fails, for the message.
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      try {
+        transfer_at(sys, {points[i]}, options);
+      } catch (const std::domain_error&) {
+        throw std::domain_error("frequency_response: the point for " + to_string_g(freqs_hz[i]) +
+                                " Hz is (next to) an eigenvalue of A: the response is infinite "
+                                "at " +
+                                to_string_g(freqs_hz[i]) + " Hz");
+      }
+    }
+    throw;
+  }
+}
+
+}  // namespace
+
+std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys,
+                                                 const std::vector<double>& freqs_hz,
+                                                 const FrequencyResponseOptions& options) {
+  std::vector<cd> points;
+  points.reserve(freqs_hz.size());
+  for (double f : freqs_hz) points.emplace_back(0.0, kTwoPi * f);
+  return response_at_frequencies(sys, freqs_hz, points, options);
+}
+
+std::vector<Eigen::MatrixXcd> frequency_response(const DiscreteStateSpace& sys,
+                                                 const std::vector<double>& freqs_hz,
+                                                 const FrequencyResponseOptions& options) {
+  std::vector<cd> points;
+  points.reserve(freqs_hz.size());
+  for (double f : freqs_hz) points.push_back(std::polar(1.0, kTwoPi * f * sys.dt));
+  return response_at_frequencies(sys.sys, freqs_hz, points, options);
 }
 
 Eigen::MatrixXd singular_values(const std::vector<Eigen::MatrixXcd>& G) {

@@ -16,8 +16,10 @@
 //      triangular back substitution give X = (jw I - H)^-1 B_h in O(n^2 m); then
 //      G = C_h X + D. Total O(n^3) once plus O(n^2 m + p n m) per frequency.
 #include <Eigen/Dense>
+#include <complex>
 #include <vector>
 
+#include "plant/lti/discretise.hpp"
 #include "plant/lti/state_space.hpp"
 
 namespace flexloop::plant::lti {
@@ -41,6 +43,18 @@ struct FrequencyResponseOptions {
 std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys,
                                                  const std::vector<double>& freqs_hz,
                                                  const FrequencyResponseOptions& options = {});
+
+/// The discrete system's response H(z) = Cd (zI - Ad)^-1 Bd + Dd at z = e^{j 2 pi f dt}, by the
+/// same Hessenberg method. Same exceptions (a pole on the unit circle at f is infinite).
+std::vector<Eigen::MatrixXcd> frequency_response(const DiscreteStateSpace& sys,
+                                                 const std::vector<double>& freqs_hz,
+                                                 const FrequencyResponseOptions& options = {});
+
+/// C (pI - A)^-1 B + D at arbitrary complex points p, the engine of both frequency responses.
+/// @throws std::domain_error when a point is (numerically) an eigenvalue of A.
+std::vector<Eigen::MatrixXcd> transfer_at(const StateSpace& sys,
+                                          const std::vector<std::complex<double>>& points,
+                                          const FrequencyResponseOptions& options = {});
 
 /// Singular values of each G: row k holds sigma_1 >= sigma_2 >= ... >= sigma_r of G[k],
 /// r = min(ny, nu). Computed by Eigen::BDCSVD (values only).

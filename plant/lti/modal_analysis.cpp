@@ -1,5 +1,7 @@
 #include "plant/lti/modal_analysis.hpp"
 
+#include "plant/lti/frequency_response.hpp"
+
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
@@ -204,7 +206,11 @@ Eigen::VectorXd buckling_multipliers(const Eigen::MatrixXd& K, const Eigen::Matr
 Eigen::VectorXcd poles(const StateSpace& sys) {
   sys.validate();
   if (sys.nx() == 0) return Eigen::VectorXcd(0);
-  const Eigen::EigenSolver<Eigen::MatrixXd> es(sys.A, false);
+  // Exact power-of-two balancing first (as LAPACK's xGEEV does): states in metres beside states
+  // in newtons make A badly scaled, and repeated poles are then computed far less accurately.
+  const Eigen::VectorXd t = balancing_scaling(sys.A);
+  const Eigen::MatrixXd Ab = t.cwiseInverse().asDiagonal() * sys.A * t.asDiagonal();
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(Ab, false);
   if (es.info() != Eigen::Success)
     throw std::runtime_error("poles: eigenvalues of A did not converge");
   std::vector<cd> p(es.eigenvalues().begin(), es.eigenvalues().end());

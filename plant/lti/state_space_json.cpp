@@ -18,8 +18,6 @@
 
 namespace flexloop::plant::lti {
 
-namespace {
-
 using nlohmann::json;
 
 json matrix_to_json(const Eigen::MatrixXd& m) {
@@ -31,6 +29,8 @@ json matrix_to_json(const Eigen::MatrixXd& m) {
   }
   return rows;
 }
+
+namespace {
 
 void put_labels(json& j, const StateSpace& s) {
   j["states"] = s.states;

@@ -38,6 +38,8 @@ struct DiscreteArtefact {
 /// Throws std::invalid_argument when the system does not validate (e.g. a non-finite entry,
 /// which JSON cannot represent).
 nlohmann::json to_json(const StateSpace& sys, const nlohmann::json& provenance = nullptr);
+/// A matrix as an array of rows.
+nlohmann::json matrix_to_json(const Eigen::MatrixXd& m);
 nlohmann::json to_json(const DiscreteStateSpace& sys, const nlohmann::json& provenance = nullptr);
 
 /// `source` names the document in error places (usually the file name).

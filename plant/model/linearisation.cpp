@@ -131,6 +131,13 @@ Linearisation linearise(const Model& m, const OperatingPoint& op) {
   L.J = deformation_jacobian(m, blocks, L.x);
   L.DFx = geometric_transfer(m, p, L.J);
   L.DFe = L.J * L.DFx;
+  // Rows known exactly from the partition: a rigid deformation is identically zero and a
+  // generalised one is its own coordinate. The product above leaves round-off (~1e-17) there,
+  // which stiffness 1e7 turns into spurious couplings to prescribed coordinates.
+  for (int k : p.e_rigid) L.DFe.row(k).setZero();
+  for (int q = 0; q < m.nq(); ++q)
+    if (const int k = p.q_deformation[q]; k >= 0)
+      L.DFe.row(k) = Eigen::RowVectorXd::Unit(m.nq(), q);
   L.xd = L.DFx * L.qd;
   L.xdd = L.DFx * L.qdd + convective_acceleration(m, p, blocks, L.x, L.J, L.xd);
   L.e = deformations(m, blocks, L.x);

@@ -10,112 +10,20 @@
 
 #include "plant/model/element_properties.hpp"
 #include "plant/model/input_error.hpp"
+#include "plant/model/toml_reader.hpp"
 
 namespace flexloop::plant::model {
 
 namespace {
 
-// Small reader around a toml table that knows the file name and reports file:line.
-class Reader {
- public:
-  Reader(const toml::table& t, std::string file, std::string what)
-      : t_(t), file_(std::move(file)), what_(std::move(what)) {}
-
-  std::string place(const toml::node* n = nullptr) const {
-    const auto& src = n ? n->source() : t_.source();
-    return src.begin.line > 0 ? file_ + ":" + std::to_string(src.begin.line) : file_;
-  }
-  SourceRef source() const { return {file_, static_cast<int>(t_.source().begin.line)}; }
-  [[noreturn]] void fail(const std::string& msg, const toml::node* n = nullptr) const {
-    throw InputError(place(n), what_ + ": " + msg);
-  }
-  void allow_only(std::initializer_list<const char*> keys) const {
-    for (const auto& [k, v] : t_) {
-      if (std::none_of(keys.begin(), keys.end(), [&](const char* a) { return k.str() == a; })) {
-        std::string list;
-        for (const char* a : keys) list += (list.empty() ? "" : ", ") + std::string(a);
-        fail("unknown key '" + std::string(k.str()) + "' (allowed: " + list + ")", &v);
-      }
-    }
-  }
-  const toml::node* get(const char* key) const { return t_.get(key); }
-  bool has(const char* key) const { return t_.contains(key); }
-
-  std::string string(const char* key, std::optional<std::string> def = std::nullopt) const {
-    const auto* n = get(key);
-    if (!n) {
-      if (def) return *def;
-      fail("missing key '" + std::string(key) + "'");
-    }
-    if (auto v = n->value<std::string>()) return *v;
-    if (auto v = n->value<int64_t>()) return std::to_string(*v);  // ids may be written as numbers
-    fail("'" + std::string(key) + "' must be a string", n);
-  }
-  double number(const char* key, std::optional<double> def = std::nullopt) const {
-    const auto* n = get(key);
-    if (!n) {
-      if (def) return *def;
-      fail("missing key '" + std::string(key) + "'");
-    }
-    auto v = n->value<double>();
-    if (!v || !std::isfinite(*v)) fail("'" + std::string(key) + "' must be a finite number", n);
-    return *v;
-  }
-  bool boolean(const char* key, bool def) const {
-    const auto* n = get(key);
-    if (!n) return def;
-    auto v = n->value<bool>();
-    if (!v) fail("'" + std::string(key) + "' must be true or false", n);
-    return *v;
-  }
-  Eigen::VectorXd vector(const char* key, int size) const {
-    const auto* n = get(key);
-    if (!n) fail("missing key '" + std::string(key) + "'");
-    return vector_of(n, key, size);
-  }
-  Eigen::VectorXd vector_of(const toml::node* n, const std::string& key, int size) const {
-    const auto* arr = n->as_array();
-    if (!arr || (size >= 0 && static_cast<int>(arr->size()) != size))
-      fail("'" + key + "' must be an array of " + std::to_string(size) + " numbers", n);
-    Eigen::VectorXd v(static_cast<Eigen::Index>(arr->size()));
-    for (std::size_t i = 0; i < arr->size(); ++i) {
-      auto d = (*arr)[i].value<double>();
-      if (!d || !std::isfinite(*d))
-        fail("'" + key + "' entry " + std::to_string(i + 1) + " must be a finite number", n);
-      v(static_cast<Eigen::Index>(i)) = *d;
-    }
-    return v;
-  }
-  std::vector<std::pair<std::string, const toml::node*>> strings(const char* key) const {
-    std::vector<std::pair<std::string, const toml::node*>> out;
-    const auto* n = get(key);
-    if (!n) return out;
-    const auto* arr = n->as_array();
-    if (!arr) fail("'" + std::string(key) + "' must be an array of strings", n);
-    for (const auto& item : *arr) {
-      if (auto s = item.value<std::string>())
-        out.emplace_back(*s, &item);
-      else if (auto i = item.value<int64_t>())
-        out.emplace_back(std::to_string(*i), &item);
-      else
-        fail("'" + std::string(key) + "' must be an array of strings", n);
-    }
-    return out;
-  }
-
- private:
-  const toml::table& t_;
-  std::string file_, what_;
-};
-
-DeformationKind parse_kind(const Reader& r, const std::string& s, const toml::node* n) {
+DeformationKind parse_kind(const TomlReader& r, const std::string& s, const toml::node* n) {
   if (s == "rigid") return DeformationKind::kRigid;
   if (s == "flexible") return DeformationKind::kFlexible;
   if (s == "released") return DeformationKind::kReleased;
   r.fail("deformation mode '" + s + "' is not one of rigid, flexible, released", n);
 }
 
-void require_positive(const Reader& r, const char* key, double v) {
+void require_positive(const TomlReader& r, const char* key, double v) {
   if (!(v > 0)) r.fail("'" + std::string(key) + "' must be positive", r.get(key));
 }
 
@@ -133,7 +41,7 @@ void mask_modes(Element& el) {
   }
 }
 
-void read_modes_and_damping(const Reader& r, Element& el, int n) {
+void read_modes_and_damping(const TomlReader& r, Element& el, int n) {
   el.kinds.assign(n, DeformationKind::kFlexible);
   if (r.has("modes")) {
     auto modes = r.strings("modes");
@@ -192,21 +100,15 @@ void mark_inert_deformations(Model& m) {
 }
 
 Model parse_model(const std::string& text, const std::string& file) {
-  toml::table root;
-  try {
-    root = toml::parse(text, file);
-  } catch (const toml::parse_error& e) {
-    throw InputError(file + ":" + std::to_string(e.source().begin.line),
-                     std::string(e.description()));
-  }
-  Reader top(root, file, "model file");
+  const toml::table root = parse_toml(text, file);
+  TomlReader top(root, file, "model file");
   top.allow_only({"model", "node", "element", "coordinates", "configuration"});
 
   Model m;
   m.file = file;
   const auto* model_tbl = root["model"].as_table();
   if (!model_tbl) top.fail("missing [model] table");
-  Reader mr(*model_tbl, file, "[model]");
+  TomlReader mr(*model_tbl, file, "[model]");
   mr.allow_only({"name", "dimension", "gravity"});
   m.name = mr.string("name", std::string("unnamed"));
   const double dim = mr.number("dimension", 3.0);
@@ -222,7 +124,7 @@ Model parse_model(const std::string& text, const std::string& file) {
   for (const auto& item : *nodes) {
     const auto* t = item.as_table();
     if (!t) top.fail("[[node]] entries must be tables", &item);
-    Reader r(*t, file, "node");
+    TomlReader r(*t, file, "node");
     r.allow_only(
         {"id", "position", "rotational", "angle", "orientation", "mass", "inertia", "force"});
     Node n;
@@ -298,7 +200,7 @@ Model parse_model(const std::string& text, const std::string& file) {
     for (const auto& item : *elements) {
       const auto* t = item.as_table();
       if (!t) top.fail("[[element]] entries must be tables", &item);
-      Reader r(*t, file, "element");
+      TomlReader r(*t, file, "element");
       Element el;
       el.id = r.string("id");
       el.source = r.source();
@@ -423,7 +325,7 @@ Model parse_model(const std::string& text, const std::string& file) {
   const auto* coords = root["coordinates"].as_table();
   if (!coords)
     top.fail("missing [coordinates] table (which coordinates are fixed, dynamic, prescribed)");
-  Reader cr(*coords, file, "[coordinates]");
+  TomlReader cr(*coords, file, "[coordinates]");
   cr.allow_only({"fixed", "fixed_nodes", "dynamic", "prescribed"});
   std::set<std::string> assigned;
   auto claim = [&](const std::string& label, const toml::node* n) {
@@ -475,7 +377,7 @@ Model parse_model(const std::string& text, const std::string& file) {
 
   // Operating point (optional): { label = value } tables for q, qd, qdd.
   if (const auto* cfg = root["configuration"].as_table()) {
-    Reader fr(*cfg, file, "[configuration]");
+    TomlReader fr(*cfg, file, "[configuration]");
     fr.allow_only({"q", "qd", "qdd"});
     for (const auto& [key, out] :
          {std::pair{"q", &m.op_q}, std::pair{"qd", &m.op_qd}, std::pair{"qdd", &m.op_qdd}}) {
@@ -515,11 +417,7 @@ Model parse_model(const std::string& text, const std::string& file) {
 }
 
 Model load_model(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, "cannot open model file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return parse_model(ss.str(), path);
+  return parse_model(read_input_file(path, "model file"), path);
 }
 
 }  // namespace flexloop::plant::model

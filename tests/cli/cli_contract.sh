@@ -23,7 +23,24 @@ out=$("$flexloop" linearise "$root/tools/models/cart.toml" -i force:nowhere -o "
 [[ $rc -eq 2 && "$out" == *"force:nowhere"* ]] || fail "bad channel: exit $rc ($out)"
 [[ ! -e "$tmp/x.json" ]] || fail "bad channel left an output file"
 
-for cmd in version linearise analyse discretise; do
+# The metrology frame's fit reruns and reproduces the committed model file exactly.
+"$flexloop" fit-metrology -o "$tmp/metrology_frame.toml" >/dev/null || fail "fit-metrology"
+diff -q "$tmp/metrology_frame.toml" "$root/tools/models/metrology_frame.toml" >/dev/null ||
+  fail "fit-metrology does not reproduce tools/models/metrology_frame.toml"
+
+# A scene: analyse writes its report; a bad scene exits 2 naming file:line, writing nothing.
+"$flexloop" analyse "$root/tools/scenes/metrology_frame.toml" --points 40 --out-dir "$tmp/metro" >/dev/null ||
+  fail "analyse metrology scene"
+for f in analysis.json singular_values.csv singular_values.png transmissibility.png; do
+  [[ -s "$tmp/metro/$f" ]] || fail "analyse scene did not write $f"
+done
+sed 's/^zeta = 0.5/zeta = -1/' "$root/tools/scenes/metrology_frame.toml" >"$tmp/bad_scene.toml"
+sed -i "s#\.\./models/#$root/tools/models/#" "$tmp/bad_scene.toml"
+out=$("$flexloop" analyse "$tmp/bad_scene.toml" --out-dir "$tmp/bad_scene" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"bad_scene.toml:"* && "$out" == *"zeta"* ]] || fail "bad scene: exit $rc ($out)"
+[[ ! -e "$tmp/bad_scene/analysis.json" ]] || fail "bad scene left an output file"
+
+for cmd in version linearise analyse discretise fit-metrology; do
   "$flexloop" $cmd --help | grep -q "Example" || fail "$cmd --help has no example"
 done
-echo "cli contract: 8 checks passed"
+echo "cli contract: 12 checks passed"

@@ -12,11 +12,13 @@
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/state_space_json.hpp"
 #include "plant/model/input_error.hpp"
+#include "tools/flexloop/analyse_scene.hpp"
 #include "tools/flexloop/linearised_model.hpp"
 #include "tools/flexloop/provenance.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/report/csv_writer.hpp"
 #include "tools/report/plot.hpp"
+#include "tools/scene/scene.hpp"
 
 namespace flexloop::cli {
 
@@ -34,6 +36,12 @@ struct AnalyseArgs {
 void run(const AnalyseArgs& a) {
   if (!(a.f_min > 0 && a.f_max > a.f_min && a.points >= 2))
     throw InputError("--fmin/--fmax/--points", "need 0 < fmin < fmax and at least 2 points");
+  if (scene::is_scene_file(a.model)) {
+    if (!a.inputs.empty() || !a.outputs.empty())
+      throw InputError(a.model, "a scene names its channels in [plant]; drop --input/--output");
+    analyse_scene(a.model, a.out_dir, {a.f_min, a.f_max, a.points});
+    return;
+  }
   const LinearisedModel r = linearise_model_file(a.model, a.inputs, a.outputs);
   const auto& m = r.model;
   const auto& ss = r.ss;
@@ -123,9 +131,13 @@ void run(const AnalyseArgs& a) {
 
 void register_analyse(CLI::App& app) {
   auto args = std::make_shared<AnalyseArgs>();
-  auto* cmd = app.add_subcommand("analyse",
-                                 "Modes, buckling multipliers and frequency response of a model");
-  cmd->add_option("model", args->model, "Model file (TOML)")->required()->check(CLI::ExistingFile);
+  auto* cmd =
+      app.add_subcommand("analyse",
+                         "Modes, buckling multipliers and frequency response of a model, or the "
+                         "passive machine, PI design and closed loop of a scene");
+  cmd->add_option("model", args->model, "Model file or scene file (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--input,-i", args->inputs, "Input channel (as for linearise)");
   cmd->add_option("--output,-O", args->outputs, "Output channel (as for linearise)");
   cmd->add_option("--out-dir", args->out_dir, "Directory for JSON, CSV and PNG files")
@@ -135,7 +147,7 @@ void register_analyse(CLI::App& app) {
   cmd->add_option("--points", args->points, "Frequencies on the log grid")->capture_default_str();
   cmd->footer(
       "Example:\n  flexloop analyse tools/models/cart.toml -i acc:x.1 -O pos:x.2 --out-dir "
-      "out/cart");
+      "out/cart\n  flexloop analyse tools/scenes/metrology_frame.toml --out-dir out/metrology");
   cmd->callback([args] { run(*args); });
 }
 

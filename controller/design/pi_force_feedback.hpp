@@ -1,0 +1,60 @@
+#pragma once
+// Integral force feedback with a proportional part (DESIGN.md §4, seed slide 31), designed from
+// the linearised model of a suspension whose dynamic coordinates are the strut elongations and
+// whose sensors measure the strut forces sigma_1 = sigma_a + S e (+ S_d e'):
+//
+//   sigma_a(s) = C(s) sigma_1(s),     C(s) = -(K_P + K_I / (s + w_l)),
+//   K_P = (w_d^2 I)^-1 Mdd^-1 Kdd - I,     K_I = 2 zeta w_d (I + K_P),
+//
+// w_l = 0 is the pure integrator of the seed; w_l > 0 is the "leaky" integrator (a first-order
+// low-pass) that gives the loop static stiffness back.
+//
+// Why it works: with Mdd e'' + sigma_1 = (floor terms) and Kdd = k I (equal struts), the loop
+// gives Mdd s^2 e + (I + C')^-1 Kdd e = 0 with I + C' = (I + K_P)(s + w_l + 2 zeta w_d)/(s + w_l)
+// and (I + K_P)^-1 Kdd = w_d^2 Mdd, so every mode obeys the same scalar equation
+//   s^2 (s + w_l + 2 zeta w_d) + w_d^2 (s + w_l) = 0,
+// i.e. s (s^2 + 2 zeta w_d s + w_d^2) = 0 for w_l = 0: six pole pairs at w_d with damping zeta
+// and six poles at s = 0. `closed_loop_mode_polynomial` returns that cubic.
+//
+// The controller as a state space (for the closed loop and for the runtime):
+//   xi' = -w_l xi + sigma_1,   sigma_a = -(K_P sigma_1 + K_I xi).
+// Its zero-order-hold discretisation, xi_{k+1} = a xi_k + b y_k with a = e^{-w_l T},
+// b = (1 - a)/w_l (b = T for w_l = 0), u_k = -(K_P y_k + K_I xi_k), is exactly what
+// controller/runtime/pi_controller.hpp runs.
+#include <Eigen/Dense>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "plant/lti/discretise.hpp"
+#include "plant/lti/state_space.hpp"
+
+namespace flexloop::controller::design {
+
+struct PiForceFeedbackSettings {
+  double omega_d_rad_s;   ///< target frequency of every closed-loop mode, > 0
+  double zeta;            ///< target damping ratio, > 0
+  double leak_rad_s = 0;  ///< 0: pure integrator; > 0: leaky integrator corner
+};
+
+struct PiGains {
+  Eigen::MatrixXd K_P, K_I;  ///< n x n, acting on the strut-force vector
+  PiForceFeedbackSettings settings;
+};
+
+/// The gains of the seed's formula from the dynamic-coordinate blocks of the linearised mass and
+/// stiffness matrices. @throws std::invalid_argument for non-square or mismatched matrices, a
+/// singular Mdd or non-positive settings.
+PiGains design_pi_force_feedback(const Eigen::MatrixXd& Mdd, const Eigen::MatrixXd& Kdd,
+                                 const PiForceFeedbackSettings& settings);
+
+/// The controller as a labelled state space: inputs the sensor names, outputs the actuator names,
+/// states "integrator:<sensor>".
+plant::lti::StateSpace pi_state_space(const PiGains& gains, const std::vector<std::string>& sensors,
+                                      const std::vector<std::string>& actuators);
+
+/// Coefficients of the closed-loop polynomial of every mode (equal struts, no preload, no
+/// passive damping), highest power first: s^3 + (w_l + 2 zeta w_d) s^2 + w_d^2 s + w_d^2 w_l.
+std::array<double, 4> closed_loop_mode_polynomial(const PiForceFeedbackSettings& settings);
+
+}  // namespace flexloop::controller::design

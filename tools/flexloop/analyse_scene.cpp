@@ -1,0 +1,178 @@
+#include "tools/flexloop/analyse_scene.hpp"
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+
+#include "plant/lti/frequency_response.hpp"
+#include "plant/lti/modal_analysis.hpp"
+#include "plant/lti/state_space_json.hpp"
+#include "tools/flexloop/provenance.hpp"
+#include "tools/report/csv_writer.hpp"
+#include "tools/report/plot.hpp"
+#include "tools/scene/scene_plant.hpp"
+
+namespace flexloop::cli {
+
+namespace {
+
+namespace lti = plant::lti;
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+void print_matrix(const char* name, const Eigen::MatrixXd& m) {
+  std::printf("%s =\n", name);
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    std::printf("  ");
+    for (Eigen::Index c = 0; c < m.cols(); ++c) std::printf(" %11.4e", m(r, c));
+    std::printf("\n");
+  }
+}
+
+double db(double v) {
+  return 20 * std::log10(v);
+}
+
+// Largest singular value's peak over the grid: value and frequency.
+std::pair<double, double> peak(const Eigen::MatrixXd& sv, const std::vector<double>& f) {
+  Eigen::Index i = 0;
+  sv.col(0).maxCoeff(&i);
+  return {sv(i, 0), f[static_cast<std::size_t>(i)]};
+}
+
+}  // namespace
+
+void analyse_scene(const std::string& scene_path, const std::string& out_dir,
+                   const FrequencyGrid& grid) {
+  const scene::Scene sc = scene::load_scene(scene_path);
+  const scene::ScenePlant p = scene::build_scene_plant(sc);
+  std::filesystem::create_directories(out_dir);
+  const std::string dir = out_dir + "/";
+
+  std::printf("scene %s: model %s, %ld states, %ld inputs, %ld outputs\n", sc.name.c_str(),
+              sc.model_path.c_str(), static_cast<long>(p.plant.nx()),
+              static_cast<long>(p.plant.nu()), static_cast<long>(p.plant.ny()));
+  nlohmann::json j;
+  std::printf("passive natural frequencies%s [Hz]:",
+              sc.gravity_preload ? " with the gravity preload" : "");
+  for (Eigen::Index i = 0; i < p.natural_frequencies_hz.size(); ++i)
+    std::printf(" %.4f", p.natural_frequencies_hz(i));
+  std::printf("\n");
+  j["natural_frequencies_hz"] = to_vector(p.natural_frequencies_hz);
+  if (sc.gravity_preload) {
+    // The same scene unloaded, to show what the preload (G-bar) does to each mode.
+    scene::Scene unloaded = sc;
+    unloaded.gravity_preload = false;
+    const auto u = scene::build_scene_plant(unloaded);
+    std::printf("gravity preload: static equilibrium in %d Newton steps; shift per mode [Hz]:",
+                p.equilibrium_iterations);
+    const Eigen::VectorXd shift = p.natural_frequencies_hz - u.natural_frequencies_hz;
+    for (Eigen::Index i = 0; i < shift.size(); ++i) std::printf(" %+.3e", shift(i));
+    std::printf("\n");
+    j["natural_frequencies_unloaded_hz"] = to_vector(u.natural_frequencies_hz);
+    j["gravity_frequency_shift_hz"] = to_vector(shift);
+  }
+
+  const auto& c = sc.controller;
+  std::printf("PI force feedback: omega_d = 2 pi x %g Hz, zeta = %g, leak %s\n", c.omega_d_hz,
+              c.zeta, c.leak_hz > 0 ? (std::to_string(c.leak_hz) + " Hz").c_str() : "none");
+  print_matrix("K_P", p.gains.K_P);
+  print_matrix("K_I [1/s]", p.gains.K_I);
+  j["K_P"] = lti::matrix_to_json(p.gains.K_P);
+  j["K_I"] = lti::matrix_to_json(p.gains.K_I);
+  j["controller_settings"] = {
+      {"omega_d_hz", c.omega_d_hz}, {"zeta", c.zeta}, {"leak_hz", c.leak_hz}};
+
+  const Eigen::VectorXcd poles = lti::poles(p.closed_loop);
+  std::printf("closed-loop poles (%ld):\n", static_cast<long>(poles.size()));
+  nlohmann::json pj = nlohmann::json::array();
+  for (const auto& s : poles) {
+    const double w = std::abs(s);
+    std::printf("  %+14.6e %+14.6ej rad/s   %9.4f Hz  damping %.4f\n", s.real(), s.imag(),
+                w / kTwoPi, w > 0 ? -s.real() / w : 0.0);
+    pj.push_back({s.real(), s.imag()});
+  }
+  j["closed_loop_poles"] = pj;
+  j["open_loop"] = lti::to_json(p.plant);
+  j["controller"] = lti::to_json(p.controller);
+  j["closed_loop"] = lti::to_json(p.closed_loop);
+
+  // Singular values of the passive floor -> frame path G11 and of the closed loop T.
+  const auto f = lti::log_frequency_grid_hz(grid.f_min_hz, grid.f_max_hz, grid.points);
+  lti::StateSpace g11 = p.plant;
+  g11.B = p.plant.B.leftCols(p.partition.disturbances);
+  g11.D = p.plant.D.topLeftCorner(p.partition.performance, p.partition.disturbances);
+  g11.C = p.plant.C.topRows(p.partition.performance);
+  g11.inputs.resize(static_cast<std::size_t>(p.partition.disturbances));
+  g11.outputs.resize(static_cast<std::size_t>(p.partition.performance));
+  const auto G = lti::frequency_response(g11, f);
+  const auto T = lti::frequency_response(p.closed_loop, f);
+  const Eigen::MatrixXd sv_open = lti::singular_values(G), sv_closed = lti::singular_values(T);
+
+  std::vector<std::string> header{"frequency_hz"};
+  std::vector<std::vector<double>> cols{f};
+  for (const auto& [name, sv] : {std::pair{"open", &sv_open}, std::pair{"closed", &sv_closed}})
+    for (Eigen::Index k = 0; k < sv->cols(); ++k) {
+      header.push_back(std::string(name) + " sigma" + std::to_string(k + 1) + " [dB]");
+      std::vector<double> col;
+      for (Eigen::Index i = 0; i < sv->rows(); ++i) col.push_back(db((*sv)(i, k)));
+      cols.push_back(col);
+    }
+  report::write_csv_columns(dir + "singular_values.csv", header, cols);
+  report::plot_singular_values(
+      {sc.name + ": floor acceleration -> frame acceleration, singular values", "", "", true,
+       false},
+      {{"open loop (passive)", f, sv_open, "lines lw 2 dt 1"},
+       {"closed loop (PI force feedback)", f, sv_closed, "lines lw 2 dt 2"}},
+      dir + "singular_values.png");
+
+  // Per channel: disturbance i -> performance output i.
+  const Eigen::Index n = std::min(p.partition.disturbances, p.partition.performance);
+  std::vector<std::string> th{"frequency_hz"};
+  std::vector<std::vector<double>> tc{f};
+  std::vector<report::Series> series;
+  nlohmann::json peaks = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const std::string name = p.closed_loop.outputs[i] + " / " + p.closed_loop.inputs[i];
+    std::vector<double> open, closed;
+    for (std::size_t k = 0; k < f.size(); ++k)
+      open.push_back(db(std::abs(G[k](i, i)))), closed.push_back(db(std::abs(T[k](i, i))));
+    th.push_back(name + " open [dB]");
+    th.push_back(name + " closed [dB]");
+    tc.push_back(open);
+    tc.push_back(closed);
+    const std::string colour = " lc " + std::to_string(i + 1);
+    series.push_back({name + " open", f, open, "lines lw 2 dt 1" + colour});
+    series.push_back({name + " closed", f, closed, "lines lw 2 dt 2" + colour});
+  }
+  report::write_csv_columns(dir + "transmissibility.csv", th, tc);
+  report::plot_lines({sc.name + ": per-channel floor -> frame transmissibility (solid open, "
+                                "dashed closed)",
+                      "frequency [Hz]", "|T_ii| [dB]", true, false, 1200, 700},
+                     series, dir + "transmissibility.png");
+
+  const auto [open_peak, open_f] = peak(sv_open, f);
+  const auto [closed_peak, closed_f] = peak(sv_closed, f);
+  std::printf(
+      "largest singular value: open loop peak %.1f dB at %.2f Hz, closed loop peak %.1f "
+      "dB at %.2f Hz\n",
+      db(open_peak), open_f, db(closed_peak), closed_f);
+  j["sigma_max_peak"] = {{"open_db", db(open_peak)},
+                         {"open_hz", open_f},
+                         {"closed_db", db(closed_peak)},
+                         {"closed_hz", closed_f}};
+  j["provenance"] = make_provenance(scene_path, "flexloop analyse");
+  j["provenance"]["model"] = make_provenance(sc.model_path, "flexloop analyse");
+  lti::write_json_atomically(dir + "analysis.json", j);
+  std::printf(
+      "wrote %s{analysis.json, singular_values.csv, singular_values.png, "
+      "transmissibility.csv, transmissibility.png}\n",
+      dir.c_str());
+}
+
+}  // namespace flexloop::cli

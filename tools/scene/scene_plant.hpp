@@ -1,0 +1,51 @@
+#pragma once
+// The offline half of a scene: model -> (static equilibrium under gravity when the scene asks
+// for the preload) -> linearisation -> generalised plant G with inputs [disturbances;
+// actuators] and outputs [performance; sensors] -> PI force-feedback design from Mdd, Kdd ->
+// continuous closed loop; and the sampled versions at the scene's rate (plant and controller
+// discretised with the scene's method, closed as the simulation loop closes them).
+#include <Eigen/Dense>
+#include <vector>
+
+#include "controller/design/pi_force_feedback.hpp"
+#include "plant/lti/discretise.hpp"
+#include "plant/lti/feedback_interconnection.hpp"
+#include "plant/lti/state_space.hpp"
+#include "plant/model/linearisation.hpp"
+#include "plant/model/model.hpp"
+#include "tools/scene/scene.hpp"
+
+namespace flexloop::scene {
+
+struct ScenePlant {
+  Scene scene;
+  plant::model::Model model;
+  plant::model::Linearisation lin;
+  int equilibrium_iterations = 0;          ///< Newton steps to the gravity-loaded equilibrium
+  Eigen::VectorXd natural_frequencies_hz;  ///< undamped, about the operating point
+  plant::lti::StateSpace plant;            ///< G: [w; u] -> [z; y]
+  plant::lti::LoopPartition partition;     ///< sizes of w and z
+  controller::design::PiGains gains;       ///< designed even when the controller is disabled
+  plant::lti::StateSpace controller;       ///< y -> u
+  plant::lti::StateSpace closed_loop;      ///< w -> z (T)
+};
+
+/// @throws flexloop::InputError naming the scene (or model) file for bad channels or models.
+ScenePlant build_scene_plant(const Scene& scene);
+
+/// Overrides for studies and tests: zero every strut damper before linearising.
+struct ScenePlantOptions {
+  bool without_damping = false;
+};
+ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& options);
+
+struct SampledScene {
+  plant::lti::DiscreteStateSpace plant, controller;
+  plant::lti::DiscreteStateSpace closed_loop;  ///< w -> z as the simulation loop closes it
+};
+
+/// Discretise plant and controller at the scene's rate and method.
+/// @throws flexloop::InputError naming the scene file when the discretisation is refused.
+SampledScene sample_scene(const ScenePlant& p);
+
+}  // namespace flexloop::scene
