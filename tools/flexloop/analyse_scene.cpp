@@ -156,6 +156,21 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
                       "frequency [Hz]", "|T_ii| [dB]", true, false, 1200, 700},
                      series, dir + "transmissibility.png");
 
+  // What the controller does at each passive resonance (responses evaluated exactly there).
+  std::vector<double> fr(p.natural_frequencies_hz.data(),
+                         p.natural_frequencies_hz.data() + p.natural_frequencies_hz.size());
+  const Eigen::MatrixXd at_open = lti::singular_values(lti::frequency_response(g11, fr));
+  const Eigen::MatrixXd at_closed =
+      lti::singular_values(lti::frequency_response(p.closed_loop, fr));
+  std::printf("at the passive resonances: largest singular value open -> closed loop\n");
+  nlohmann::json at = nlohmann::json::array();
+  for (std::size_t i = 0; i < fr.size(); ++i) {
+    const double o = db(at_open(static_cast<Eigen::Index>(i), 0)),
+                 cl = db(at_closed(static_cast<Eigen::Index>(i), 0));
+    std::printf("  %8.3f Hz  %7.1f dB -> %7.1f dB  (%+.1f dB)\n", fr[i], o, cl, cl - o);
+    at.push_back({{"frequency_hz", fr[i]}, {"open_db", o}, {"closed_db", cl}});
+  }
+  j["sigma_max_at_resonances"] = at;
   const auto [open_peak, open_f] = peak(sv_open, f);
   const auto [closed_peak, closed_f] = peak(sv_closed, f);
   std::printf(
