@@ -306,7 +306,10 @@ void write_json_atomically(const std::filesystem::path& file, const json& j) {
   const std::string text = j.is_object() ? layout(j) : j.dump(2) + "\n";
   const auto dir = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
   // Same directory as the target, so rename() is atomic (never across file systems).
-  std::string tmp = (dir / ("." + file.filename().string() + ".tmp.XXXXXX")).string();
+  std::string name = ".";  // appended piecewise: GCC 12 -O3 warns falsely (-Wrestrict) on a + chain
+  name += file.filename().string();
+  name += ".tmp.XXXXXX";
+  std::string tmp = (dir / name).string();
   const int fd = ::mkstemp(tmp.data());
   if (fd < 0) fail_io("cannot create a temporary file in " + dir.string(), "", -1);
   std::size_t done = 0;

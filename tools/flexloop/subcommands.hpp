@@ -10,6 +10,7 @@ void register_version(CLI::App& app);
 void register_discretise(CLI::App& app);
 void register_linearise(CLI::App& app);
 void register_analyse(CLI::App& app);
+void register_baseline(CLI::App& app);
 void register_fit_metrology(CLI::App& app);
 
 }  // namespace flexloop::cli

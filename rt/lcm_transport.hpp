@@ -1,0 +1,158 @@
+#pragma once
+// LCM glue for the loop (DESIGN.md §7, §11), on LCM 1.3.1's C API so that nothing in the loop
+// allocates:
+//   - LcmPublisher<Msg> encodes into a buffer sized once at construction and publishes the
+//     bytes (the C++ typed publish allocates a buffer on every call, and the C++ std::string
+//     channel arguments allocate for names longer than 15 characters);
+//   - subscribe() registers a static C callback (no lambdas in 1.3.1) that hands each message
+//     to a MessageInbox<Msg> (decode into a preallocated struct, validate, keep the newest);
+//   - receiving never blocks longer than asked: handle_pending() handles what is ready (zero-
+//     timeout ppoll on LCM's fileno, then lcm_handle), handle_until() waits for messages up to
+//     an absolute deadline and stops early when a predicate holds (e.g. "the answer to sample k
+//     came"). ReceiveMode: kBlocking sleeps in ppoll; kPolling spins on zero-timeout polls (a
+//     full CPU; at SCHED_FIFO throttled by sched_rt_runtime_us like any spinner, see
+//     rt/periodic_clock.hpp); kHybrid sleeps in ppoll until a given time (shortly before the
+//     message is expected) and polls from then on.
+//
+// How LCM 1.3.1's udpm provider receives (what the timing depends on): an internal thread,
+// started by the first subscribe or fileno call (here: in the constructor), reads the UDP socket
+// and queues the message; lcm_get_fileno() is the read end of a pipe that this thread writes one
+// byte to; lcm_handle() takes one message from the queue and calls the handlers. So a message
+// costs a thread wake-up in between -- that thread's scheduling and CPU matter:
+// configure_receive_thread() pins it and gives it SCHED_FIFO (one above the loop, so a spinning
+// loop on the same CPU cannot starve it). Measured on the 2-core VM (flexloop baseline pingpong):
+// that wake-up costs about what a timer wake-up does (15-20 us), so a round trip is ~2 of them
+// when both loops poll (p50 60-75 us) and ~4 when both block (p50 60-130 us); polling saves the
+// loop thread's wake-up, not the receive thread's. LCM keeps at most `queue_capacity` unhandled
+// messages per subscription (30 by default) and drops newer ones when full; for bursts also raise
+// the socket buffer with the URL option recv_buf_size (e.g. "...?ttl=0&recv_buf_size=2097152").
+//
+// In-loop calls (publish, handle_pending, handle_until) are allocation-free once each channel
+// has delivered one message (LCM caches its channel -> handlers lookup on first use), throw
+// nothing, and make system calls (sendmsg, ppoll, read); lcm_handle takes LCM's internal mutex,
+// shared with the receive thread only. Set-up calls (constructor, subscribe) may allocate and
+// throw std::runtime_error. Callers that send multicast must first check they run in the private
+// loopback namespace (rt/loopback_guard.hpp).
+#include <lcm/lcm.h>
+#include <sys/types.h>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rt/message_inbox.hpp"
+#include "rt/monotonic_time.hpp"
+#include "rt/realtime_setup.hpp"
+
+namespace flexloop::rt {
+
+enum class ReceiveMode { kBlocking, kPolling, kHybrid };
+
+/// "block" | "poll" | "hybrid" -> mode; throws std::invalid_argument naming the choices.
+ReceiveMode parse_receive_mode(const std::string& name);
+const char* to_string(ReceiveMode mode);
+
+class LcmTransport {
+ public:
+  /// Opens LCM on `url` and starts its receive thread; std::runtime_error when LCM cannot.
+  explicit LcmTransport(const std::string& url);
+  ~LcmTransport();
+  LcmTransport(const LcmTransport&) = delete;
+  LcmTransport& operator=(const LcmTransport&) = delete;
+
+  /// Delivers every message on `channel` to `inbox` (which must outlive the transport).
+  /// queue_capacity: unhandled messages LCM keeps for this subscription before dropping.
+  template <class Msg>
+  void subscribe(const std::string& channel, MessageInbox<Msg>& inbox, int queue_capacity = 30) {
+    subscribe_raw(channel, &LcmTransport::deliver<Msg>, &inbox, queue_capacity);
+  }
+
+  /// 1 when a message is ready, 0 when none came within timeout_ns (0: just look), -1 on error.
+  int poll_ready(std::int64_t timeout_ns) noexcept;
+
+  /// Handles every message ready now; returns how many.
+  int handle_pending() noexcept;
+
+  /// Handles messages until `done()` is true (checked after each batch) or CLOCK_MONOTONIC
+  /// reaches deadline_ns; returns how many were handled. Between messages kBlocking sleeps in
+  /// ppoll, kPolling spins on zero-timeout polls, kHybrid sleeps until spin_from_ns and spins
+  /// after it (spin_from_ns is ignored by the other modes).
+  template <class Done>
+  int handle_until(std::int64_t deadline_ns, ReceiveMode mode, Done&& done,
+                   std::int64_t spin_from_ns = 0) noexcept {
+    int handled = handle_pending();
+    while (!done()) {
+      const std::int64_t now = monotonic_now_ns();
+      if (now >= deadline_ns) break;
+      const bool block =
+          mode == ReceiveMode::kBlocking || (mode == ReceiveMode::kHybrid && now < spin_from_ns);
+      if (block) {
+        const std::int64_t until =
+            mode == ReceiveMode::kHybrid && spin_from_ns < deadline_ns ? spin_from_ns : deadline_ns;
+        if (poll_ready(until - now) <= 0) continue;
+      }
+      handled += handle_pending();
+    }
+    return handled;
+  }
+  int handle_until(std::int64_t deadline_ns, ReceiveMode mode) noexcept {
+    return handle_until(deadline_ns, mode, [] { return false; });
+  }
+
+  /// Kernel thread ids of LCM's internal threads (those the constructor saw appear).
+  const std::vector<pid_t>& receive_thread_ids() const { return receive_threads_; }
+  /// Pins LCM's receive thread(s) to `cpu` (when >= 0) and sets SCHED_FIFO `fifo_priority`
+  /// (when > 0). One status per step and thread.
+  std::vector<SetupStatus> configure_receive_thread(int cpu, int fifo_priority);
+
+  lcm_t* lcm() noexcept { return lcm_; }
+  int fileno() const noexcept { return fileno_; }
+
+ private:
+  template <class Msg>
+  static void deliver(const lcm_recv_buf_t* rbuf, const char*, void* inbox) {
+    static_cast<MessageInbox<Msg>*>(inbox)->offer(rbuf->data, static_cast<int>(rbuf->data_size),
+                                                  monotonic_now_ns());
+  }
+  void subscribe_raw(const std::string& channel, lcm_msg_handler_t handler, void* user,
+                     int queue_capacity);
+
+  lcm_t* lcm_ = nullptr;
+  int fileno_ = -1;
+  std::vector<pid_t> receive_threads_;
+};
+
+/// Publishes one message type on one channel from a preallocated buffer.
+template <class Msg>
+class LcmPublisher {
+ public:
+  LcmPublisher(LcmTransport& transport, std::string channel)
+      : lcm_(transport.lcm()),
+        channel_(std::move(channel)),
+        buffer_(static_cast<std::size_t>(Msg{}.getEncodedSize())) {}
+
+  /// Encodes and sends; false (and counted) when encoding or sending failed.
+  bool publish(const Msg& msg) noexcept {
+    const int n = msg.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
+    if (n != static_cast<int>(buffer_.size()) ||
+        lcm_publish(lcm_, channel_.c_str(), buffer_.data(), static_cast<unsigned>(n)) != 0) {
+      ++failures_;
+      return false;
+    }
+    ++published_;
+    return true;
+  }
+
+  const std::string& channel() const noexcept { return channel_; }
+  std::int64_t published() const noexcept { return published_; }
+  std::int64_t failures() const noexcept { return failures_; }
+
+ private:
+  lcm_t* lcm_;
+  std::string channel_;
+  std::vector<std::uint8_t> buffer_;
+  std::int64_t published_ = 0;
+  std::int64_t failures_ = 0;
+};
+
+}  // namespace flexloop::rt

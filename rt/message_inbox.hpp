@@ -1,0 +1,76 @@
+#pragma once
+// The receiving end of one channel: decodes each received buffer into a preallocated message,
+// validates it (rt/message_validation.hpp) and keeps the newest accepted one -- "the real-time
+// side never blocks: it takes the newest good value" (realtime_tools). Rejected messages are
+// counted per DropReason and never become newest(). Messages accepted but replaced by a newer
+// one before take() are counted as superseded (a burst, or a reader slower than the writer).
+//
+// offer() is what the LCM subscription calls (rt/lcm_transport.hpp), and what tests call with
+// hand-made buffers. Everything is noexcept and allocation-free (the generated decode of these
+// fixed-size messages allocates nothing); not thread-safe: one thread offers and takes.
+#include <cstdint>
+#include <optional>
+
+#include "rt/message_validation.hpp"
+
+namespace flexloop::rt {
+
+template <class Msg>
+class MessageInbox {
+ public:
+  explicit MessageInbox(OrderGate gate = OrderGate{}) noexcept : gate_(gate) {}
+
+  /// Decodes `size` bytes received at `received_ns` (CLOCK_MONOTONIC); keeps the message as
+  /// newest when it is valid. Returns the drop reason, or nullopt when accepted.
+  std::optional<DropReason> offer(const void* data, int size, std::int64_t received_ns) noexcept {
+    // A short, foreign (fingerprint) or over-long buffer is a decode failure.
+    if (data == nullptr || size < 0 || scratch_.decode(data, 0, size) != size)
+      return drop(DropReason::kDecodeFailure);
+    if (!all_finite(scratch_)) return drop(DropReason::kNonFinite);
+    const OrderKey key = order_key(scratch_);
+    if (const auto why = gate_.check(key, received_ns)) return drop(*why);
+    gate_.accept(key);
+    if (fresh_) ++superseded_;
+    newest_ = scratch_;
+    newest_received_ns_ = received_ns;
+    fresh_ = true;
+    ++accepted_;
+    return std::nullopt;
+  }
+
+  /// True when a message was accepted since the last take().
+  bool has_fresh() const noexcept { return fresh_; }
+  /// The newest accepted message not taken yet (and marks it taken), or nullptr.
+  const Msg* take() noexcept {
+    if (!fresh_) return nullptr;
+    fresh_ = false;
+    return &newest_;
+  }
+  /// The newest accepted message, taken or not; meaningful when accepted() > 0.
+  const Msg& newest() const noexcept { return newest_; }
+  /// When newest() was received (CLOCK_MONOTONIC ns).
+  std::int64_t newest_received_ns() const noexcept { return newest_received_ns_; }
+
+  std::int64_t accepted() const noexcept { return accepted_; }
+  std::int64_t superseded() const noexcept { return superseded_; }
+  const DropCounts& drops() const noexcept { return drops_; }
+  OrderGate& gate() noexcept { return gate_; }
+  const OrderGate& gate() const noexcept { return gate_; }
+
+ private:
+  std::optional<DropReason> drop(DropReason why) noexcept {
+    drops_.add(why);
+    return why;
+  }
+
+  OrderGate gate_;
+  Msg scratch_{};
+  Msg newest_{};
+  std::int64_t newest_received_ns_ = 0;
+  bool fresh_ = false;
+  std::int64_t accepted_ = 0;
+  std::int64_t superseded_ = 0;
+  DropCounts drops_;
+};
+
+}  // namespace flexloop::rt

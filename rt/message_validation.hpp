@@ -1,0 +1,102 @@
+#pragma once
+// Which received messages may be applied (DESIGN.md §7, §9): a message that fails to decode,
+// carries NaN or Inf in any floating-point field, is stale, or repeats or reorders the sequence,
+// is dropped and counted per reason, never applied. Every function here is noexcept and
+// allocation-free, for use inside the loop.
+//
+// Ordering uses an OrderKey (epoch, seq, t_ns) per message type:
+//   sensor_sample_t     (plant_epoch, seq, t_ns)
+//   actuator_command_t  (plant_epoch, answers_seq, t_ns) -- ordered by the sample it answers, so
+//                       a restarted controller (whose own seq starts again) is accepted at once
+//   loop_stats_t        (0, cycles, t_ns)
+// OrderGate decides, against the newest key it accepted, in this order:
+//   older than max_age_ns before "now" (only when max_age_ns > 0)                      kStale
+//   other epoch   kFollow (a receiver of plant samples): a plant restart -- accepted and tracked
+//                 from there (a resync) when its t_ns is not older than the newest seen, else
+//                 kStale (a straggler of the old epoch). kFixed (the plant receiving commands):
+//                 an answer to another plant run -- kStale.
+//   seq == newest kDuplicate;   seq < newest  kOutOfOrder
+//   t_ns < newest t_ns (seq went forward, time backward: older than the newest seen)    kStale
+#include <array>
+#include <cstdint>
+#include <flexloop_msgs/actuator_command_t.hpp>
+#include <flexloop_msgs/loop_stats_t.hpp>
+#include <flexloop_msgs/sensor_sample_t.hpp>
+#include <optional>
+
+namespace flexloop::rt {
+
+enum class DropReason { kDecodeFailure, kNonFinite, kStale, kDuplicate, kOutOfOrder };
+inline constexpr int kDropReasonCount = 5;
+
+/// "decode_failure", "non_finite", "stale", "duplicate", "out_of_order" (JSON keys).
+const char* to_string(DropReason reason) noexcept;
+
+/// Dropped-message counts per reason.
+class DropCounts {
+ public:
+  void add(DropReason r) noexcept { ++counts_[static_cast<std::size_t>(r)]; }
+  std::int64_t operator[](DropReason r) const noexcept {
+    return counts_[static_cast<std::size_t>(r)];
+  }
+  std::int64_t total() const noexcept;
+  void reset() noexcept { counts_.fill(0); }
+
+ private:
+  std::array<std::int64_t, kDropReasonCount> counts_{};
+};
+
+/// True when every floating-point field is finite.
+bool all_finite(const flexloop_msgs::sensor_sample_t& m) noexcept;
+bool all_finite(const flexloop_msgs::actuator_command_t& m) noexcept;
+bool all_finite(const flexloop_msgs::loop_stats_t& m) noexcept;
+
+struct OrderKey {
+  std::int64_t epoch = 0;
+  std::int64_t seq = 0;
+  std::int64_t t_ns = 0;
+};
+
+OrderKey order_key(const flexloop_msgs::sensor_sample_t& m) noexcept;
+OrderKey order_key(const flexloop_msgs::actuator_command_t& m) noexcept;
+OrderKey order_key(const flexloop_msgs::loop_stats_t& m) noexcept;
+
+enum class EpochPolicy { kFollow, kFixed };
+
+class OrderGate {
+ public:
+  /// kFixed accepts only `epoch`; kFollow starts with whatever epoch arrives first.
+  /// max_age_ns > 0 also drops messages older than that before the `now_ns` given to check().
+  explicit OrderGate(EpochPolicy policy = EpochPolicy::kFollow, std::int64_t epoch = 0,
+                     std::int64_t max_age_ns = 0) noexcept
+      : policy_(policy), epoch_(epoch), max_age_ns_(max_age_ns) {}
+
+  /// Why `key` must be dropped, or nullopt when it may be applied. Changes nothing.
+  std::optional<DropReason> check(const OrderKey& key, std::int64_t now_ns) const noexcept;
+  /// Records `key` (which check() passed) as the newest.
+  void accept(const OrderKey& key) noexcept;
+
+  /// Forgets the newest key (the next message in the epoch is accepted whatever its seq).
+  void reset() noexcept { have_newest_ = false; }
+  /// kFixed: the epoch to accept from now on (e.g. the plant's own, after a restart); resets.
+  void set_epoch(std::int64_t epoch) noexcept {
+    epoch_ = epoch;
+    reset();
+  }
+
+  bool has_newest() const noexcept { return have_newest_; }
+  const OrderKey& newest() const noexcept { return newest_; }
+  std::int64_t epoch() const noexcept { return epoch_; }
+  /// Epoch changes followed (kFollow): plant restarts seen.
+  std::int64_t resyncs() const noexcept { return resyncs_; }
+
+ private:
+  EpochPolicy policy_;
+  std::int64_t epoch_;
+  std::int64_t max_age_ns_;
+  bool have_newest_ = false;
+  OrderKey newest_;
+  std::int64_t resyncs_ = 0;
+};
+
+}  // namespace flexloop::rt

@@ -1,0 +1,227 @@
+// `flexloop baseline timer|pingpong`: the same-run baselines of DESIGN.md §7 on their own --
+// a bare periodic thread's wake-up lateness (cyclictest-style, rt/timer_baseline.hpp) and the
+// bare LCM round trip between two processes (rt/pingpong_baseline.hpp). Prints min / p50 /
+// p99 / p99.9 / max and counts; --json writes the same figures. The ping-pong sends multicast
+// and refuses to run outside tools/netns-run's private loopback namespace (exit 1).
+#include <cstdio>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "plant/lti/state_space_json.hpp"
+#include "rt/pingpong_baseline.hpp"
+#include "rt/timer_baseline.hpp"
+#include "tools/flexloop/subcommands.hpp"
+
+namespace flexloop::cli {
+
+namespace {
+
+struct BaselineArgs {
+  double rate_hz = 1000;
+  double duration_s = 2;
+  std::string wait = "sleep";
+  std::string receive;  // empty: follow --wait (sleep: block, hybrid: hybrid, spin: poll)
+  double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
+  std::string overrun = "skip";
+  int cpu = 0;
+  int priority = 80;
+  bool no_mlock = false;
+  std::string json;
+};
+
+nlohmann::json summary_json(const rt::LatencyHistogram& h) {
+  const rt::LatencySummary s = h.summary();
+  return {{"min", s.min},   {"p50", s.p50}, {"p99", s.p99},
+          {"p999", s.p999}, {"max", s.max}, {"count", s.count}};
+}
+
+void print_summary(const char* what, const rt::LatencyHistogram& h) {
+  const rt::LatencySummary s = h.summary();
+  std::printf("%-22s min %9lld  p50 %9lld  p99 %9lld  p99.9 %9lld  max %10lld  (%lld samples)\n",
+              what, static_cast<long long>(s.min), static_cast<long long>(s.p50),
+              static_cast<long long>(s.p99), static_cast<long long>(s.p999),
+              static_cast<long long>(s.max), static_cast<long long>(s.count));
+}
+
+rt::PeriodicClockOptions clock_options(const BaselineArgs& a) {
+  return {.period_ns = static_cast<std::int64_t>(1e9 / a.rate_hz + 0.5),
+          .wait_mode = rt::parse_wait_mode(a.wait),
+          .spin_margin_ns = static_cast<std::int64_t>(a.spin_margin_us * 1e3),
+          .overrun_policy = rt::parse_overrun_policy(a.overrun)};
+}
+
+rt::RealtimeOptions realtime_options(const BaselineArgs& a, int cpu) {
+  return {.cpu = cpu, .lock_memory = !a.no_mlock, .fifo_priority = a.priority};
+}
+
+std::int64_t duration_ns(const BaselineArgs& a) {
+  return static_cast<std::int64_t>(a.duration_s * 1e9);
+}
+
+nlohmann::json settings_json(const BaselineArgs& a, const rt::PeriodicClockOptions& c) {
+  return {{"rate_hz", a.rate_hz},
+          {"period_ns", c.period_ns},
+          {"duration_s", a.duration_s},
+          {"wait_mode", rt::to_string(c.wait_mode)},
+          {"spin_margin_ns", c.spin_margin_ns},
+          {"overrun_policy", rt::to_string(c.overrun_policy)},
+          {"cpu", a.cpu},
+          {"fifo_priority", a.priority}};
+}
+
+void write_json(const std::string& path, const nlohmann::json& j) {
+  if (path.empty()) return;
+  plant::lti::write_json_atomically(path, j);
+  std::printf("wrote %s\n", path.c_str());
+}
+
+void run_timer(const BaselineArgs& a) {
+  rt::TimerBaselineOptions o;
+  o.clock = clock_options(a);
+  o.duration_ns = duration_ns(a);
+  o.realtime = realtime_options(a, a.cpu);
+  std::printf("timer baseline: %.6g Hz for %.6g s, wait %s, CPU %d\n", a.rate_hz, a.duration_s,
+              a.wait.c_str(), a.cpu);
+  const rt::CpuDmaLatencyHold dma;  // as cyclictest, and as the loop processes do
+  const rt::TimerBaselineResult r = rt::run_timer_baseline(o);
+  std::printf("%s  %s  %s\n", r.setup.describe().c_str(), dma.active() ? "ok  " : "WARN",
+              dma.message().c_str());
+  print_summary("wakeup lateness (ns)", *r.wakeup_lateness);
+  std::printf("periods %lld, cycles %lld, overruns %lld, skipped periods %lld\n",
+              static_cast<long long>(r.periods), static_cast<long long>(r.cycles),
+              static_cast<long long>(r.overruns), static_cast<long long>(r.skipped_periods));
+  nlohmann::json j = settings_json(a, o.clock);
+  j["kind"] = "timer";
+  j["fifo"] = r.setup.fifo;
+  j["cpu_dma_latency_held"] = dma.active();
+  j["wakeup_lateness_ns"] = summary_json(*r.wakeup_lateness);
+  j["periods"] = r.periods;
+  j["cycles"] = r.cycles;
+  j["overruns"] = r.overruns;
+  j["skipped_periods"] = r.skipped_periods;
+  write_json(a.json, j);
+}
+
+void run_pingpong(const BaselineArgs& a) {
+  rt::require_private_loopback_namespace("flexloop baseline pingpong");  // before any output
+  rt::PingPongOptions o;
+  o.clock = clock_options(a);
+  o.duration_ns = duration_ns(a);
+  // Unless told otherwise, receive the way the clock waits: sleep -> block, hybrid, spin -> poll.
+  constexpr const char* kReceiveFor[] = {"block", "hybrid", "poll"};
+  o.receive_mode = rt::parse_receive_mode(
+      !a.receive.empty() ? a.receive : kReceiveFor[static_cast<int>(o.clock.wait_mode)]);
+  const int pong_cpu = a.cpu < 0 ? -1 : 1 - (a.cpu % 2);  // the other of the two cores
+  o.ping_realtime = realtime_options(a, a.cpu);
+  o.pong_realtime = realtime_options(a, pong_cpu);
+  std::printf(
+      "LCM ping-pong baseline: %.6g Hz for %.6g s, wait %s, receive %s, ping CPU %d, "
+      "pong CPU %d\n",
+      a.rate_hz, a.duration_s, a.wait.c_str(), rt::to_string(o.receive_mode), a.cpu, pong_cpu);
+  const rt::CpuDmaLatencyHold dma;  // held by the parent for both processes
+  const rt::PingPongResult r = rt::run_pingpong_baseline(o);
+  std::printf("ping:\n%spong:\n%s  %s  %s\n", r.ping_setup.c_str(), r.pong_setup.c_str(),
+              dma.active() ? "ok  " : "WARN", dma.message().c_str());
+  print_summary("round trip (ns)", *r.round_trip);
+  print_summary("ping wakeup lateness", *r.wakeup_lateness);
+  std::printf(
+      "sent %lld, answered %lld, unanswered %lld, late answers %lld, dropped %lld, "
+      "overruns %lld\npong: %s\n",
+      static_cast<long long>(r.sent), static_cast<long long>(r.answered),
+      static_cast<long long>(r.unanswered), static_cast<long long>(r.late_answers),
+      static_cast<long long>(r.ping_drops.total()), static_cast<long long>(r.overruns),
+      r.pong_summary.c_str());
+  nlohmann::json j = settings_json(a, o.clock);
+  j["kind"] = "pingpong";
+  j["cpu_dma_latency_held"] = dma.active();
+  j["receive_mode"] = rt::to_string(o.receive_mode);
+  j["pong_cpu"] = pong_cpu;
+  j["round_trip_ns"] = summary_json(*r.round_trip);
+  j["wakeup_lateness_ns"] = summary_json(*r.wakeup_lateness);
+  j["sent"] = r.sent;
+  j["answered"] = r.answered;
+  j["unanswered"] = r.unanswered;
+  j["late_answers"] = r.late_answers;
+  j["overruns"] = r.overruns;
+  nlohmann::json drops = nlohmann::json::object();
+  for (int i = 0; i < rt::kDropReasonCount; ++i) {
+    const auto reason = static_cast<rt::DropReason>(i);
+    drops[rt::to_string(reason)] = r.ping_drops[reason];
+  }
+  j["dropped"] = drops;
+  j["ping_setup"] = r.ping_setup;
+  j["pong_setup"] = r.pong_setup;
+  j["pong_summary"] = r.pong_summary;
+  write_json(a.json, j);
+}
+
+// Options shared by both baselines.
+void add_common_options(CLI::App* cmd, BaselineArgs& a) {
+  cmd->add_option("--rate", a.rate_hz, "Loop rate [Hz]")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1e6));
+  cmd->add_option("--duration", a.duration_s, "Measured time [s]")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-3, 3600.0));
+  cmd->add_option("--wait", a.wait, "How to wait for a deadline: sleep | hybrid | spin")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"sleep", "hybrid", "spin"}));
+  cmd->add_option("--spin-margin-us", a.spin_margin_us,
+                  "hybrid: sleep until this long before the deadline, then spin [us]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
+  cmd->add_option("--overrun", a.overrun,
+                  "After a cycle starts a whole period late: skip (keep the grid) | reanchor")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"skip", "reanchor"}));
+  cmd->add_option("--cpu", a.cpu, "CPU to pin to (-1: do not pin)")
+      ->capture_default_str()
+      ->check(CLI::Range(-1, 1023));
+  cmd->add_option("--priority", a.priority,
+                  "SCHED_FIFO priority 1..99 when permitted (0: normal scheduling)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 99));
+  cmd->add_flag("--no-mlock", a.no_mlock, "Do not lock memory");
+  cmd->add_option("--json", a.json, "Write the figures as JSON to this file");
+}
+
+}  // namespace
+
+void register_baseline(CLI::App& app) {
+  auto* base = app.add_subcommand(
+      "baseline", "Same-run baselines: bare timer wake-up lateness, bare LCM round trip");
+  base->require_subcommand(1);
+  base->footer(
+      "Example:\n"
+      "  flexloop baseline timer --rate 10000 --wait hybrid --duration 5\n"
+      "  tools/netns-run -- flexloop baseline pingpong --rate 1000 --receive poll");
+
+  auto timer_args = std::make_shared<BaselineArgs>();
+  auto* timer = base->add_subcommand(
+      "timer", "A bare periodic thread's wake-up lateness (like cyclictest -m -p PRIO -i T)");
+  add_common_options(timer, *timer_args);
+  timer->footer(
+      "Example:\n"
+      "  flexloop baseline timer --rate 10000 --wait hybrid --cpu 1 --priority 80 --json t.json");
+  timer->callback([timer_args] { run_timer(*timer_args); });
+
+  auto pp_args = std::make_shared<BaselineArgs>();
+  auto* pp = base->add_subcommand(
+      "pingpong",
+      "Bare LCM round trip between two processes on the two cores (inside tools/netns-run)");
+  add_common_options(pp, *pp_args);
+  pp->add_option("--receive", pp_args->receive,
+                 "How to wait for a message: block (ppoll) | poll (spin on zero-timeout polls) | "
+                 "hybrid (block, poll from --spin-margin-us before a message is due); "
+                 "default: block for --wait sleep, hybrid for hybrid, poll for spin")
+      ->check(CLI::IsMember({"block", "poll", "hybrid"}));
+  pp->footer(
+      "The ping side runs on --cpu, the pong side on the other of CPUs 0 and 1.\n"
+      "Example:\n"
+      "  tools/netns-run -- build/release/tools/flexloop baseline pingpong --rate 10000 \\\n"
+      "      --wait hybrid --receive poll --duration 5 --json pp.json");
+  pp->callback([pp_args] { run_pingpong(*pp_args); });
+}
+
+}  // namespace flexloop::cli
