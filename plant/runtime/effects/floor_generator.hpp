@@ -1,0 +1,108 @@
+#pragma once
+// Stationary random floor acceleration on N independent channels (DESIGN.md §6): each channel
+// runs the same discrete shaping filter of order NF, driven by its own unit-variance white
+// sequence n_k (GaussianNoise, channel c seeded by (seed, c)):
+//   a_k     = Cd x_k + Dd n_k          [m/s²]
+//   x_{k+1} = Ad x_k + Bd n_k
+// The filter is designed offline (plant/lti/vibration_criterion.hpp: design_floor_filter, then
+// discretise_floor_filter, whose Bd already carries the 1/sqrt(dt) noise scaling); the channels'
+// states are the columns of one NF x N matrix, so a step is one NF x NF by NF x N product.
+//
+// Start: by default each channel's state is drawn from the filter's stationary distribution
+// N(0, P), P = Ad P Adᵀ + Bd Bdᵀ (found at start-up by the doubling iteration
+// P <- P + A P Aᵀ, A <- A², which also proves |eig(Ad)| < 1), so the floor is stationary from the
+// first sample; FloorStart::kAtRest starts from x = 0 instead. Same seed, same signal (on the
+// same build, see gaussian_noise.hpp); channel c's signal depends only on (matrices, seed, c).
+#include <Eigen/Dense>
+#include <cstdint>
+
+#include "plant/runtime/effects/channels.hpp"
+#include "plant/runtime/effects/gaussian_noise.hpp"
+#include "plant/runtime/fixed_size_matrix.hpp"
+
+namespace flexloop::plant::runtime::effects {
+
+enum class FloorStart { kStationary, kAtRest };
+
+template <class Scalar, int N, int NF>
+class FloorGenerator {
+  static_assert(kValidChannels<Scalar, N> && NF >= 1);
+
+ public:
+  using Vector = ChannelVector<Scalar, N>;
+  using StateMatrix = Eigen::Matrix<Scalar, NF, N>;
+
+  /// Start-up (allocates). Ad NF x NF, Bd NF x 1, Cd 1 x NF, Dd 1 x 1, input a unit-variance
+  /// white sequence, output acceleration [m/s²].
+  /// @throws std::invalid_argument when a size differs from the compiled one (NF states, one noise
+  ///         input, one output), an entry is not finite, or Ad is not stable (spectral radius >=
+  ///         1).
+  static FloorGenerator from_parameters(const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd,
+                                        const Eigen::MatrixXd& Cd, const Eigen::MatrixXd& Dd,
+                                        std::uint64_t seed,
+                                        FloorStart start = FloorStart::kStationary) {
+    FloorGenerator g(to_fixed<Eigen::Matrix<Scalar, NF, NF>>("floor generator: Ad", Ad),
+                     to_fixed<Eigen::Matrix<Scalar, NF, 1>>("floor generator: Bd", Bd),
+                     to_fixed<Eigen::Matrix<Scalar, 1, NF>>("floor generator: Cd", Cd),
+                     to_fixed<Eigen::Matrix<Scalar, 1, 1>>("floor generator: Dd", Dd),
+                     GaussianNoise<Scalar, N>::from_seed(seed));
+    if (start == FloorStart::kStationary) g.draw_stationary_state(stationary_covariance(Ad, Bd));
+    return g;
+  }
+
+  /// The floor acceleration of this sample [m/s²], one per channel; advances the filters.
+  Vector step() noexcept {
+    const Eigen::Matrix<Scalar, 1, N> n = noise_.sample().transpose();
+    const Eigen::Matrix<Scalar, 1, N> a = c_ * x_ + d_ * n;
+    const StateMatrix next = a_ * x_ + b_ * n;
+    x_ = next;
+    return a.transpose();
+  }
+
+  /// The filters' states, one column per channel.
+  const StateMatrix& state() const noexcept { return x_; }
+
+  /// P = Ad P Adᵀ + Bd Bdᵀ by doubling (Smith): after j rounds P holds Σ_{i < 2^j} Ad^i Bd Bdᵀ
+  /// Ad^iᵀ. @throws std::invalid_argument when the sum does not converge in 64 rounds.
+  static Eigen::MatrixXd stationary_covariance(const Eigen::MatrixXd& Ad,
+                                               const Eigen::MatrixXd& Bd) {
+    Eigen::MatrixXd p = Bd * Bd.transpose(), a = Ad;
+    for (int round = 0; round < 64; ++round) {
+      const Eigen::MatrixXd increment = a * p * a.transpose();
+      p += increment;
+      require(p.allFinite(), "floor generator", "Ad is not stable (spectral radius >= 1)");
+      // Max-norm: the Frobenius norm of a diverging sum overflows to inf <= inf.
+      if (increment.cwiseAbs().maxCoeff() <= 1e-16 * p.cwiseAbs().maxCoeff()) return p;
+      a = (a * a).eval();
+    }
+    require(false, "floor generator", "Ad is not stable (spectral radius >= 1)");
+    return p;
+  }
+
+ private:
+  FloorGenerator(const Eigen::Matrix<Scalar, NF, NF>& a, const Eigen::Matrix<Scalar, NF, 1>& b,
+                 const Eigen::Matrix<Scalar, 1, NF>& c, const Eigen::Matrix<Scalar, 1, 1>& d,
+                 const GaussianNoise<Scalar, N>& noise)
+      : a_(a), b_(b), c_(c), d_(d), x_(StateMatrix::Zero()), noise_(noise) {}
+
+  // x_c = V sqrt(Λ) z with P = V Λ Vᵀ (P is only semidefinite in general), z from channel c.
+  void draw_stationary_state(const Eigen::MatrixXd& p) {
+    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(p);
+    const Eigen::MatrixXd root =
+        eig.eigenvectors() * eig.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal();
+    for (int c = 0; c < N; ++c) {
+      Eigen::VectorXd z(NF);
+      for (int i = 0; i < NF; ++i) z(i) = static_cast<double>(noise_.sample(c));
+      x_.col(c) = (root * z).cast<Scalar>();
+    }
+  }
+
+  Eigen::Matrix<Scalar, NF, NF> a_;
+  Eigen::Matrix<Scalar, NF, 1> b_;
+  Eigen::Matrix<Scalar, 1, NF> c_;
+  Eigen::Matrix<Scalar, 1, 1> d_;
+  StateMatrix x_;
+  GaussianNoise<Scalar, N> noise_;
+};
+
+}  // namespace flexloop::plant::runtime::effects

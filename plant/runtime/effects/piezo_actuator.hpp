@@ -1,0 +1,104 @@
+#pragma once
+// Piezo actuator: command u (the controller's actuator output, e.g. σa in N) to strut force f.
+//   c = g ⊙ u                          commanded force [N], g force per command unit
+//   s = clamp(c, f_min, f_max)        stroke/voltage limits expressed as force [N]
+//   f = s                              (kLagged = false)
+//   f = FirstOrderLag(τ).step(s)       (kLagged = true: the amplifier/piezo bandwidth; the sample's
+//                                       mean force, see first_order_lag.hpp)
+// The limits act on the command, before the lag, as an amplifier's voltage limit does; the lagged
+// force therefore stays within them too. After each step saturated() tells which channels were
+// clipped and unsaturated_force() - limited_force() by how much, for the PI controller's
+// anti-windup. A NaN command gives zero force and counts as saturated; ±inf clip to the limits.
+// Whether the lag exists is a template parameter, so an actuator without it pays nothing for it.
+#include <limits>
+#include <type_traits>
+
+#include "plant/runtime/effects/channels.hpp"
+#include "plant/runtime/effects/first_order_lag.hpp"
+
+namespace flexloop::plant::runtime::effects {
+
+template <int N>
+struct PiezoActuatorParameters {
+  ChannelParameters<N> gain = ChannelParameters<N>::Ones();  ///< g [N per command unit], != 0
+  ChannelParameters<N> force_min =
+      ChannelParameters<N>::Constant(std::numeric_limits<double>::quiet_NaN());  ///< [N]
+  ChannelParameters<N> force_max =
+      ChannelParameters<N>::Constant(std::numeric_limits<double>::quiet_NaN());  ///< [N]
+  /// τ [s]; must be > 0 for a lagged actuator and 0 for one without a lag.
+  ChannelParameters<N> lag_time_constant = ChannelParameters<N>::Zero();
+};
+
+template <class Scalar, int N, bool kLagged = false>
+class PiezoActuator {
+  static_assert(kValidChannels<Scalar, N>);
+  struct NoLag {};
+  using Lag = std::conditional_t<kLagged, FirstOrderLag<Scalar, N>, NoLag>;
+
+ public:
+  using Vector = ChannelVector<Scalar, N>;
+
+  /// dt [s] is the sample time (used by the lag only).
+  /// @throws std::invalid_argument when a gain is zero or not finite, a limit is not finite or
+  ///         force_min >= force_max, or the lag time constants do not match kLagged.
+  static PiezoActuator from_parameters(const PiezoActuatorParameters<N>& p, double dt) {
+    constexpr const char* kName = "piezo actuator";
+    require_each<N>(p.gain, kName, "gain", "!= 0", [](double v) { return v != 0; });
+    require_each<N>(p.force_min, kName, "force_min [N]", "finite", [](double) { return true; });
+    require_each<N>(p.force_max, kName, "force_max [N]", "finite", [](double) { return true; });
+    for (int c = 0; c < N; ++c)
+      require(p.force_min(c) < p.force_max(c), kName,
+              "channel " + std::to_string(c) + ": force_min " + std::to_string(p.force_min(c)) +
+                  " N is not below force_max " + std::to_string(p.force_max(c)) + " N");
+    if constexpr (kLagged) {
+      return PiezoActuator(p, FirstOrderLag<Scalar, N>::from_parameters(p.lag_time_constant, dt));
+    } else {
+      require_each<N>(p.lag_time_constant, kName, "lag time constant [s]",
+                      "0 (this actuator type has no lag; use PiezoActuator<..., true>)",
+                      [](double v) { return v == 0; });
+      return PiezoActuator(p, NoLag{});
+    }
+  }
+
+  /// Command u_k held over the sample; returns the force the struts get during it.
+  Vector step(const Vector& command) noexcept {
+    for (int c = 0; c < N; ++c) {
+      const Scalar commanded = gain_(c) * command(c);
+      const bool nan = commanded != commanded;
+      const Scalar finite = nan ? Scalar(0) : commanded;
+      const Scalar limited = finite < min_(c) ? min_(c) : (finite > max_(c) ? max_(c) : finite);
+      unsaturated_(c) = commanded;
+      limited_(c) = limited;
+      saturated_(c) = nan || limited != finite;
+    }
+    if constexpr (kLagged)
+      return lag_.step(limited_);
+    else
+      return limited_;
+  }
+
+  /// Which channels the last step clipped.
+  const ChannelFlags<N>& saturated() const noexcept { return saturated_; }
+  /// g ⊙ u of the last step, before the limits (NaN kept).
+  const Vector& unsaturated_force() const noexcept { return unsaturated_; }
+  /// The last step's force after the limits, before the lag.
+  const Vector& limited_force() const noexcept { return limited_; }
+  const Vector& force_min() const noexcept { return min_; }
+  const Vector& force_max() const noexcept { return max_; }
+
+ private:
+  PiezoActuator(const PiezoActuatorParameters<N>& p, Lag lag)
+      : gain_(p.gain.template cast<Scalar>()),
+        min_(p.force_min.template cast<Scalar>()),
+        max_(p.force_max.template cast<Scalar>()),
+        unsaturated_(Vector::Zero()),
+        limited_(Vector::Zero()),
+        saturated_(ChannelFlags<N>::Constant(false)),
+        lag_(lag) {}
+  Vector gain_, min_, max_;
+  Vector unsaturated_, limited_;
+  ChannelFlags<N> saturated_;
+  [[no_unique_address]] Lag lag_;
+};
+
+}  // namespace flexloop::plant::runtime::effects

@@ -1,0 +1,44 @@
+#pragma once
+// Pure delay of D samples:  y_k = x_{k-D}, and y_k = the initial value (zero unless reset) for
+// k < D. D is chosen at start-up, 0 <= D <= kMaxDelay (a compile-time bound that sizes the ring
+// buffer: kMaxDelay + 1 vectors); D = 0 passes the input through. For sensor latency and for the
+// transport delay between plant and controller.
+#include <array>
+
+#include "plant/runtime/effects/channels.hpp"
+
+namespace flexloop::plant::runtime::effects {
+
+template <class Scalar, int N, int kMaxDelay = 32>
+class SampleDelay {
+  static_assert(kValidChannels<Scalar, N> && kMaxDelay >= 0);
+
+ public:
+  /// @throws std::invalid_argument unless 0 <= delay <= kMaxDelay.
+  static SampleDelay from_parameters(int delay) {
+    require(delay >= 0 && delay <= kMaxDelay, "sample delay",
+            "delay is " + std::to_string(delay) + " samples, must be 0 .. " +
+                std::to_string(kMaxDelay) + " (the compile-time maximum)");
+    return SampleDelay(delay);
+  }
+
+  /// Fills the line with `value`: the next D outputs.
+  void reset(const ChannelVector<Scalar, N>& value) noexcept { ring_.fill(value); }
+
+  // Ring of D + 1 slots: write x_k at head, then the slot after head holds x_{k-D}.
+  ChannelVector<Scalar, N> step(const ChannelVector<Scalar, N>& x) noexcept {
+    ring_[head_] = x;
+    head_ = head_ == delay_ ? 0 : head_ + 1;
+    return ring_[head_];
+  }
+
+  int delay() const noexcept { return delay_; }
+
+ private:
+  explicit SampleDelay(int delay) : delay_(delay) { reset(ChannelVector<Scalar, N>::Zero()); }
+  std::array<ChannelVector<Scalar, N>, kMaxDelay + 1> ring_;
+  int delay_;
+  int head_ = 0;
+};
+
+}  // namespace flexloop::plant::runtime::effects
