@@ -1,0 +1,223 @@
+#pragma once
+// The discrete PI force-feedback controller (DESIGN.md §4, §6), the runtime form of
+//   σa(s) = -(K_P + K_I / (s + w_l)) σ1(s)                     (controller/design)
+// for force sensors in series with the actuators: the measurement y contains the actuator's own
+// force, y = (the rest) + D22 u, with D22 = I for the metrology frame. A plain sampled law
+// u_k = -(K_P y_k + K_I x_k) would feed its own previous command back with a one-sample delay and
+// is unstable once |K_P D22| > 1 (K_P has eigenvalues up to ~23 on the metrology frame). So the
+// controller removes its known feedthrough and solves the loop algebraically, as the continuous
+// law does. At sample k, with u_{k-1} the command it returned last time (held by the actuator):
+//
+//   f_k = y_k - D22 u_{k-1-d}                       the force not due to the actuator
+//                                                   (d: sensor + transport delay, usually 0)
+//   v_k = G_f f_k + G_x x_k,   G_f = -E K_P,  G_x = -E K_I,  E = (I + K_P D22)^-1
+//   u_k = clamp(v_k, u_min, u_max)                  per channel
+//   x'_k = x_k + G_x^-1 (u_k - v_k)                 anti-windup (zero while unsaturated)
+//   x_{k+1} = a x'_k + b (f_k + D22 u_k),   a = e^{-w_l dt},  b = (1 - a)/w_l  (b = dt if w_l = 0)
+//
+// This is the controller state space (Ac = aI, Bc = bI, Cc = -K_I, Dc = -K_P) closed around D22:
+// u = (I - Dc D22)^-1 (Cc x + Dc f),  x+ = Ac x + Bc (f + D22 u), exactly the sampled loop of
+// plant::lti::close_loop_sampled (plant/lti/feedback_interconnection.hpp). While no channel
+// saturates the anti-windup term is exactly zero and that law holds to the last bit.
+//
+// Anti-windup (back-calculation with a one-sample tracking time): when a channel saturates, the
+// integrator state is moved to the one for which the unsaturated law gives the command actually
+// applied, G_x x' = u_k - G_f f_k, and integrates from there. This works with coupled (full)
+// gains: it changes no unsaturated channel's command at that sample, and the integrator never
+// holds more than what the saturated command needs, so on release the command leaves the limit
+// continuously. It needs K_I invertible (G_x^-1 = -K_I^-1 (I + K_P D22)).
+//
+// Bumpless start: start(y_now, u_now) sets u_{k-1} = u_now and x = G_x^-1 (u_now - G_f f) with
+// f = y_now - D22 u_now, so a first step with y = y_now returns u_now (also needs K_I invertible).
+//
+// step() never allocates, locks, throws or makes a system call. from_parameters (start-up) does.
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "plant/runtime/fixed_size_matrix.hpp"
+
+namespace flexloop::controller::runtime {
+
+/// Start-up parameters, as the offline design gives them (controller/design: PiGains).
+struct PiParameters {
+  Eigen::MatrixXd K_P, K_I;  ///< N x N, full (coupled) gains
+  double dt = 0;             ///< sample time [s], > 0
+  double leak_rad_s = 0;     ///< w_l >= 0; 0: pure integrator
+  /// Actuator limits [N]: empty (none), one value for every channel, or N values.
+  Eigen::VectorXd u_min, u_max;
+  /// D22, the sensors' feedthrough from the command: empty means the identity.
+  Eigen::MatrixXd feedthrough;
+  /// Samples between a command and the measurement that first contains it, beyond the one
+  /// sample of the loop itself (sensor delay + transport delay); 0 .. kMaxFeedthroughDelay.
+  int feedthrough_delay = 0;
+};
+
+/// The longest sensor + transport delay the feedthrough removal can follow.
+inline constexpr int kMaxFeedthroughDelay = 32;
+
+template <typename Scalar, int N>
+class PiController {
+  static_assert(N > 0, "the number of channels is compile-time and positive");
+
+ public:
+  using Vector = Eigen::Matrix<Scalar, N, 1>;
+  using Matrix = Eigen::Matrix<Scalar, N, N>;
+
+  /// @throws std::invalid_argument for gains or feedthrough that are not N x N, non-finite
+  /// numbers, dt <= 0, w_l < 0, limits of the wrong size or with u_min > u_max, I + K_P D22
+  /// singular (ill-posed loop), or K_I singular (no anti-windup or bumpless start possible).
+  static PiController from_parameters(const PiParameters& p);
+
+  /// One sample: y = measured forces (including the command held since the previous sample).
+  /// Returns the (saturated) command to hold until the next sample.
+  Vector step(const Vector& y) noexcept {
+    Vector f = y;
+    subtract_feedthrough(f, measured_command());
+    Vector v;
+    v.noalias() = G_f_ * f;
+    v.noalias() += G_x_ * x_;
+    const Vector u = v.cwiseMax(u_min_).cwiseMin(u_max_);
+    Vector x = x_;
+    // Only a clamped sample moves the integrator (the term is zero otherwise; the branch saves
+    // its N² multiply-adds in the usual unsaturated sample and is well predicted).
+    if ((u.array() != v.array()).any()) x.noalias() += G_x_inv_ * (u - v);
+    subtract_feedthrough(f, -u);
+    x_ = a_ * x + b_ * f;
+    remember(u);
+    return u;
+  }
+
+  /// Bumpless start: the next step(y_now) returns u_now. See the header comment.
+  void start(const Vector& y_now, const Vector& u_now) noexcept {
+    history_.fill(u_now);  // the actuator has been holding u_now
+    u_prev_ = u_now;
+    Vector f = y_now;
+    subtract_feedthrough(f, u_now);
+    Vector r = u_now;
+    r.noalias() -= G_f_ * f;
+    x_.noalias() = G_x_inv_ * r;
+  }
+
+  /// When the actuator reports that it applied something else (e.g. a safe command).
+  void set_previous_command(const Vector& u) noexcept {
+    history_[head_] = u;
+    u_prev_ = u;
+  }
+  const Vector& previous_command() const noexcept { return u_prev_; }
+  const Vector& state() const noexcept { return x_; }
+  void set_state(const Vector& x) noexcept { x_ = x; }
+  void reset() noexcept {
+    x_.setZero();
+    u_prev_.setZero();
+    history_.fill(Vector::Zero());
+  }
+
+  const Matrix& G_f() const noexcept { return G_f_; }
+  const Matrix& G_x() const noexcept { return G_x_; }
+
+ private:
+  PiController() = default;
+
+  // f <- f - D22 u; D22 = I (force sensors in series with the actuators) skips the product.
+  void subtract_feedthrough(Vector& f, const Vector& u) const noexcept {
+    if (identity_feedthrough_)
+      f -= u;
+    else
+      f.noalias() -= D22_ * u;
+  }
+
+  static constexpr int kHistory = kMaxFeedthroughDelay + 1;
+  // u_{k-1-d}: the command the current measurement contains (d = feedthrough_delay).
+  const Vector& measured_command() const noexcept {
+    const int i = head_ - delay_;
+    return history_[i < 0 ? i + kHistory : i];
+  }
+  void remember(const Vector& u) noexcept {
+    head_ = head_ + 1 == kHistory ? 0 : head_ + 1;
+    history_[head_] = u;
+    u_prev_ = u;
+  }
+
+  Matrix G_f_, G_x_, G_x_inv_, D22_;
+  int delay_ = 0, head_ = 0;
+  std::array<Vector, kHistory> history_;
+  bool identity_feedthrough_ = true;
+  Scalar a_ = 1, b_ = 0;
+  Vector u_min_, u_max_;
+  Vector x_ = Vector::Zero(), u_prev_ = Vector::Zero();
+};
+
+namespace detail {
+
+/// Limits of PiParameters as N values: none -> ±inf, one -> broadcast.
+template <int N>
+Eigen::Matrix<double, N, 1> pi_limit(const Eigen::VectorXd& v, double none, const char* name) {
+  if (v.size() == 0) return Eigen::Matrix<double, N, 1>::Constant(none);
+  if (v.size() == 1) return Eigen::Matrix<double, N, 1>::Constant(v(0));
+  if (v.size() != N)
+    throw std::invalid_argument(std::string("PiController: ") + name + " has " +
+                                std::to_string(v.size()) + " values, expected 1 or " +
+                                std::to_string(N));
+  return v;
+}
+
+}  // namespace detail
+
+template <typename Scalar, int N>
+PiController<Scalar, N> PiController<Scalar, N>::from_parameters(const PiParameters& p) {
+  using plant::runtime::to_fixed;
+  using M = Eigen::Matrix<double, N, N>;
+  const M K_P = to_fixed<M>("PiController: K_P", p.K_P);
+  const M K_I = to_fixed<M>("PiController: K_I", p.K_I);
+  const M D22 = p.feedthrough.size() == 0 ? M::Identity()
+                                          : to_fixed<M>("PiController: feedthrough", p.feedthrough);
+  if (!(std::isfinite(p.dt) && p.dt > 0))
+    throw std::invalid_argument("PiController: dt must be finite and > 0, got " +
+                                std::to_string(p.dt));
+  if (!(std::isfinite(p.leak_rad_s) && p.leak_rad_s >= 0))
+    throw std::invalid_argument("PiController: leak_rad_s must be finite and >= 0, got " +
+                                std::to_string(p.leak_rad_s));
+  const double inf = std::numeric_limits<double>::infinity();
+  const Eigen::Matrix<double, N, 1> lo = detail::pi_limit<N>(p.u_min, -inf, "u_min");
+  const Eigen::Matrix<double, N, 1> hi = detail::pi_limit<N>(p.u_max, inf, "u_max");
+  if (lo.hasNaN() || hi.hasNaN() || (lo.array() > hi.array()).any())
+    throw std::invalid_argument("PiController: u_min must be <= u_max in every channel");
+
+  const Eigen::FullPivLU<M> loop(M::Identity() + K_P * D22);
+  if (!loop.isInvertible())
+    throw std::invalid_argument(
+        "PiController: I + K_P D22 is singular: the loop through the sensors' feedthrough is "
+        "ill-posed");
+  const Eigen::FullPivLU<M> integral(K_I);
+  if (!integral.isInvertible())
+    throw std::invalid_argument(
+        "PiController: K_I is singular; anti-windup and bumpless start need it invertible");
+
+  PiController c;
+  const M G_f = -loop.solve(K_P), G_x = -loop.solve(K_I);
+  c.G_f_ = G_f.template cast<Scalar>();
+  c.G_x_ = G_x.template cast<Scalar>();
+  c.G_x_inv_ = (-integral.solve(M::Identity() + K_P * D22)).template cast<Scalar>();
+  c.D22_ = D22.template cast<Scalar>();
+  c.identity_feedthrough_ = D22 == M::Identity();
+  if (p.feedthrough_delay < 0 || p.feedthrough_delay > kMaxFeedthroughDelay)
+    throw std::invalid_argument("PiController: feedthrough_delay must be 0 .. " +
+                                std::to_string(kMaxFeedthroughDelay) + ", got " +
+                                std::to_string(p.feedthrough_delay));
+  c.delay_ = p.feedthrough_delay;
+  c.history_.fill(Vector::Zero());
+  const double a = std::exp(-p.leak_rad_s * p.dt);
+  c.a_ = static_cast<Scalar>(a);
+  c.b_ = static_cast<Scalar>(p.leak_rad_s > 0 ? -std::expm1(-p.leak_rad_s * p.dt) / p.leak_rad_s
+                                              : p.dt);
+  c.u_min_ = lo.template cast<Scalar>();
+  c.u_max_ = hi.template cast<Scalar>();
+  return c;
+}
+
+}  // namespace flexloop::controller::runtime

@@ -1,0 +1,65 @@
+#pragma once
+// The discrete plant in the form the offline discretisation produces it (DESIGN.md §6):
+//
+//   y_k = Cd x_k + Dd u_k,        x_{k+1} = Ad x_k + Bd u_k
+//
+// with compile-time sizes NX (states), NU (inputs), NY (outputs) and Scalar double or float.
+// A step costs NX (NX + NU) + NY (NX + NU) multiply-adds. The update is computed as
+//   x_{k+1} = x_k + ((Ad - I) x_k + Bd u_k)
+// (Ad - I is exact in floating point for the entries near 1): at high sample rates Ad ≈ I + A T
+// and the increment carries the dynamics; rounding Ad - I instead of Ad to the runtime's scalar
+// keeps the poles near z = 1 to full relative precision, which matters for float. The matrices are
+// loaded once at start-up from the discrete artefact (from_matrices, which checks the sizes);
+// output() and advance() never allocate, lock, throw or make a system call. The usual sample is
+//   y = plant.output(u); ...; plant.advance(u);
+// so the output sees the state before the update.
+#include <Eigen/Core>
+
+#include "plant/runtime/fixed_size_matrix.hpp"
+#include "plant/runtime/state_output.hpp"
+
+namespace flexloop::plant::runtime {
+
+template <typename Scalar, int NX, int NU, int NY>
+class DensePlant : public StateOutput<Scalar, NX, NU, NY> {
+  using Base = StateOutput<Scalar, NX, NU, NY>;
+
+ public:
+  using StateMatrix = Eigen::Matrix<Scalar, NX, NX>;
+
+  /// Start-up only. The matrices are in double (the artefact's precision) and are rounded to
+  /// Scalar. The state starts at zero.
+  /// @throws std::invalid_argument naming the matrix, its size and the expected size when a
+  /// size differs from (NX, NU, NY), or an entry that is not finite.
+  static DensePlant from_matrices(const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd,
+                                  const Eigen::MatrixXd& Cd, const Eigen::MatrixXd& Dd);
+
+  /// x <- x + ((Ad - I) x + Bd u).
+  void advance(const typename Base::Input& u) noexcept {
+    typename Base::State increment;
+    increment.noalias() = Ad_minus_I_ * this->x_;
+    increment.noalias() += Bd_ * u;
+    this->x_ += increment;
+  }
+
+ private:
+  DensePlant() = default;
+
+  StateMatrix Ad_minus_I_;
+  typename Base::InputMatrix Bd_;
+};
+
+template <typename Scalar, int NX, int NU, int NY>
+DensePlant<Scalar, NX, NU, NY> DensePlant<Scalar, NX, NU, NY>::from_matrices(
+    const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd, const Eigen::MatrixXd& Cd,
+    const Eigen::MatrixXd& Dd) {
+  using Square = Eigen::Matrix<double, NX, NX>;
+  DensePlant p;
+  p.Ad_minus_I_ =
+      (to_fixed<Square>("DensePlant: Ad", Ad) - Square::Identity()).template cast<Scalar>();
+  p.Bd_ = to_fixed<typename Base::InputMatrix>("DensePlant: Bd", Bd);
+  p.load_output("DensePlant", "Cd", Cd, "Dd", Dd);
+  return p;
+}
+
+}  // namespace flexloop::plant::runtime

@@ -1,0 +1,139 @@
+// The modal (real block-diagonal) plant against the dense one, in double: the same outputs to
+// 1e-12 relative over 10^5 steps for a plant with an exactly repeated pair, real poles and
+// repeated integrator poles at z = 1, and for the metrology frame (its 13.9/13.9 Hz and 31.3/31.3
+// Hz pairs are exact). A defective Ad (double integrator) is refused, pointing to the dense form.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <random>
+
+#include "plant/lti/modal_form.hpp"
+#include "plant/runtime/runtime_sizes.hpp"
+#include "tests/support/discrete_systems.hpp"
+#include "tests/support/metrology.hpp"
+
+using namespace flexloop;
+using plant::runtime::DensePlant;
+using plant::runtime::ModalPlant;
+
+namespace {
+
+// max_k |y_dense - y_modal|_inf / max_k |y_dense|_inf over `steps` steps of a seeded N(0,1) input;
+// also checks the final states, |x_dense - T z| <= state_tolerance |x_dense|.
+template <int NX, int NU, int NY>
+double dense_modal_disagreement(const plant::lti::DiscreteStateSpace& d,
+                                const plant::lti::ModalForm& m, int steps, double state_tolerance) {
+  auto dense = DensePlant<double, NX, NU, NY>::from_matrices(d.sys.A, d.sys.B, d.sys.C, d.sys.D);
+  auto modal = ModalPlant<double, NX, NU, NY>::from_modal_form(m);
+  std::mt19937 rng(11);
+  std::normal_distribution<double> n01;
+  Eigen::Matrix<double, NU, 1> u;
+  double diff = 0, scale = 0, state_diff = 0, state_scale = 0;
+  for (int k = 0; k < steps; ++k) {
+    for (int i = 0; i < NU; ++i) u(i) = n01(rng);
+    const auto y = dense.output(u);
+    diff = std::max(diff, (y - modal.output(u)).cwiseAbs().maxCoeff());
+    scale = std::max(scale, y.cwiseAbs().maxCoeff());
+    dense.advance(u);
+    modal.advance(u);
+  }
+  state_diff = (dense.state() - modal.physical_state()).cwiseAbs().maxCoeff();
+  state_scale = dense.state().cwiseAbs().maxCoeff();
+  INFO(std::scientific << "final state: |x_dense - T z| = " << state_diff
+                       << ", |x| = " << state_scale);
+  CHECK(state_diff <= state_tolerance * state_scale);
+  return diff / scale;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "modal form: repeated pair, real poles and integrators, dense and modal agree to 1e-12 "
+    "over 10^5 steps",
+    "[runtime][modal]") {
+  // z = 0.9995 e^{±j0.0087} twice (exact repeated pair, like 13.9 Hz at 10 kHz), a distinct pair,
+  // two real poles, and z = 1 twice (integrators).
+  const auto d = test::discrete_system(
+      {{0.9995, 0.0087}, {0.9995, 0.0087}, {0.999, 0.03}, {0.9, 0}, {0.5, 0}, {1.0, 0}, {1.0, 0}},
+      3, 4, 5);
+  const auto m = plant::lti::to_modal_form(d);
+  // Two 2x2 blocks for the repeated pair, one for the other pair, 1x1 blocks for 0.9 and 0.5; the
+  // integrators at z = 1 come as two 1x1 blocks or, split by rounding into a pair with a
+  // negligible imaginary part, one 2x2 block. Either way 10 states.
+  int states = 0;
+  for (int b : m.block_sizes) states += b;
+  CHECK(states == 10);
+  CHECK(std::count(m.block_sizes.begin(), m.block_sizes.end(), 2) >= 3);
+  CHECK(m.eigenvector_condition < 1e3);
+  // Λ is T^-1 Ad T to rounding.
+  CHECK((d.sys.A * m.T - m.T * m.Lambda).norm() <= 1e-13 * d.sys.A.norm() * m.T.norm());
+
+  // The integrators at z = 1 remember everything: a pole offset of a few eps between the two
+  // forms (neither can hold the other's exactly) grows into a state difference ~ k eps, 1e-11 at
+  // k = 10^5. The outputs agree to 1e-12.
+  const double rel = dense_modal_disagreement<10, 3, 4>(d, m, 100000, 1e-11);
+  INFO(std::scientific << "relative disagreement " << rel);
+  CHECK(rel <= 1e-12);
+}
+
+TEST_CASE("modal form: the metrology plant, dense and modal agree to 1e-12 over 10^5 steps",
+          "[runtime][modal][metrology]") {
+  const auto& d = test::metrology().s.plant;
+  const auto m = plant::lti::to_modal_form(d);
+  INFO("cond(T) = " << m.eigenvector_condition);
+  CHECK(m.block_sizes == std::vector<int>(6, 2));
+  CHECK(m.eigenvector_condition < 1e4);
+  const double rel = dense_modal_disagreement<12, 12, 12>(d, m, 100000, 1e-12);
+  INFO(std::scientific << "relative disagreement " << rel);
+  CHECK(rel <= 1e-12);
+}
+
+TEST_CASE(
+    "modal form: a defective Ad (double integrator) is refused with a pointer to the dense "
+    "form",
+    "[runtime][modal]") {
+  plant::lti::DiscreteStateSpace d{};
+  const double T = 1e-4;
+  d.sys.A = (Eigen::MatrixXd(3, 3) << 1, T, 0, 0, 1, 0, 0, 0, 0.5).finished();
+  d.sys.B = Eigen::MatrixXd::Ones(3, 1);
+  d.sys.C = Eigen::MatrixXd::Ones(1, 3);
+  d.sys.D = Eigen::MatrixXd::Zero(1, 1);
+  d.sys.states = {"p", "v", "x"};
+  d.sys.inputs = {"a"};
+  d.sys.outputs = {"y"};
+  d.dt = T;
+  CHECK_THROWS_WITH(plant::lti::to_modal_form(d),
+                    Catch::Contains("defective") && Catch::Contains("use the dense form"));
+}
+
+TEST_CASE("modal plant: start-up refuses a Lambda that is not real block-diagonal",
+          "[runtime][modal]") {
+  using Plant = ModalPlant<double, 3, 1, 1>;
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Ones(3, 1), C = Eigen::MatrixXd::Ones(1, 3),
+                        D = Eigen::MatrixXd::Zero(1, 1), T = Eigen::MatrixXd::Identity(3, 3);
+  Eigen::MatrixXd L = Eigen::MatrixXd::Zero(3, 3);
+  L << 0.9, 0.1, 0, -0.1, 0.9, 0, 0, 0, 0.5;
+  CHECK_NOTHROW(Plant::from_modal_form(L, B, C, D, T));
+  Eigen::MatrixXd coupled = L;
+  coupled(0, 2) = 0.01;
+  CHECK_THROWS_WITH(Plant::from_modal_form(coupled, B, C, D, T),
+                    Catch::Contains("not real block-diagonal"));
+  Eigen::MatrixXd skew = L;
+  skew(1, 0) = -0.2;
+  CHECK_THROWS_WITH(Plant::from_modal_form(skew, B, C, D, T),
+                    Catch::Contains("not of the form [[a, b], [-b, a]]"));
+  CHECK_THROWS_WITH(Plant::from_modal_form(L, Eigen::MatrixXd::Ones(3, 2), C, D, T),
+                    Catch::Contains("Bm is 3x2, expected 3x1"));
+}
+
+TEST_CASE(
+    "modal form: the metrology frame under gravity preload (24 states, double integrators "
+    "of the floor motion) loads in the dense runtime and is refused by the modal form",
+    "[runtime][modal][metrology][preload]") {
+  auto sc = scene::load_scene(test::metrology_scene_path());
+  sc.gravity_preload = true;
+  const auto d = scene::sample_scene(scene::build_scene_plant(sc)).plant;
+  REQUIRE(d.sys.nx() == 24);
+  CHECK_NOTHROW(DensePlant<double, 24, 12, 12>::from_matrices(d.sys.A, d.sys.B, d.sys.C, d.sys.D));
+  CHECK_THROWS_WITH(plant::lti::to_modal_form(d), Catch::Contains("use the dense form"));
+}
