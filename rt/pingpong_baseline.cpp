@@ -9,6 +9,8 @@
 #include <flexloop_msgs/sensor_sample_t.hpp>
 #include <stdexcept>
 
+#include "rt/loop_process_setup.hpp"
+
 namespace flexloop::rt {
 
 namespace {
@@ -23,17 +25,6 @@ struct Channels {
   explicit Channels(const std::string& prefix)
       : ping(prefix + "_PING"), pong(prefix + "_PONG"), stop(prefix + "_STOP") {}
 };
-
-// The thread set-up after LCM is open (DESIGN.md §11 order), plus LCM's receive thread on the
-// same CPU one priority above, when real-time priority was granted. Returns the report text.
-std::string set_up_process(LcmTransport& lcm, const RealtimeOptions& rt) {
-  const RealtimeReport report = apply_realtime_setup(rt);
-  std::string text = report.describe();
-  if (report.fifo)
-    for (const SetupStatus& s : lcm.configure_receive_thread(rt.cpu, rt.fifo_priority + 1))
-      text += (s.ok ? "  ok    LCM receive: " : "  WARN  LCM receive: ") + s.message + "\n";
-  return text;
-}
 
 // A text block over the pipe, '\0'-terminated (the first one also says "ready").
 void send_block(int fd, const std::string& text) {
@@ -62,7 +53,7 @@ int run_pong(const PingPongOptions& o, int report_fd) {
   lcm.subscribe(ch.ping, pings);
   lcm.subscribe(ch.stop, stop);
   LcmPublisher<actuator_command_t> answer(lcm, ch.pong);
-  send_block(report_fd, set_up_process(lcm, o.pong_realtime));
+  send_block(report_fd, set_up_loop_process(lcm, o.pong_realtime).text);
 
   actuator_command_t cmd{};
   const std::int64_t give_up =
@@ -114,7 +105,7 @@ void run_ping(const PingPongOptions& o, PingPongResult& r) {
   lcm.subscribe(ch.pong, answers);
   LcmPublisher<sensor_sample_t> ping(lcm, ch.ping);
   LcmPublisher<sensor_sample_t> stop(lcm, ch.stop);
-  r.ping_setup = set_up_process(lcm, o.ping_realtime);
+  r.ping_setup = set_up_loop_process(lcm, o.ping_realtime).text;
 
   sensor_sample_t msg{};
   msg.plant_epoch = epoch;

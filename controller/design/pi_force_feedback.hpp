@@ -18,9 +18,9 @@
 //
 // The controller as a state space (for the closed loop and for the runtime):
 //   xi' = -w_l xi + sigma_1,   sigma_a = -(K_P sigma_1 + K_I xi).
-// Its zero-order-hold discretisation, xi_{k+1} = a xi_k + b y_k with a = e^{-w_l T},
-// b = (1 - a)/w_l (b = T for w_l = 0), u_k = -(K_P y_k + K_I xi_k), is exactly what
-// controller/runtime/pi_controller.hpp runs.
+// Its zero-order-hold discretisation (a = e^{-w_l T}, b = (1 - a)/w_l, b = T for w_l = 0),
+// closed around the sensors' feedthrough of the controller's own command, is what
+// controller/runtime/pi_controller.hpp runs (see there and plant/lti/feedback_interconnection).
 #include <Eigen/Dense>
 #include <array>
 #include <string>

@@ -9,9 +9,13 @@
 #include <string>
 
 #include "plant/lti/state_space_json.hpp"
+#include "rt/loop_process_setup.hpp"
 #include "rt/pingpong_baseline.hpp"
 #include "rt/timer_baseline.hpp"
+#include "tools/flexloop/loop_options_cli.hpp"
 #include "tools/flexloop/subcommands.hpp"
+#include "tools/hil/baseline_json.hpp"
+#include "tools/hil/latency_json.hpp"
 
 namespace flexloop::cli {
 
@@ -29,20 +33,6 @@ struct BaselineArgs {
   bool no_mlock = false;
   std::string json;
 };
-
-nlohmann::json summary_json(const rt::LatencyHistogram& h) {
-  const rt::LatencySummary s = h.summary();
-  return {{"min", s.min},   {"p50", s.p50}, {"p99", s.p99},
-          {"p999", s.p999}, {"max", s.max}, {"count", s.count}};
-}
-
-void print_summary(const char* what, const rt::LatencyHistogram& h) {
-  const rt::LatencySummary s = h.summary();
-  std::printf("%-22s min %9lld  p50 %9lld  p99 %9lld  p99.9 %9lld  max %10lld  (%lld samples)\n",
-              what, static_cast<long long>(s.min), static_cast<long long>(s.p50),
-              static_cast<long long>(s.p99), static_cast<long long>(s.p999),
-              static_cast<long long>(s.max), static_cast<long long>(s.count));
-}
 
 rt::PeriodicClockOptions clock_options(const BaselineArgs& a) {
   return {.period_ns = static_cast<std::int64_t>(1e9 / a.rate_hz + 0.5),
@@ -87,19 +77,14 @@ void run_timer(const BaselineArgs& a) {
   const rt::TimerBaselineResult r = rt::run_timer_baseline(o);
   std::printf("%s  %s  %s\n", r.setup.describe().c_str(), dma.active() ? "ok  " : "WARN",
               dma.message().c_str());
-  print_summary("wakeup lateness (ns)", *r.wakeup_lateness);
+  hil::print_summary("wakeup lateness (ns)", *r.wakeup_lateness);
   std::printf("periods %lld, cycles %lld, overruns %lld, skipped periods %lld\n",
               static_cast<long long>(r.periods), static_cast<long long>(r.cycles),
               static_cast<long long>(r.overruns), static_cast<long long>(r.skipped_periods));
   nlohmann::json j = settings_json(a, o.clock);
+  j.update(hil::timer_baseline_json(r));
   j["kind"] = "timer";
-  j["fifo"] = r.setup.fifo;
   j["cpu_dma_latency_held"] = dma.active();
-  j["wakeup_lateness_ns"] = summary_json(*r.wakeup_lateness);
-  j["periods"] = r.periods;
-  j["cycles"] = r.cycles;
-  j["overruns"] = r.overruns;
-  j["skipped_periods"] = r.skipped_periods;
   write_json(a.json, j);
 }
 
@@ -109,9 +94,8 @@ void run_pingpong(const BaselineArgs& a) {
   o.clock = clock_options(a);
   o.duration_ns = duration_ns(a);
   // Unless told otherwise, receive the way the clock waits: sleep -> block, hybrid, spin -> poll.
-  constexpr const char* kReceiveFor[] = {"block", "hybrid", "poll"};
-  o.receive_mode = rt::parse_receive_mode(
-      !a.receive.empty() ? a.receive : kReceiveFor[static_cast<int>(o.clock.wait_mode)]);
+  o.receive_mode = a.receive.empty() ? rt::receive_mode_for(o.clock.wait_mode)
+                                     : rt::parse_receive_mode(a.receive);
   const int pong_cpu = a.cpu < 0 ? -1 : 1 - (a.cpu % 2);  // the other of the two cores
   o.ping_realtime = realtime_options(a, a.cpu);
   o.pong_realtime = realtime_options(a, pong_cpu);
@@ -123,8 +107,8 @@ void run_pingpong(const BaselineArgs& a) {
   const rt::PingPongResult r = rt::run_pingpong_baseline(o);
   std::printf("ping:\n%spong:\n%s  %s  %s\n", r.ping_setup.c_str(), r.pong_setup.c_str(),
               dma.active() ? "ok  " : "WARN", dma.message().c_str());
-  print_summary("round trip (ns)", *r.round_trip);
-  print_summary("ping wakeup lateness", *r.wakeup_lateness);
+  hil::print_summary("round trip (ns)", *r.round_trip);
+  hil::print_summary("ping wakeup lateness", *r.wakeup_lateness);
   std::printf(
       "sent %lld, answered %lld, unanswered %lld, late answers %lld, dropped %lld, "
       "overruns %lld\npong: %s\n",
@@ -137,22 +121,7 @@ void run_pingpong(const BaselineArgs& a) {
   j["cpu_dma_latency_held"] = dma.active();
   j["receive_mode"] = rt::to_string(o.receive_mode);
   j["pong_cpu"] = pong_cpu;
-  j["round_trip_ns"] = summary_json(*r.round_trip);
-  j["wakeup_lateness_ns"] = summary_json(*r.wakeup_lateness);
-  j["sent"] = r.sent;
-  j["answered"] = r.answered;
-  j["unanswered"] = r.unanswered;
-  j["late_answers"] = r.late_answers;
-  j["overruns"] = r.overruns;
-  nlohmann::json drops = nlohmann::json::object();
-  for (int i = 0; i < rt::kDropReasonCount; ++i) {
-    const auto reason = static_cast<rt::DropReason>(i);
-    drops[rt::to_string(reason)] = r.ping_drops[reason];
-  }
-  j["dropped"] = drops;
-  j["ping_setup"] = r.ping_setup;
-  j["pong_setup"] = r.pong_setup;
-  j["pong_summary"] = r.pong_summary;
+  j.update(hil::pingpong_baseline_json(r));
   write_json(a.json, j);
 }
 
@@ -164,25 +133,12 @@ void add_common_options(CLI::App* cmd, BaselineArgs& a) {
   cmd->add_option("--duration", a.duration_s, "Measured time [s]")
       ->capture_default_str()
       ->check(CLI::Range(1e-3, 3600.0));
-  cmd->add_option("--wait", a.wait, "How to wait for a deadline: sleep | hybrid | spin")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"sleep", "hybrid", "spin"}));
-  cmd->add_option("--spin-margin-us", a.spin_margin_us,
-                  "hybrid: sleep until this long before the deadline, then spin [us]")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e6));
+  add_wait_options(cmd, a.wait, a.spin_margin_us);
   cmd->add_option("--overrun", a.overrun,
                   "After a cycle starts a whole period late: skip (keep the grid) | reanchor")
       ->capture_default_str()
       ->check(CLI::IsMember({"skip", "reanchor"}));
-  cmd->add_option("--cpu", a.cpu, "CPU to pin to (-1: do not pin)")
-      ->capture_default_str()
-      ->check(CLI::Range(-1, 1023));
-  cmd->add_option("--priority", a.priority,
-                  "SCHED_FIFO priority 1..99 when permitted (0: normal scheduling)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 99));
-  cmd->add_flag("--no-mlock", a.no_mlock, "Do not lock memory");
+  add_realtime_options(cmd, a.cpu, a.priority, a.no_mlock);
   cmd->add_option("--json", a.json, "Write the figures as JSON to this file");
 }
 

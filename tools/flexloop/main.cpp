@@ -18,6 +18,10 @@ int main(int argc, char** argv) {
   flexloop::cli::register_discretise(app);
   flexloop::cli::register_baseline(app);
   flexloop::cli::register_fit_metrology(app);
+  flexloop::cli::register_sim(app);
+  flexloop::cli::register_plant(app);
+  flexloop::cli::register_controller(app);
+  flexloop::cli::register_hil(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -12,5 +12,9 @@ void register_linearise(CLI::App& app);
 void register_analyse(CLI::App& app);
 void register_baseline(CLI::App& app);
 void register_fit_metrology(CLI::App& app);
+void register_sim(CLI::App& app);
+void register_plant(CLI::App& app);
+void register_controller(CLI::App& app);
+void register_hil(CLI::App& app);
 
 }  // namespace flexloop::cli

@@ -2,6 +2,10 @@
 
 #include <filesystem>
 
+#include <cmath>
+#include <tuple>
+
+#include "plant/lti/vibration_criterion.hpp"
 #include "plant/model/input_error.hpp"
 #include "plant/model/toml_reader.hpp"
 
@@ -30,6 +34,14 @@ double non_negative(const TomlReader& r, const char* key, double def) {
   return v;
 }
 
+// A non-negative integer (seeds, bit counts, sample counts).
+std::uint64_t count(const TomlReader& r, const char* key, std::uint64_t def) {
+  const double v = r.number(key, static_cast<double>(def));
+  if (!(v >= 0) || v != std::floor(v) || v > 9.007199254740992e15)
+    r.fail("'" + std::string(key) + "' must be a non-negative integer", r.get(key));
+  return static_cast<std::uint64_t>(v);
+}
+
 const toml::table* table(const TomlReader& top, const toml::table& root, const char* key,
                          bool required) {
   const auto* n = root.get(key);
@@ -48,7 +60,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
   Scene s;
   s.file = file;
   TomlReader top(root, file, "scene file");
-  top.allow_only({"scene", "plant", "controller", "discretisation", "floor", "run"});
+  top.allow_only({"scene", "plant", "controller", "discretisation", "floor", "effects", "run"});
 
   TomlReader sr(*table(top, root, "scene", true), file, "[scene]");
   sr.allow_only({"name", "model", "description"});
@@ -106,14 +118,64 @@ Scene parse_scene(const std::string& text, const std::string& file) {
     fr.allow_only({"spectrum", "rms_mps2", "seed"});
     auto& f = s.floor;
     f.spectrum = fr.string("spectrum", f.spectrum);
-    if (f.spectrum != "white")
-      fr.fail("'spectrum' must be \"white\" (band-limited white floor acceleration)",
+    try {
+      if (f.spectrum != "white") plant::lti::parse_vibration_criterion(f.spectrum);
+    } catch (const std::invalid_argument&) {
+      fr.fail("'spectrum' must be \"white\" or a vibration criterion VC-A .. VC-E",
               fr.get("spectrum"));
+    }
+    if (f.spectrum != "white" && fr.has("rms_mps2"))
+      fr.fail("'rms_mps2' is for the white spectrum; a VC curve sets its own level",
+              fr.get("rms_mps2"));
     f.rms_mps2 = non_negative(fr, "rms_mps2", f.rms_mps2);
-    const double seed = non_negative(fr, "seed", 1.0);
-    if (seed != std::floor(seed) || seed > 9.007199254740992e15)
-      fr.fail("'seed' must be a non-negative integer", fr.get("seed"));
-    f.seed = static_cast<std::uint64_t>(seed);
+    f.seed = count(fr, "seed", f.seed);
+  }
+
+  if (const auto* t = table(top, root, "effects", false)) {
+    TomlReader er(*t, file, "[effects]");
+    er.allow_only({"actuator", "force_sensor", "accelerometer", "transport_delay"});
+    auto& e = s.effects;
+    if (const auto* a = table(er, *t, "actuator", false)) {
+      TomlReader ar(*a, file, "[effects.actuator]");
+      ar.allow_only({"gain", "force_limit_n", "lag_s"});
+      e.actuator.present = true;
+      e.actuator.gain = ar.number("gain", 1.0);
+      if (e.actuator.gain == 0) ar.fail("'gain' must not be zero", ar.get("gain"));
+      if (!ar.has("force_limit_n")) ar.fail("missing key 'force_limit_n' (the saturation, N)");
+      e.actuator.force_limit_n = positive(ar, "force_limit_n", 1.0);
+      e.actuator.lag_s = non_negative(ar, "lag_s", 0.0);
+    }
+    for (auto [key, sensor, unit] : {std::tuple{"force_sensor", &e.force_sensor, "n"},
+                                     std::tuple{"accelerometer", &e.accelerometer, "mps2"}}) {
+      const auto* st = table(er, *t, key, false);
+      if (!st) continue;
+      TomlReader r(*st, file, "[effects." + std::string(key) + "]");
+      const std::string noise = std::string("noise_rms_") + unit,
+                        range = std::string("adc_range_") + unit;
+      r.allow_only(
+          {"gain_error", noise.c_str(), "adc_bits", range.c_str(), "delay_samples", "seed"});
+      sensor->present = true;
+      sensor->gain_error = r.number("gain_error", 0.0);
+      if (!(sensor->gain_error > -1))
+        r.fail("'gain_error' must be above -1 (a relative error)", r.get("gain_error"));
+      sensor->noise_rms = non_negative(r, noise.c_str(), 0.0);
+      sensor->adc_bits = static_cast<int>(count(r, "adc_bits", 16));
+      if (sensor->adc_bits < 1 || sensor->adc_bits > 32)
+        r.fail("'adc_bits' must be 1 .. 32", r.get("adc_bits"));
+      if (!r.has(range.c_str())) r.fail("missing key '" + range + "' (the ADC's full-scale span)");
+      sensor->adc_range = positive(r, range.c_str(), 1.0);
+      sensor->delay_samples = static_cast<int>(count(r, "delay_samples", 0));
+      if (sensor->delay_samples > 32)
+        r.fail("'delay_samples' must be at most 32", r.get("delay_samples"));
+      sensor->seed = count(r, "seed", std::string(key) == "force_sensor" ? 2 : 3);
+    }
+    if (const auto* d = table(er, *t, "transport_delay", false)) {
+      TomlReader dr(*d, file, "[effects.transport_delay]");
+      dr.allow_only({"samples"});
+      e.transport_delay_samples = static_cast<int>(count(dr, "samples", 0));
+      if (e.transport_delay_samples < 1 || e.transport_delay_samples > 32)
+        dr.fail("'samples' must be 1 .. 32", dr.get("samples"));
+    }
   }
 
   if (const auto* t = table(top, root, "run", false)) {

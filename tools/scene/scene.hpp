@@ -29,9 +29,35 @@ struct DiscretisationSettings {
 
 /// Stationary random floor acceleration on every disturbance input.
 struct FloorSettings {
-  std::string spectrum = "white";  ///< "white": band-limited by the sample rate
-  double rms_mps2 = 1e-3;          ///< per channel
+  std::string spectrum = "white";  ///< "white" (band-limited by the sample rate) or "VC-A".."VC-E"
+  double rms_mps2 = 1e-3;          ///< white only: per channel
   std::uint64_t seed = 1;
+};
+
+/// Piezo actuator: command -> force with gain, saturation and an optional first-order lag.
+struct ActuatorEffect {
+  bool present = false;
+  double gain = 1.0;
+  double force_limit_n = 0;  ///< |force| <= limit
+  double lag_s = 0;          ///< time constant; 0: no lag
+};
+
+/// A sensor: gain error, white noise, ADC (bits over a full-scale range), delay in samples.
+struct SensorEffect {
+  bool present = false;
+  double gain_error = 0;
+  double noise_rms = 0;  ///< SI units of the signal
+  int adc_bits = 16;
+  double adc_range = 0;  ///< full-scale range (span), SI
+  int delay_samples = 0;
+  std::uint64_t seed = 2;
+};
+
+/// The simulated hardware; every effect is off unless its table is present.
+struct EffectsSettings {
+  ActuatorEffect actuator;
+  SensorEffect force_sensor, accelerometer;
+  int transport_delay_samples = 0;  ///< plant -> controller, in samples; 0: none
 };
 
 struct RunSettings {
@@ -47,6 +73,7 @@ struct Scene {
   ControllerSettings controller;
   DiscretisationSettings discretisation;
   FloorSettings floor;
+  EffectsSettings effects;
   RunSettings run;
 };
 

@@ -1,0 +1,68 @@
+#pragma once
+// Drives a PlantStation and a ControllerStation by hand, on a synthetic clock (sample k due at
+// k T, answered 100 us later, received 150 us later), with every message going through its LCM
+// encoding and the receiving inbox, as over the wire -- no sockets, no real time.
+#include <cstdint>
+#include <vector>
+
+#include "plant/runtime/runtime_sizes.hpp"
+#include "tests/support/metrology.hpp"
+#include "tools/hil/controller_station.hpp"
+#include "tools/hil/loop_scene.hpp"
+#include "tools/hil/plant_station.hpp"
+
+namespace flexloop::test {
+
+using HilPlant = plant::runtime::DensePlant<double, 12, 12, 12>;
+
+inline const hil::LoopScene& hil_scene() {
+  static const hil::LoopScene s = hil::load_loop_scene(metrology_scene_path(), 1000);
+  return s;
+}
+
+inline HilPlant hil_plant() {
+  const auto& d = hil_scene().plant.sys;
+  return HilPlant::from_matrices(d.A, d.B, d.C, d.D);
+}
+
+inline constexpr std::int64_t kPeriod = 1'000'000;
+inline constexpr std::int64_t kAnswerAfter = 100'000, kTransit = 50'000;
+
+/// Encodes `m` and offers it to `inbox` as received at received_ns.
+template <class Msg>
+auto deliver(rt::MessageInbox<Msg>& inbox, const Msg& m, std::int64_t received_ns) {
+  std::vector<std::uint8_t> buf(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
+  return inbox.offer(buf.data(), static_cast<int>(buf.size()), received_ns);
+}
+
+struct StationPair {
+  hil::PlantStation<HilPlant> plant;
+  hil::ControllerStation controller;
+  std::int64_t k = 0;  // next cycle
+
+  explicit StationPair(int safe_after = 5, std::int64_t epoch = 7)
+      : plant(hil_plant(), {.floor_rms_mps2 = hil_scene().scene.floor.rms_mps2,
+                            .seed = hil_scene().scene.floor.seed,
+                            .safe_after = safe_after,
+                            .epoch = epoch,
+                            .period_ns = kPeriod}),
+        controller(hil::make_loop_controller(hil_scene()), safe_after) {}
+
+  /// One cycle; the controller answers when `answer` (returns where the settled command came from).
+  hil::CommandSource cycle(bool answer = true) {
+    const std::int64_t due = k * kPeriod;
+    const hil::CommandSource source = plant.settle(due);
+    const auto& s = plant.sample(due);
+    deliver(controller.samples(), s, due + kTransit);
+    if (const auto* got = controller.samples().take(); got && answer) {
+      auto& cmd = controller.answer(*got);
+      cmd.t_ns = due + kAnswerAfter;
+      deliver(plant.commands(), cmd, due + kAnswerAfter + kTransit);
+    }
+    ++k;
+    return source;
+  }
+};
+
+}  // namespace flexloop::test

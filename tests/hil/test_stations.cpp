@@ -1,0 +1,126 @@
+// The plant and controller stations of the real-time loop (tools/hil/plant_station.hpp,
+// controller_station.hpp) driven message by message on a synthetic clock: answered in time they
+// reproduce the in-process loop bit for bit; a silent controller makes the plant hold, then apply
+// the safe command after N misses and resume bumplessly; a plant restart resynchronises the
+// controller.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "tests/hil/station_fixture.hpp"
+
+using namespace flexloop;
+using namespace flexloop::test;
+using hil::ChannelVector;
+using hil::CommandSource;
+
+TEST_CASE("hil stations: answers in time reproduce the in-process closed loop exactly") {
+  StationPair pair;
+  // The in-process loop of tools/sim (same convention, written out here).
+  HilPlant plant = hil_plant();
+  auto controller = hil::make_loop_controller(hil_scene());
+  auto noise =
+      plant::runtime::effects::GaussianNoise<double, 6>::from_seed(hil_scene().scene.floor.seed);
+  HilPlant::Input in = HilPlant::Input::Zero();
+  double largest = 0;
+  for (int k = 0; k < 3000; ++k) {
+    in.head<6>() = hil_scene().scene.floor.rms_mps2 * noise.sample();
+    const HilPlant::Output y = plant.output(in);
+    const ChannelVector u = controller.step(y.tail<6>());
+    in.tail<6>() = u;
+    plant.advance(in);
+
+    REQUIRE(pair.cycle() == (k == 0 ? CommandSource::kNone : CommandSource::kAnswer));
+    const auto& s = pair.plant.last_sample();
+    REQUIRE(ChannelVector(Eigen::Map<const ChannelVector>(s.force_n)) == y.tail<6>());
+    REQUIRE(ChannelVector(Eigen::Map<const ChannelVector>(s.accel_mps2)) == y.head<6>());
+    largest = std::max(largest, u.cwiseAbs().maxCoeff());
+  }
+  CHECK(largest > 0);  // the controller did act
+  CHECK(pair.plant.deadline_misses() == 0);
+  CHECK(pair.plant.commands().drops().total() == 0);
+  CHECK(pair.controller.samples().drops().total() == 0);
+}
+
+TEST_CASE(
+    "hil stations: a silent controller -> held command, safe command after N misses, "
+    "bumpless resume") {
+  constexpr int kSafeAfter = 5;
+  StationPair pair(kSafeAfter);
+  for (int k = 0; k < 500; ++k) pair.cycle();
+  // The controller stops answering. This cycle still applies the answer to the sample before.
+  CHECK(pair.cycle(false) == CommandSource::kAnswer);
+  const ChannelVector before = pair.plant.command();
+  REQUIRE(before.cwiseAbs().maxCoeff() > 0);
+  // The first misses hold the last command ...
+  for (int miss = 1; miss < kSafeAfter; ++miss) {
+    CHECK(pair.cycle(false) == CommandSource::kHeld);
+    CHECK(pair.plant.command() == before);
+  }
+  // ... the N-th consecutive miss applies zero force, and so on while it stays silent.
+  for (int k = 0; k < 20; ++k) {
+    CHECK(pair.cycle(false) == CommandSource::kSafe);
+    CHECK(pair.plant.command() == ChannelVector::Zero());
+  }
+  CHECK(pair.plant.safe_command_cycles() == 20);
+  CHECK(pair.plant.deadline_misses() == kSafeAfter - 1 + 20);
+
+  // It answers again. This cycle settles the last unanswered sample (safe once more) ...
+  CHECK(pair.cycle(true) == CommandSource::kSafe);
+  CHECK(pair.plant.safe_command_cycles() == 21);
+  // ... then its first answer is the zero force the plant holds (bumpless start) ...
+  CHECK(pair.cycle(true) == CommandSource::kAnswer);
+  CHECK(pair.plant.command().cwiseAbs().maxCoeff() < 1e-12 * before.cwiseAbs().maxCoeff());
+  CHECK(pair.controller.resumes() == 1);
+  // ... and the loop goes on answering in time.
+  for (int k = 0; k < 200; ++k) REQUIRE(pair.cycle(true) == CommandSource::kAnswer);
+  CHECK(pair.plant.safe_command_cycles() == 21);
+}
+
+TEST_CASE("hil stations: without the bumpless restart the first answer after the gap jumps") {
+  // The same stop, but a controller that does not know the plant went safe (safe_after far
+  // above the gap): its first answer is far from the zero force the plant holds.
+  StationPair pair(5);
+  hil::ControllerStation unaware(hil::make_loop_controller(hil_scene()), 1'000'000);
+  std::swap(pair.controller, unaware);
+  for (int k = 0; k < 500; ++k) pair.cycle();
+  pair.cycle(false);
+  const ChannelVector before = pair.plant.command();
+  for (int k = 0; k < 25; ++k) pair.cycle(false);
+  pair.cycle(true);
+  REQUIRE(pair.cycle(true) == CommandSource::kAnswer);
+  CHECK(pair.plant.command().cwiseAbs().maxCoeff() > 0.1 * before.cwiseAbs().maxCoeff());
+  CHECK(pair.controller.resumes() == 0);
+}
+
+TEST_CASE("hil stations: a restarted plant (new epoch) makes the controller resynchronise") {
+  StationPair first(5, 11);
+  hil::ControllerStation& controller = first.controller;
+  for (int k = 0; k < 200; ++k) first.cycle();
+  REQUIRE(controller.controller().state().cwiseAbs().maxCoeff() > 0);
+
+  // A new plant run (new epoch, seq from 1 again, later time) talks to the same controller.
+  hil::PlantStation<HilPlant> restarted(
+      hil_plant(),
+      {.floor_rms_mps2 = 0, .seed = 1, .safe_after = 5, .epoch = 12, .period_ns = kPeriod});
+  const std::int64_t t0 = 1000 * kPeriod;
+  restarted.settle(t0);
+  const auto& s = restarted.sample(t0);
+  REQUIRE(s.seq == 1);
+  REQUIRE_FALSE(deliver(controller.samples(), s, t0 + kTransit).has_value());
+  const auto& cmd = controller.answer(*controller.samples().take());
+  CHECK(controller.resyncs() == 1);
+  CHECK(cmd.plant_epoch == 12);
+  CHECK(cmd.answers_seq == 1);
+  // Fresh start: with a plant at rest and no floor, the answer is zero and so is the state.
+  CHECK(ChannelVector(Eigen::Map<const ChannelVector>(cmd.force_n)) == ChannelVector::Zero());
+  CHECK(controller.controller().state() == ChannelVector::Zero());
+  // The restarted plant accepts it (its own epoch, in time).
+  auto answer = cmd;
+  answer.t_ns = t0 + kAnswerAfter;
+  REQUIRE_FALSE(deliver(restarted.commands(), answer, t0 + kAnswerAfter + kTransit).has_value());
+  CHECK(restarted.settle(t0 + kPeriod) == CommandSource::kAnswer);
+  // A straggler of the old plant run is stale for the controller now.
+  auto old = first.plant.last_sample();
+  old.seq += 1;
+  CHECK(deliver(controller.samples(), old, t0 + kTransit) == rt::DropReason::kStale);
+}

@@ -1,0 +1,115 @@
+// `flexloop hil SCENE --rate HZ --duration S --report OUT.json [--wait MODE] [--netns]
+//  [--lcm-log FILE] [--sweep]`: the hardware-in-the-loop rehearsal (tools/hil/hil_run.hpp):
+// same-run baselines (bare timer, bare LCM ping-pong), then the controller and plant processes
+// on the two cores for the duration; writes the report JSON and the round-trip and wake-up
+// histograms (PNG) beside it, prints a summary. --sweep runs the rates 1, 2, 5, 10, 20 kHz
+// (or --sweep-rates) one after another, writes OUT.json as {"sweep": [report, ...]} plus one
+// PNG pair per rate, and prints a Markdown table. Without --netns it must run inside
+// tools/netns-run (it refuses otherwise, exit 1).
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <vector>
+
+#include "plant/lti/state_space_json.hpp"
+#include "tools/flexloop/loop_options_cli.hpp"
+#include "tools/flexloop/subcommands.hpp"
+#include "tools/hil/hil_report.hpp"
+#include "tools/hil/hil_run.hpp"
+
+namespace flexloop::cli {
+
+namespace {
+
+struct HilArgs : LoopArgs {
+  std::string report;
+  hil::HilOptions hil;
+  bool sweep = false;
+  std::vector<double> sweep_rates{1000, 2000, 5000, 10000, 20000};
+};
+
+void print_written(const std::vector<std::string>& paths) {
+  for (const auto& p : paths) std::printf("wrote %s\n", p.c_str());
+}
+
+void run_one(const HilArgs& a, hil::HilOptions o) {
+  const nlohmann::json report = hil::run_hil(o);
+  hil::print_hil_summary(report);
+  print_written(hil::write_hil_report(report, a.report));
+}
+
+void run_sweep(const HilArgs& a, hil::HilOptions o) {
+  std::vector<nlohmann::json> reports;
+  const auto stem = std::filesystem::path(a.report).replace_extension("").string();
+  for (const double rate : a.sweep_rates) {
+    o.loop.rate_hz = rate;
+    std::printf("\n--- %.6g Hz ---\n", rate);
+    std::fflush(stdout);
+    reports.push_back(hil::run_hil(o));
+    hil::print_hil_summary(reports.back());
+    char suffix[32];
+    std::snprintf(suffix, sizeof suffix, "_%.6ghz.json", rate);
+    print_written(hil::write_hil_report(reports.back(), stem + suffix));
+  }
+  nlohmann::json all = {{"sweep", nlohmann::json::array()}};
+  for (auto r : reports) {
+    r.erase("histograms");
+    all["sweep"].push_back(r);
+  }
+  plant::lti::write_json_atomically(a.report, all);
+  std::printf("wrote %s\n", a.report.c_str());
+  hil::print_sweep_table(reports);
+}
+
+void run(const HilArgs& a) {
+  hil::HilOptions o = a.hil;
+  o.loop = apply_loop_options(a);
+  if (a.sweep)
+    run_sweep(a, o);
+  else
+    run_one(a, o);
+}
+
+}  // namespace
+
+void register_hil(CLI::App& app) {
+  auto args = std::make_shared<HilArgs>();
+  auto* cmd = app.add_subcommand(
+      "hil",
+      "Hardware-in-the-loop rehearsal: baselines, then plant and controller processes over LCM");
+  add_loop_options(cmd, *args, 0);
+  cmd->add_option("--duration", args->options.duration_s,
+                  "Run time [s] (default: the scene's [run] duration)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--report", args->report,
+                  "Report JSON; the histograms go beside it as <stem>_round_trip.png and "
+                  "<stem>_wakeup_lateness.png")
+      ->required();
+  cmd->add_option("--controller-cpu", args->hil.controller_cpu,
+                  "CPU of the controller process (--cpu is the plant's)")
+      ->capture_default_str()
+      ->check(CLI::Range(-1, 1023));
+  cmd->add_option("--baseline-duration", args->hil.baseline_duration_s,
+                  "Length of each same-run baseline [s]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 600.0));
+  cmd->add_flag("--netns", args->hil.netns,
+                "Enter a private loopback-only network namespace first (as tools/netns-run)");
+  cmd->add_option("--lcm-log", args->hil.lcm_log,
+                  "Record the run with lcm-logger to this file (replay: lcm-logplayer-gui FILE, "
+                  "watch: lcm-spy, in the same namespace)");
+  cmd->add_flag("--sweep", args->sweep, "Run every rate of --sweep-rates and print a table");
+  cmd->add_option("--sweep-rates", args->sweep_rates, "Rates for --sweep [Hz]")
+      ->capture_default_str();
+  cmd->footer(
+      "Examples:\n"
+      "  flexloop hil tools/scenes/metrology_frame.toml --rate 1000 --duration 10 --netns \\\n"
+      "      --report out/hil/1khz.json\n"
+      "  tools/netns-run -- flexloop hil tools/scenes/metrology_frame.toml --rate 10000 \\\n"
+      "      --wait hybrid --duration 10 --report out/hil/10khz.json --lcm-log out/hil/run.lcmlog\n"
+      "  flexloop hil tools/scenes/metrology_frame.toml --netns --sweep --duration 5 \\\n"
+      "      --report out/hil/sweep.json");
+  cmd->callback([args] { run(*args); });
+}
+
+}  // namespace flexloop::cli

@@ -1,0 +1,64 @@
+// `flexloop plant SCENE [--rate HZ] [--duration S] [--wait sleep|hybrid|spin] [--cpu N]
+//  [--safe-after N] [--json OUT.json]`: the plant process of the real-time loop
+// (tools/hil/plant_loop.hpp). Owns the clock, publishes FLEXLOOP_SENSOR every period and
+// FLEXLOOP_STATS every second, applies the answers from FLEXLOOP_COMMAND, prints the figures at
+// the end. Refuses to run outside the private network namespace (exit 1).
+#include <cstdio>
+#include <memory>
+
+#include "plant/lti/state_space_json.hpp"
+#include "tools/flexloop/loop_options_cli.hpp"
+#include "tools/flexloop/subcommands.hpp"
+#include "tools/hil/latency_json.hpp"
+#include "tools/hil/plant_loop.hpp"
+
+namespace flexloop::cli {
+
+namespace {
+
+struct PlantArgs : LoopArgs {
+  std::string json;
+};
+
+void run(const PlantArgs& a) {
+  const hil::LoopOptions o = apply_loop_options(a);
+  const hil::PlantLoopResult r = hil::run_plant_loop(o);
+  const hil::LoopAccounts& acc = r.accounts;
+  hil::print_summary("round trip (ns)", *acc.round_trip);
+  hil::print_summary("wakeup lateness (ns)", *acc.wakeup_lateness);
+  hil::print_summary("plant compute (ns)", *acc.plant_compute);
+  hil::print_summary("controller compute", *acc.controller_compute);
+  std::printf(
+      "cycles %lld, deadline misses %lld, late answers %lld, overruns %lld, safe-command cycles "
+      "%lld, dropped %lld, stats published %lld\n",
+      static_cast<long long>(r.cycles), static_cast<long long>(r.deadline_misses),
+      static_cast<long long>(r.late_answers), static_cast<long long>(r.overruns),
+      static_cast<long long>(r.safe_command_cycles), static_cast<long long>(r.drops.total()),
+      static_cast<long long>(r.stats_published));
+  if (!a.json.empty()) {
+    plant::lti::write_json_atomically(a.json, hil::plant_result_json(r, o, false));
+    std::printf("wrote %s\n", a.json.c_str());
+  }
+}
+
+}  // namespace
+
+void register_plant(CLI::App& app) {
+  auto args = std::make_shared<PlantArgs>();
+  auto* cmd = app.add_subcommand(
+      "plant", "The plant process of the real-time loop: owns the clock, plays the hardware");
+  add_loop_options(cmd, *args, 0);
+  cmd->add_option("--duration", args->options.duration_s,
+                  "Run time [s] (default: the scene's [run] duration)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--json", args->json, "Write the figures as JSON to this file");
+  cmd->footer(
+      "Start the controller first (another shell, same namespace), e.g. inside one\n"
+      "tools/netns-run -- bash:\n"
+      "  flexloop controller tools/scenes/metrology_frame.toml --rate 1000 &\n"
+      "  flexloop plant tools/scenes/metrology_frame.toml --rate 1000 --duration 10\n"
+      "  kill %1");
+  cmd->callback([args] { run(*args); });
+}
+
+}  // namespace flexloop::cli

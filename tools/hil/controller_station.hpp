@@ -1,0 +1,78 @@
+#pragma once
+// The controller process's work for one sensor message, without sockets (so that tests can drive
+// it message by message): the PI force-feedback step (controller/runtime/pi_controller.hpp) on
+// the six strut forces, and the actuator message that answers the sample.
+//
+// Resynchronisation, decided from the sample's (plant_epoch, seq) alone:
+//   - first sample, or a new plant_epoch (the plant restarted, its state and held command are
+//     zero again): reset() -- the controller starts afresh, exactly as the in-process loop does;
+//   - a gap of `safe_after` or more unanswered samples within one epoch (this controller stopped
+//     or stalled and the plant has applied the safe zero-force command meanwhile): bumpless
+//     start(y, 0) -- the first answer is exactly the zero force the plant holds, and the
+//     integrator continues from the state that produces it (no jump when answers return).
+// Samples reach answer() through samples(), a MessageInbox that follows the plant's epoch:
+// messages that fail to decode, carry NaN/Inf, belong to an older plant run, repeat or reorder
+// are dropped and counted there, never answered. answer() is noexcept and allocation-free.
+#include <cstdint>
+#include <flexloop_msgs/actuator_command_t.hpp>
+#include <flexloop_msgs/sensor_sample_t.hpp>
+
+#include "controller/runtime/pi_controller.hpp"
+#include "rt/message_inbox.hpp"
+#include "tools/hil/plant_station.hpp"
+
+namespace flexloop::hil {
+
+class ControllerStation {
+ public:
+  using Controller = controller::runtime::PiController<double, kChannels>;
+
+  /// safe_after: the plant's --safe-after (< 1 is taken as 1).
+  ControllerStation(const Controller& controller, int safe_after)
+      : controller_(controller), safe_after_(safe_after < 1 ? 1 : safe_after) {}
+
+  rt::MessageInbox<flexloop_msgs::sensor_sample_t>& samples() noexcept { return samples_; }
+  const rt::MessageInbox<flexloop_msgs::sensor_sample_t>& samples() const noexcept {
+    return samples_;
+  }
+
+  /// The answer to `s` (t_ns and controller_compute_ns are left to the caller, who times it).
+  flexloop_msgs::actuator_command_t& answer(const flexloop_msgs::sensor_sample_t& s) noexcept {
+    const Eigen::Map<const ChannelVector> y(s.force_n);
+    if (!started_ || s.plant_epoch != epoch_) {
+      if (started_) ++resyncs_;
+      controller_.reset();
+      epoch_ = s.plant_epoch;
+      started_ = true;
+    } else if (s.seq - last_seq_ > safe_after_) {
+      controller_.start(y, ChannelVector::Zero());
+      ++resumes_;
+    }
+    last_seq_ = s.seq;
+    Eigen::Map<ChannelVector>(cmd_.force_n) = controller_.step(y);
+    cmd_.seq += 1;
+    cmd_.answers_seq = s.seq;
+    cmd_.plant_epoch = s.plant_epoch;
+    return cmd_;
+  }
+
+  const Controller& controller() const noexcept { return controller_; }
+  std::int64_t answered() const noexcept { return cmd_.seq; }
+  /// Plant restarts followed.
+  std::int64_t resyncs() const noexcept { return resyncs_; }
+  /// Bumpless restarts after a gap of safe_after or more samples.
+  std::int64_t resumes() const noexcept { return resumes_; }
+
+ private:
+  Controller controller_;
+  std::int64_t safe_after_;
+  rt::MessageInbox<flexloop_msgs::sensor_sample_t> samples_;
+  flexloop_msgs::actuator_command_t cmd_{};
+  bool started_ = false;
+  std::int64_t epoch_ = 0;
+  std::int64_t last_seq_ = 0;
+  std::int64_t resyncs_ = 0;
+  std::int64_t resumes_ = 0;
+};
+
+}  // namespace flexloop::hil

@@ -1,0 +1,112 @@
+#include "tools/hil/hil_run.hpp"
+
+#include <signal.h>
+
+#include <cstdio>
+
+#include "rt/loop_process_setup.hpp"
+#include "rt/monotonic_time.hpp"
+#include "rt/pingpong_baseline.hpp"
+#include "rt/timer_baseline.hpp"
+#include "tools/hil/baseline_json.hpp"
+#include "tools/hil/child_process.hpp"
+#include "tools/hil/controller_loop.hpp"
+#include "tools/hil/lcm_logger.hpp"
+#include "tools/hil/loop_scene.hpp"
+#include "tools/hil/plant_loop.hpp"
+#include "tools/hil/private_network.hpp"
+
+namespace flexloop::hil {
+
+namespace {
+
+rt::PeriodicClockOptions clock_options(const LoopOptions& o, double rate_hz) {
+  return {.period_ns = static_cast<std::int64_t>(1e9 / rate_hz + 0.5),
+          .wait_mode = o.wait,
+          .spin_margin_ns = o.spin_margin_ns};
+}
+
+nlohmann::json run_baselines(const HilOptions& o, double rate_hz) {
+  const auto duration_ns = static_cast<std::int64_t>(o.baseline_duration_s * 1e9);
+  rt::TimerBaselineOptions timer;
+  timer.clock = clock_options(o.loop, rate_hz);
+  timer.duration_ns = duration_ns;
+  timer.realtime = o.loop.realtime;
+  const rt::TimerBaselineResult t = rt::run_timer_baseline(timer);
+
+  rt::PingPongOptions pp;
+  pp.clock = timer.clock;
+  pp.receive_mode = rt::receive_mode_for(o.loop.wait);
+  pp.duration_ns = duration_ns;
+  pp.ping_realtime = o.loop.realtime;
+  pp.pong_realtime = o.loop.realtime;
+  pp.pong_realtime.cpu = o.controller_cpu;
+  pp.url = loop_lcm_url(o.loop.url, o.loop.link);
+  const rt::PingPongResult p = rt::run_pingpong_baseline(pp);
+  return {{"timer", timer_baseline_json(t)}, {"pingpong", pingpong_baseline_json(p)}};
+}
+
+}  // namespace
+
+void prepare_hil_network(const HilOptions& o) {
+  static bool entered = false;
+  if (o.netns && !entered) {
+    enter_private_loopback_namespace();
+    entered = true;
+  }
+  require_private_network("flexloop hil", o.loop.link);
+}
+
+nlohmann::json run_hil(const HilOptions& o) {
+  prepare_hil_network(o);
+  const LoopScene scene = load_loop_scene(o.loop.scene_path, o.loop.rate_hz);
+  const std::string url = loop_lcm_url(o.loop.url, o.loop.link);
+  LoopOptions plant_options = o.loop;
+  plant_options.url = url;
+  plant_options.quiet = true;
+  LoopOptions controller_options = plant_options;
+  controller_options.realtime.cpu = o.controller_cpu;
+  controller_options.duration_s = 0;  // until stopped, after the plant
+
+  const rt::CpuDmaLatencyHold dma;  // for the baselines (each loop process holds its own)
+  nlohmann::json report;
+  report["baseline"] = run_baselines(o, scene.rate_hz);
+
+  std::unique_ptr<LcmLogger> logger;
+  if (!o.lcm_log.empty()) logger = std::make_unique<LcmLogger>(url, o.lcm_log);
+
+  ChildProcess controller([&](const std::function<void()>& ready) {
+    return controller_result_json(run_controller_loop(controller_options, scene, ready),
+                                  controller_options)
+        .dump();
+  });
+  controller.wait_ready(10 * rt::kNsPerSecond);
+  const double duration_s = o.loop.duration_s > 0 ? o.loop.duration_s : scene.scene.run.duration_s;
+  ChildProcess plant([&](const std::function<void()>&) {
+    return plant_result_json(run_plant_loop(plant_options, scene), plant_options, true).dump();
+  });
+  const auto grace = static_cast<std::int64_t>((duration_s + 30) * 1e9);
+  nlohmann::json plant_json;
+  try {
+    plant_json = nlohmann::json::parse(plant.finish(grace));
+  } catch (...) {
+    controller.signal(SIGTERM);
+    throw;
+  }
+  controller.signal(SIGTERM);
+  const nlohmann::json controller_json =
+      nlohmann::json::parse(controller.finish(10 * rt::kNsPerSecond));
+  logger.reset();
+
+  report.update(plant_json);
+  report["controller"] = controller_json;
+  report["scene"] = o.loop.scene_path;
+  report["duration_s"] = duration_s;
+  report["controller_cpu"] = o.controller_cpu;
+  report["lcm_url"] = url;
+  report["cpu_dma_latency_held"] = dma.active();
+  if (!o.lcm_log.empty()) report["lcm_log"] = o.lcm_log;
+  return report;
+}
+
+}  // namespace flexloop::hil

@@ -1,0 +1,27 @@
+#pragma once
+// Records a run with the distribution's `lcm-logger` (DESIGN.md §10: LCM's own logging), started
+// in the caller's network namespace on the loop's URL, so `lcm-spy` / `lcm-logplayer` can replay
+// the channels (FLEXLOOP_SENSOR, FLEXLOOP_COMMAND, FLEXLOOP_STATS) afterwards:
+//   lcm-logplayer-gui OUT.lcmlog   or   lcm-logplayer OUT.lcmlog & lcm-spy   (same URL)
+// The logger is one more LCM receiver on the machine (its own process and socket): it costs CPU
+// time in the same namespace, which the report mentions. Orchestration only.
+#include <sys/types.h>
+
+#include <string>
+
+namespace flexloop::hil {
+
+class LcmLogger {
+ public:
+  /// Starts `lcm-logger -f --lcm-url=URL path`; std::runtime_error when it cannot be started.
+  LcmLogger(const std::string& url, const std::string& path);
+  /// Stops it (SIGINT, then waits; SIGKILL after 2 s).
+  ~LcmLogger();
+  LcmLogger(const LcmLogger&) = delete;
+  LcmLogger& operator=(const LcmLogger&) = delete;
+
+ private:
+  pid_t pid_ = -1;
+};
+
+}  // namespace flexloop::hil

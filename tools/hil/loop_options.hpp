@@ -1,0 +1,34 @@
+#pragma once
+// Settings shared by the plant and controller processes (flexloop plant | controller | hil):
+// clock and wait mode, CPU and priority, safe-command threshold, LCM URL, channels, and the
+// private link allowed besides loopback (tools/hil/private_network.hpp).
+#include <cstdint>
+#include <string>
+
+#include "rt/periodic_clock.hpp"
+#include "rt/realtime_setup.hpp"
+
+namespace flexloop::hil {
+
+struct LoopChannels {
+  std::string sensor = "FLEXLOOP_SENSOR";    // sensor_sample_t, plant -> controller
+  std::string command = "FLEXLOOP_COMMAND";  // actuator_command_t, controller -> plant
+  std::string stats = "FLEXLOOP_STATS";      // loop_stats_t, plant, once a second
+};
+
+struct LoopOptions {
+  std::string scene_path;
+  double rate_hz = 0;     ///< <= 0: the scene's [discretisation] rate
+  double duration_s = 0;  ///< plant: <= 0: the scene's [run] duration; controller: 0 = until
+                          ///< SIGINT/SIGTERM
+  rt::WaitMode wait = rt::WaitMode::kSleep;
+  std::int64_t spin_margin_ns = rt::kDefaultSpinMarginNs;
+  rt::RealtimeOptions realtime{.cpu = 0, .fifo_priority = 80};
+  int safe_after = 10;  ///< consecutive missed answers before the safe command
+  std::string url;      ///< empty: see loop_lcm_url()
+  std::string link;     ///< a veth allowed besides lo (two-namespace runs)
+  LoopChannels channels;
+  bool quiet = false;  ///< no start-up banner
+};
+
+}  // namespace flexloop::hil
