@@ -53,7 +53,7 @@ void register_plant(CLI::App& app) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--json", args->json, "Write the figures as JSON to this file");
   cmd->footer(
-      "Start the controller first (another shell, same namespace), e.g. inside one\n"
+      "Example (start the controller first, in the same namespace), inside one\n"
       "tools/netns-run -- bash:\n"
       "  flexloop controller tools/scenes/metrology_frame.toml --rate 1000 &\n"
       "  flexloop plant tools/scenes/metrology_frame.toml --rate 1000 --duration 10\n"

@@ -163,6 +163,8 @@ void run(const SimArgs& a) {
                 run == &r.off ? "controller off" : "controller on ", run->loop_seconds,
                 sc.run.duration_s, sc.run.duration_s / run->loop_seconds);
   if (log) {
+    if (const auto dir = std::filesystem::path(a.log).parent_path(); !dir.empty())
+      std::filesystem::create_directories(dir);
     report::write_csv(a.log, log_header(p), on ? r.on.log : r.off.log);
     std::printf("wrote %s (controller %s, every %ld-th sample)\n", a.log.c_str(), on ? "on" : "off",
                 a.log_every);
