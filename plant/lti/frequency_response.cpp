@@ -79,13 +79,13 @@ Eigen::VectorXd balancing_scaling(const Eigen::MatrixXd& A) {
   return t;
 }
 
-std::vector<Eigen::MatrixXcd> transfer_at(const StateSpace& sys,
-                                          const std::vector<std::complex<double>>& points,
-                                          const FrequencyResponseOptions& options) {
+namespace {
+
+// C (pI - A)^-1 B + D at each point; `where(i)` names point i in the messages.
+template <class Where>
+std::vector<Eigen::MatrixXcd> evaluate(const StateSpace& sys, const std::vector<cd>& points,
+                                       const FrequencyResponseOptions& options, Where where) {
   sys.validate();
-  for (const cd& p : points)
-    if (!std::isfinite(p.real()) || !std::isfinite(p.imag()))
-      throw std::invalid_argument("transfer_at: evaluation point is not finite");
 
   const Eigen::Index n = sys.nx(), m = sys.nu(), p = sys.ny();
   const Eigen::MatrixXcd Dc = sys.D.cast<cd>();
@@ -113,7 +113,8 @@ std::vector<Eigen::MatrixXcd> transfer_at(const StateSpace& sys,
   const Eigen::MatrixXcd Ch = (Cb * Q).cast<cd>();
 
   Eigen::MatrixXcd W(n, n), X(n, m);  // workspace reused for every point
-  for (const cd& s : points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const cd s = points[i];
     W = -Hc;
     W.diagonal().array() += s;
     X = Bh;
@@ -127,46 +128,50 @@ std::vector<Eigen::MatrixXcd> transfer_at(const StateSpace& sys,
       W(k + 1, k) = 0.0;
     }
     if ((W.diagonal().array() == cd(0.0, 0.0)).any())
-      throw std::domain_error("transfer_at: " + to_string_g(s.real()) + "+" +
-                              to_string_g(s.imag()) + "j is an eigenvalue of A");
+      throw std::domain_error(where(i) + " is an eigenvalue of A (the response is infinite)");
     W.triangularView<Eigen::Upper>().solveInPlace(X);
     Eigen::MatrixXcd G = Dc;
     if (p > 0 && m > 0) G.noalias() += Ch * X;
     if (!G.allFinite())
-      throw std::domain_error("transfer_at: not finite at " + to_string_g(s.real()) + "+" +
-                              to_string_g(s.imag()) + "j (on or next to a pole of A)");
+      throw std::domain_error(where(i) +
+                              " is next to an eigenvalue of A (the response is not finite)");
     out.push_back(std::move(G));
   }
   return out;
 }
 
+}  // namespace
+
+std::vector<Eigen::MatrixXcd> transfer_at(const StateSpace& sys,
+                                          const std::vector<std::complex<double>>& points,
+                                          const FrequencyResponseOptions& options) {
+  for (const cd& p : points)
+    if (!std::isfinite(p.real()) || !std::isfinite(p.imag()))
+      throw std::invalid_argument("transfer_at: evaluation point is not finite");
+  return evaluate(sys, points, options, [&](std::size_t i) {
+    return "transfer_at: " + to_string_g(points[i].real()) + "+" + to_string_g(points[i].imag()) +
+           "j";
+  });
+}
+
 namespace {
 
-// Evaluates at the points and turns transfer_at's messages into ones that name the frequency.
-std::vector<Eigen::MatrixXcd> response_at_frequencies(const StateSpace& sys,
-                                                      const std::vector<double>& freqs_hz,
-                                                      const std::vector<cd>& points,
-                                                      const FrequencyResponseOptions& options) {
-  for (double f : freqs_hz)
+// Continuous (p = j 2 pi f) or discrete (p = e^{j 2 pi f dt}) response, messages in Hz.
+template <class Point>
+std::vector<Eigen::MatrixXcd> response_at(const StateSpace& sys,
+                                          const std::vector<double>& freqs_hz,
+                                          const FrequencyResponseOptions& options, Point point) {
+  std::vector<cd> points;
+  points.reserve(freqs_hz.size());
+  for (double f : freqs_hz) {
     if (!std::isfinite(f))
       throw std::invalid_argument("frequency_response: frequency " + to_string_g(f) +
                                   " Hz is not finite");
-  try {
-    return transfer_at(sys, points, options);
-  } catch (const std::domain_error&) {
-    // Find the first frequency that fails, for the message.
-    for (std::size_t i = 0; i < points.size(); ++i) {
-      try {
-        transfer_at(sys, {points[i]}, options);
-      } catch (const std::domain_error&) {
-        throw std::domain_error("frequency_response: the point for " + to_string_g(freqs_hz[i]) +
-                                " Hz is (next to) an eigenvalue of A: the response is infinite "
-                                "at " +
-                                to_string_g(freqs_hz[i]) + " Hz");
-      }
-    }
-    throw;
+    points.push_back(point(f));
   }
+  return evaluate(sys, points, options, [&](std::size_t i) {
+    return "frequency_response: the point for " + to_string_g(freqs_hz[i]) + " Hz";
+  });
 }
 
 }  // namespace
@@ -174,19 +179,14 @@ std::vector<Eigen::MatrixXcd> response_at_frequencies(const StateSpace& sys,
 std::vector<Eigen::MatrixXcd> frequency_response(const StateSpace& sys,
                                                  const std::vector<double>& freqs_hz,
                                                  const FrequencyResponseOptions& options) {
-  std::vector<cd> points;
-  points.reserve(freqs_hz.size());
-  for (double f : freqs_hz) points.emplace_back(0.0, kTwoPi * f);
-  return response_at_frequencies(sys, freqs_hz, points, options);
+  return response_at(sys, freqs_hz, options, [](double f) { return cd(0.0, kTwoPi * f); });
 }
 
 std::vector<Eigen::MatrixXcd> frequency_response(const DiscreteStateSpace& sys,
                                                  const std::vector<double>& freqs_hz,
                                                  const FrequencyResponseOptions& options) {
-  std::vector<cd> points;
-  points.reserve(freqs_hz.size());
-  for (double f : freqs_hz) points.push_back(std::polar(1.0, kTwoPi * f * sys.dt));
-  return response_at_frequencies(sys.sys, freqs_hz, points, options);
+  return response_at(sys.sys, freqs_hz, options,
+                     [&](double f) { return std::polar(1.0, kTwoPi * f * sys.dt); });
 }
 
 Eigen::MatrixXd singular_values(const std::vector<Eigen::MatrixXcd>& G) {

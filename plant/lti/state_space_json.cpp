@@ -1,8 +1,6 @@
 #include "plant/lti/state_space_json.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
+#include "plant/lti/atomic_file.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -212,13 +210,6 @@ std::string layout(const json& j) {
   return out + "\n}\n";
 }
 
-[[noreturn]] void fail_io(const std::string& what, const std::string& tmp, int fd) {
-  const int err = errno;
-  if (fd >= 0) ::close(fd);
-  if (!tmp.empty()) ::unlink(tmp.c_str());
-  throw std::runtime_error(what + ": " + std::strerror(err));
-}
-
 }  // namespace
 
 json to_json(const StateSpace& sys, const json& provenance) {
@@ -303,34 +294,7 @@ void write_discrete(const std::filesystem::path& file, const DiscreteStateSpace&
 }
 
 void write_json_atomically(const std::filesystem::path& file, const json& j) {
-  const std::string text = j.is_object() ? layout(j) : j.dump(2) + "\n";
-  const auto dir = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
-  // Same directory as the target, so rename() is atomic (never across file systems).
-  std::string name = ".";  // appended piecewise: GCC 12 -O3 warns falsely (-Wrestrict) on a + chain
-  name += file.filename().string();
-  name += ".tmp.XXXXXX";
-  std::string tmp = (dir / name).string();
-  const int fd = ::mkstemp(tmp.data());
-  if (fd < 0) fail_io("cannot create a temporary file in " + dir.string(), "", -1);
-  std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
-    if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail_io("cannot write " + tmp, tmp, fd);
-    done += static_cast<std::size_t>(n);
-  }
-  // mkstemp creates 0600; artefacts are ordinary readable files.
-  if (::fchmod(fd, 0644) != 0) fail_io("cannot set permissions on " + tmp, tmp, fd);
-  if (::fsync(fd) != 0) fail_io("cannot flush " + tmp, tmp, fd);
-  if (::close(fd) != 0) fail_io("cannot close " + tmp, tmp, -1);
-  if (::rename(tmp.c_str(), file.c_str()) != 0)
-    fail_io("cannot rename " + tmp + " to " + file.string(), tmp, -1);
-  // Make the rename itself durable; failure here leaves a complete file, so it is not an error.
-  const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
-  if (dfd >= 0) {
-    ::fsync(dfd);
-    ::close(dfd);
-  }
+  write_text_atomically(file, j.is_object() ? layout(j) : j.dump(2) + "\n");
 }
 
 }  // namespace flexloop::plant::lti

@@ -41,8 +41,9 @@ TEST_CASE(
   const auto r = sim::run_closed_loop(
       plant::runtime::SimulatedHardware<Plant, 6, 6, Floor>(
           Plant::from_matrices(d.A, d.B, d.C, d.D), Floor::from_parameters(floor_rms, 11)),
-      controller::runtime::PiController<double, 6>::from_parameters(sim::pi_parameters(p, s.dt)), s,
-      {});
+      controller::runtime::PiController<double, 6>::from_parameters(
+          sim::pi_parameters_with_hardware(p, s.dt)),
+      s, {});
 
   const double fs = 1.0 / s.dt;
   const double input_psd = 2 * floor_rms * floor_rms / fs;  // one-sided, white

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "controller/runtime/pi_controller.hpp"
+#include "tools/scene/pi_parameters.hpp"
 #include "tools/scene/scene_plant.hpp"
 
 namespace flexloop::test {
@@ -32,15 +33,9 @@ inline const Metrology& metrology() {
   return m;
 }
 
-/// The designed gains at the scene's sample time, without actuator limits.
+/// The designed gains at the scene's sample time (the scene sets no controller force limit).
 inline controller::runtime::PiParameters metrology_pi_parameters() {
-  const Metrology& m = metrology();
-  controller::runtime::PiParameters q;
-  q.K_P = m.p.gains.K_P;
-  q.K_I = m.p.gains.K_I;
-  q.dt = m.s.plant.dt;
-  q.leak_rad_s = m.p.gains.settings.leak_rad_s;
-  return q;
+  return scene::pi_parameters(metrology().p, metrology().s.plant.dt);
 }
 
 }  // namespace flexloop::test

@@ -79,11 +79,11 @@ std::vector<std::string> log_header(const scene::ScenePlant& p) {
   return h;
 }
 
-void plot_runs(const scene::ScenePlant& p, const BothRuns& r, double rate_hz,
+void plot_runs(const scene::ScenePlant& p, const BothRuns& r, double rate_hz, long log_every,
                const std::string& dir) {
   std::filesystem::create_directories(dir);
   const Eigen::Index nw = p.partition.disturbances, nz = p.partition.performance;
-  // Time series of the first frame channel and the floor, the last 2 s at most.
+  // Time series of the first frame channel and the floor: the last 2000 logged samples.
   const Eigen::Index rows = r.on.log.rows(), keep = std::min<Eigen::Index>(rows, 2000);
   const Eigen::Index first = rows - keep;
   auto column = [&](const Eigen::MatrixXd& log, Eigen::Index c) {
@@ -102,10 +102,7 @@ void plot_runs(const scene::ScenePlant& p, const BothRuns& r, double rate_hz,
                       "acceleration [m/s^2]", false, false, 1200, 500},
                      ts, dir + "/time_series.png");
   // Welch spectra of every frame channel, off (solid) and on (dashed).
-  const double fs =
-      rate_hz / static_cast<double>(r.on.log.rows() > 1
-                                        ? std::lround(rate_hz * (r.on.log(1, 0) - r.on.log(0, 0)))
-                                        : 1);
+  const double fs = rate_hz / static_cast<double>(log_every);  // the log's sample rate
   const Eigen::Index L = std::min<Eigen::Index>(r.on.log.rows() / 8, 8192);
   std::vector<report::Series> sp;
   for (Eigen::Index i = 0; i < nz && L >= 16; ++i)
@@ -170,7 +167,7 @@ void run(const SimArgs& a) {
                 a.log_every);
   }
   if (plots) {
-    plot_runs(p, r, sc.discretisation.rate_hz, a.plots);
+    plot_runs(p, r, sc.discretisation.rate_hz, a.log_every, a.plots);
     std::printf("wrote %s/{time_series.png, spectra.png}\n", a.plots.c_str());
   }
 }

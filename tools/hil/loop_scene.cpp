@@ -1,7 +1,6 @@
 #include "tools/hil/loop_scene.hpp"
 
-#include <cmath>
-
+#include "tools/scene/pi_parameters.hpp"
 #include "tools/scene/scene_plant.hpp"
 
 namespace flexloop::hil {
@@ -20,15 +19,7 @@ LoopScene load_loop_scene(const std::string& path, double rate_hz) {
                        "outputs and sensors (the messages' channels)");
   const scene::ScenePlant p = scene::build_scene_plant(s.scene);
   s.plant = scene::sample_scene(p).plant;
-  auto& c = s.controller;
-  c.K_P = p.gains.K_P;
-  c.K_I = p.gains.K_I;
-  c.dt = s.plant.dt;
-  c.leak_rad_s = p.gains.settings.leak_rad_s;
-  if (std::isfinite(s.scene.controller.force_limit_n)) {
-    c.u_min = Eigen::VectorXd::Constant(1, -s.scene.controller.force_limit_n);
-    c.u_max = Eigen::VectorXd::Constant(1, s.scene.controller.force_limit_n);
-  }
+  s.controller = scene::pi_parameters(p, s.plant.dt);
   return s;
 }
 

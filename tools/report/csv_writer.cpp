@@ -1,8 +1,6 @@
 #include "tools/report/csv_writer.hpp"
 
-#include <fcntl.h>
-#include <sys/stat.h>
-#include <unistd.h>
+#include "plant/lti/atomic_file.hpp"
 
 #include <cerrno>
 #include <charconv>
@@ -34,10 +32,6 @@ std::string header_line(const std::vector<std::string>& header) {
   return s + '\n';
 }
 
-[[noreturn]] void fail(const std::string& path, const std::string& what, int err) {
-  throw std::runtime_error("cannot write " + path + ": " + what +
-                           (err ? std::string(": ") + std::strerror(err) : std::string()));
-}
 }  // namespace
 
 std::string format_number(double v) {
@@ -46,40 +40,6 @@ std::string format_number(double v) {
   char buf[32];
   const auto res = std::to_chars(buf, buf + sizeof buf, v);  // shortest round-trip form
   return std::string(buf, res.ptr);
-}
-
-void write_file_atomic(const std::string& path, const std::string& contents) {
-  if (path.empty()) throw std::runtime_error("cannot write a file with an empty name");
-  std::string tmpl = path + ".tmp.XXXXXX";
-  const int fd = ::mkstemp(tmpl.data());
-  if (fd < 0) fail(path, "cannot create a temporary file beside it", errno);
-  auto abandon = [&](const std::string& what, int err) {
-    ::close(fd);
-    ::unlink(tmpl.c_str());
-    fail(path, what, err);
-  };
-  // mkstemp creates the file 0600; a report is meant to be read by others.
-  if (::fchmod(fd, 0644) != 0) abandon("fchmod", errno);
-  std::size_t done = 0;
-  while (done < contents.size()) {
-    const ssize_t w = ::write(fd, contents.data() + done, contents.size() - done);
-    if (w < 0) {
-      if (errno == EINTR) continue;
-      abandon("write", errno);
-    }
-    done += static_cast<std::size_t>(w);
-  }
-  if (::fsync(fd) != 0) abandon("fsync", errno);
-  if (::close(fd) != 0) {
-    const int err = errno;
-    ::unlink(tmpl.c_str());
-    fail(path, "close", err);
-  }
-  if (std::rename(tmpl.c_str(), path.c_str()) != 0) {
-    const int err = errno;
-    ::unlink(tmpl.c_str());
-    fail(path, "rename from " + tmpl, err);
-  }
 }
 
 void write_csv(const std::string& path, const std::vector<std::string>& header,
@@ -95,7 +55,7 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
     }
     text += '\n';
   }
-  write_file_atomic(path, text);
+  plant::lti::write_text_atomically(path, text);
 }
 
 void write_csv_columns(const std::string& path, const std::vector<std::string>& header,

@@ -5,7 +5,7 @@
 //
 // Files are written atomically: the text goes to a temporary file in the target directory,
 // which is flushed to disk and renamed over the target, so a reader never sees half a table and
-// a failed write leaves no file behind (DESIGN.md §10).
+// a failed write leaves no file behind (plant/lti/atomic_file.hpp, shared by every artefact).
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
@@ -21,10 +21,6 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
 /// Same, from equally long columns (columns[j] is the column named header[j]).
 void write_csv_columns(const std::string& path, const std::vector<std::string>& header,
                        const std::vector<std::vector<double>>& columns);
-
-/// Replace `path` by `contents` atomically (temporary file in the same directory, fsync,
-/// rename). @throws std::runtime_error naming the file on any failure.
-void write_file_atomic(const std::string& path, const std::string& contents);
 
 /// Shortest decimal text that reads back to exactly `v`; "nan", "inf", "-inf" otherwise.
 std::string format_number(double v);

@@ -175,6 +175,10 @@ Scene parse_scene(const std::string& text, const std::string& file) {
       e.transport_delay_samples = static_cast<int>(count(dr, "samples", 0));
       if (e.transport_delay_samples < 1 || e.transport_delay_samples > 32)
         dr.fail("'samples' must be 1 .. 32", dr.get("samples"));
+      // The controller follows its own force through both delays (at most 32 samples).
+      if (e.force_sensor.delay_samples + e.transport_delay_samples > 32)
+        dr.fail("force-sensor delay + transport delay must be at most 32 samples",
+                dr.get("samples"));
     }
   }
 

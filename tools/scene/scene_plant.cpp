@@ -21,10 +21,6 @@ std::vector<std::string> concat(std::vector<std::string> a, const std::vector<st
 
 }  // namespace
 
-ScenePlant build_scene_plant(const Scene& scene) {
-  return build_scene_plant(scene, {});
-}
-
 ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& options) {
   namespace model = plant::model;
   ScenePlant p;

@@ -30,14 +30,13 @@ struct ScenePlant {
   plant::lti::StateSpace closed_loop;      ///< w -> z (T)
 };
 
-/// @throws flexloop::InputError naming the scene (or model) file for bad channels or models.
-ScenePlant build_scene_plant(const Scene& scene);
-
 /// Overrides for studies and tests: zero every strut damper before linearising.
 struct ScenePlantOptions {
   bool without_damping = false;
 };
-ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& options);
+
+/// @throws flexloop::InputError naming the scene (or model) file for bad channels or models.
+ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& options = {});
 
 struct SampledScene {
   plant::lti::DiscreteStateSpace plant, controller;

@@ -11,8 +11,8 @@ namespace flexloop::sim::detail {
 template <int NW, int NC, bool kEffects, class Plant>
 BothRuns run_both(const Plant& plant, const scene::ScenePlant& p, const RunSettings& s,
                   const SceneRunOptions& o) {
-  auto ctrl =
-      controller::runtime::PiController<double, NC>::from_parameters(pi_parameters(p, s.dt));
+  auto ctrl = controller::runtime::PiController<double, NC>::from_parameters(
+      pi_parameters_with_hardware(p, s.dt));
   RunSettings off = s, on = s;
   off.log_every = o.log_off ? s.log_every : 0;
   on.log_every = o.log_on ? s.log_every : 0;

@@ -14,6 +14,7 @@
 #include "plant/runtime/effects/sensor_chain.hpp"
 #include "plant/runtime/effects/white_floor.hpp"
 #include "plant/runtime/simulated_hardware.hpp"
+#include "tools/scene/pi_parameters.hpp"
 #include "tools/scene/scene_plant.hpp"
 
 namespace flexloop::sim {
@@ -112,23 +113,18 @@ decltype(auto) with_bare_hardware(const scene::Scene& sc, const Plant& plant, do
   });
 }
 
-/// The PI parameters of a scene: the designed gains, and the actuator's limits (in command units)
-/// for the anti-windup when the scene has a saturating actuator or a controller force limit.
-inline controller::runtime::PiParameters pi_parameters(const scene::ScenePlant& p, double dt) {
-  controller::runtime::PiParameters pi;
-  pi.K_P = p.gains.K_P;
-  pi.K_I = p.gains.K_I;
-  pi.dt = dt;
-  pi.leak_rad_s = p.gains.settings.leak_rad_s;
-  // The controller knows how late its own force reaches it: sensor delay + transport delay.
+/// The PI parameters of a scene with its hardware effects: the controller knows how late its
+/// own force reaches it (sensor delay + transport delay) and limits its commands to what the
+/// actuator can give (anti-windup).
+inline controller::runtime::PiParameters pi_parameters_with_hardware(const scene::ScenePlant& p,
+                                                                     double dt) {
+  controller::runtime::PiParameters pi = scene::pi_parameters(p, dt);
   const auto& e = p.scene.effects;
   pi.feedthrough_delay =
       (e.force_sensor.present ? e.force_sensor.delay_samples : 0) + e.transport_delay_samples;
-  double limit = p.scene.controller.force_limit_n;
-  if (p.scene.effects.actuator.present)
-    limit = std::min(
-        limit, p.scene.effects.actuator.force_limit_n / std::abs(p.scene.effects.actuator.gain));
-  if (std::isfinite(limit)) {
+  if (e.actuator.present) {
+    const double limit = std::min(p.scene.controller.force_limit_n,
+                                  e.actuator.force_limit_n / std::abs(e.actuator.gain));
     pi.u_min = Eigen::VectorXd::Constant(1, -limit);
     pi.u_max = Eigen::VectorXd::Constant(1, limit);
   }
