@@ -7,11 +7,11 @@
 #include <complex>
 #include <numbers>
 #include <random>
-#include <unsupported/Eigen/Polynomials>
 
 #include "plant/lti/feedback_interconnection.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/modal_analysis.hpp"
+#include "tests/support/pole_matching.hpp"
 #include "tools/scene/scene_plant.hpp"
 
 using namespace flexloop;
@@ -24,31 +24,10 @@ constexpr double kTwoPi = 2 * std::numbers::pi;
 
 // Roots of the per-mode closed-loop cubic (an independent route: polynomial roots, no matrices).
 std::vector<cd> mode_roots(const controller::design::PiForceFeedbackSettings& s) {
-  const auto c = controller::design::closed_loop_mode_polynomial(s);
-  Eigen::Vector4d ascending(c[3], c[2], c[1], c[0]);
-  Eigen::PolynomialSolver<double, 3> solver(ascending);
-  std::vector<cd> r(solver.roots().data(), solver.roots().data() + 3);
-  return r;
+  return test::polynomial_roots(controller::design::closed_loop_mode_polynomial(s));
 }
 
-// Every expected root appears `multiplicity` times among the poles within tol * scale; returns
-// the worst distance relative to scale.
-double match_poles(Eigen::VectorXcd poles, const std::vector<cd>& roots, int multiplicity,
-                   double scale) {
-  double worst = 0;
-  std::vector<bool> used(static_cast<std::size_t>(poles.size()), false);
-  for (const cd& r : roots)
-    for (int k = 0; k < multiplicity; ++k) {
-      double best = 1e300;
-      Eigen::Index bi = -1;
-      for (Eigen::Index i = 0; i < poles.size(); ++i)
-        if (!used[static_cast<std::size_t>(i)] && std::abs(poles(i) - r) < best)
-          best = std::abs(poles(i) - r), bi = i;
-      used[static_cast<std::size_t>(bi)] = true;
-      worst = std::max(worst, best / scale);
-    }
-  return worst;
-}
+using test::match_poles;
 
 }  // namespace
 

@@ -88,8 +88,15 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   j["controller_settings"] = {
       {"omega_d_hz", c.omega_d_hz}, {"zeta", c.zeta}, {"leak_hz", c.leak_hz}};
 
-  const Eigen::VectorXcd poles = lti::poles(p.closed_loop);
-  std::printf("closed-loop poles (%ld):\n", static_cast<long>(poles.size()));
+  // The loop's poles: the closed loop's without the floor's integrator states (at s = 0, driven
+  // by the floor only, untouched by the controller).
+  const Eigen::VectorXcd& poles = p.loop.poles;
+  const Eigen::Index floor_states = p.closed_loop.nx() - poles.size();
+  std::printf("closed-loop poles (%ld%s):\n", static_cast<long>(poles.size()),
+              floor_states > 0 ? (", besides " + std::to_string(floor_states) +
+                                  " floor integrator states at s = 0")
+                                     .c_str()
+                               : "");
   nlohmann::json pj = nlohmann::json::array();
   for (const auto& s : poles) {
     const double w = std::abs(s);
@@ -97,6 +104,24 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
                 w / kTwoPi, w > 0 ? -s.real() / w : 0.0);
     pj.push_back({s.real(), s.imag()});
   }
+  // Stability, and the leak that would give it (or the margin the present one has).
+  const auto min_leak = scene::minimum_stable_leak_hz(p);
+  if (p.loop.stable())
+    std::printf("closed loop: stable");
+  else
+    std::printf("closed loop: UNSTABLE, %d poles in the right half plane (fastest e^(%.3g t))",
+                p.loop.unstable, p.loop.largest_real_part);
+  if (min_leak && *min_leak > 0)
+    std::printf(
+        "; needs leak_hz > %.4g (has %g)%s\n", *min_leak, c.leak_hz,
+        sc.gravity_preload ? ": the gravity preload's geometric stiffness is negative" : "");
+  else if (min_leak)
+    std::printf(" without a leak\n");
+  else
+    std::printf("; no leak up to omega_d makes it stable\n");
+  j["closed_loop_stable"] = p.loop.stable();
+  j["floor_integrator_states"] = floor_states;
+  j["minimum_stable_leak_hz"] = min_leak ? nlohmann::json(*min_leak) : nlohmann::json(nullptr);
   j["closed_loop_poles"] = pj;
   j["open_loop"] = lti::to_json(p.plant);
   j["controller"] = lti::to_json(p.controller);

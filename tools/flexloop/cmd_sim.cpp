@@ -128,6 +128,7 @@ void run(const SimArgs& a) {
   if (a.duration_s > 0) sc.run.duration_s = a.duration_s;
   const bool on = a.controller.empty() ? sc.controller.enabled : a.controller == "on";
   const auto p = scene::build_scene_plant(sc);
+  scene::require_stable_loop(p);  // both runs are simulated, the controlled one too
   const auto sampled = scene::sample_scene(p);
   sim::RunSettings s;
   s.dt = sampled.plant.dt;

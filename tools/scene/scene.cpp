@@ -83,6 +83,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
                 " actuators, " + std::to_string(s.sensors.size()) + " sensors)",
             pr.get("sensors"));
 
+  s.controller.place = file;
   if (const auto* t = table(top, root, "controller", false)) {
     TomlReader cr(*t, file, "[controller]");
     cr.allow_only({"enabled", "type", "omega_d_hz", "zeta", "leak_hz", "force_limit_n"});
@@ -93,6 +94,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
     c.omega_d_hz = positive(cr, "omega_d_hz", c.omega_d_hz);
     c.zeta = positive(cr, "zeta", c.zeta);
     c.leak_hz = non_negative(cr, "leak_hz", c.leak_hz);
+    c.place = cr.place(cr.get("leak_hz"));
     if (cr.has("force_limit_n")) c.force_limit_n = positive(cr, "force_limit_n", 1.0);
   }
 

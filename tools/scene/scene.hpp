@@ -19,6 +19,7 @@ struct ControllerSettings {
   double zeta = 0.5;         ///< closed-loop damping ratio
   double leak_hz = 0.0;      ///< 0: pure integrator
   double force_limit_n = std::numeric_limits<double>::infinity();  ///< actuator saturation
+  std::string place;  ///< "file:line" of leak_hz (or of the table), for messages about the loop
 };
 
 struct DiscretisationSettings {

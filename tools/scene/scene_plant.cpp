@@ -1,5 +1,6 @@
 #include "tools/scene/scene_plant.hpp"
 
+#include <cstdio>
 #include <numbers>
 
 #include "plant/lti/modal_analysis.hpp"
@@ -71,7 +72,42 @@ ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& option
       Mdd, Kdd, {kTwoPi * c.omega_d_hz, c.zeta, kTwoPi * c.leak_hz});
   p.controller = controller::design::pi_state_space(p.gains, scene.sensors, scene.actuators);
   p.closed_loop = plant::lti::close_loop(p.plant, p.controller, p.partition);
+  // The floor held still: no prescribed inputs, so no floor integrator states.
+  p.feedback_path = plant::lti::build_state_space(m, p.lin, scene.actuators, scene.sensors);
+  p.loop = controller::design::loop_stability(p.feedback_path, p.gains);
   return p;
+}
+
+std::optional<double> minimum_stable_leak_hz(const ScenePlant& p) {
+  const double wd = kTwoPi * p.scene.controller.omega_d_hz;
+  const auto w = controller::design::minimum_stable_leak_rad_s(p.feedback_path, p.gains, wd);
+  if (!w) return std::nullopt;
+  return *w / kTwoPi;
+}
+
+void require_stable_loop(const ScenePlant& p) {
+  const auto& c = p.scene.controller;
+  if (p.loop.stable()) return;
+  char growth[160];
+  std::snprintf(growth, sizeof growth,
+                "the closed loop is unstable: %d poles in the right half plane, the fastest "
+                "growing as e^(%.3g t) (%.3g Hz)",
+                p.loop.unstable, p.loop.largest_real_part, p.loop.largest_real_part / kTwoPi);
+  std::string what = std::string("[controller]: ") + growth;
+  const auto leak = minimum_stable_leak_hz(p);
+  if (leak && *leak > c.leak_hz) {
+    char fix[200];
+    std::snprintf(fix, sizeof fix, "; a leak_hz of at least %.3g makes it stable (it is %.3g): %s",
+                  *leak, c.leak_hz,
+                  p.scene.gravity_preload
+                      ? "the gravity preload's negative geometric stiffness needs the static "
+                        "stiffness a leaky integrator gives back"
+                      : "a leaky integrator gives the struts static stiffness back");
+    what += fix;
+  } else {
+    what += "; no leak up to omega_d stabilises it: change omega_d_hz or zeta";
+  }
+  throw InputError(c.place, what);
 }
 
 SampledScene sample_scene(const ScenePlant& p) {

@@ -5,8 +5,10 @@
 // continuous closed loop; and the sampled versions at the scene's rate (plant and controller
 // discretised with the scene's method, closed as the simulation loop closes them).
 #include <Eigen/Dense>
+#include <optional>
 #include <vector>
 
+#include "controller/design/loop_stability.hpp"
 #include "controller/design/pi_force_feedback.hpp"
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/feedback_interconnection.hpp"
@@ -28,7 +30,20 @@ struct ScenePlant {
   controller::design::PiGains gains;       ///< designed even when the controller is disabled
   plant::lti::StateSpace controller;       ///< y -> u
   plant::lti::StateSpace closed_loop;      ///< w -> z (T)
+  /// The feedback path G22 (actuators -> sensors, floor held still) and the poles of the loop it
+  /// makes with the controller: the closed loop's poles without the floor's integrator states.
+  plant::lti::StateSpace feedback_path;
+  controller::design::LoopStability loop;
 };
+
+/// The smallest stable leak [Hz] of the scene's loop (0: stable without one; nullopt: none up to
+/// the scene's omega_d). controller/design/loop_stability.hpp explains when one is needed.
+std::optional<double> minimum_stable_leak_hz(const ScenePlant& p);
+
+/// For the commands that run the loop (sim, plant, controller, hil): throws flexloop::InputError
+/// at the scene's [controller] leak_hz (or table) when the loop is
+/// unstable, saying how fast it diverges and which leak would make it stable.
+void require_stable_loop(const ScenePlant& p);
 
 /// Overrides for studies and tests: zero every strut damper before linearising.
 struct ScenePlantOptions {
