@@ -16,6 +16,11 @@ target_link_libraries(flexloop_eigen INTERFACE Eigen3::Eigen)
 get_target_property(_eigen_inc Eigen3::Eigen INTERFACE_INCLUDE_DIRECTORIES)
 target_include_directories(flexloop_eigen SYSTEM INTERFACE ${_eigen_inc})
 
+# Boost.Random (header-only): the ziggurat normal distribution of the noise sources.
+find_package(Boost 1.74 REQUIRED)
+add_library(flexloop_boost INTERFACE)
+target_include_directories(flexloop_boost SYSTEM INTERFACE ${Boost_INCLUDE_DIRS})
+
 find_package(Catch2 2.13 REQUIRED)
 include(Catch)
 find_package(nlohmann_json 3 REQUIRED)

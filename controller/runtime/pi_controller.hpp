@@ -79,13 +79,14 @@ class PiController {
     Vector f = y;
     subtract_feedthrough(f, measured_command());
     Vector v;
-    v.noalias() = G_f_ * f;
-    v.noalias() += G_x_ * x_;
+    v.noalias() = G_f_.lazyProduct(f);  // unrolled fixed-size products
+    v.noalias() += G_x_.lazyProduct(x_);
     const Vector u = v.cwiseMax(u_min_).cwiseMin(u_max_);
+    // Only a clamped channel moves the integrator: u - v is exactly zero elsewhere, so the term
+    // adds exact zeros in the usual unsaturated sample. Branch-free: a data-dependent branch per
+    // sample costs more than these N² multiply-adds when saturation comes and goes.
     Vector x = x_;
-    // Only a clamped sample moves the integrator (the term is zero otherwise; the branch saves
-    // its N² multiply-adds in the usual unsaturated sample and is well predicted).
-    if ((u.array() != v.array()).any()) x.noalias() += G_x_inv_ * (u - v);
+    x.noalias() += G_x_inv_.lazyProduct(u - v);
     subtract_feedthrough(f, -u);
     x_ = a_ * x + b_ * f;
     remember(u);
@@ -128,7 +129,7 @@ class PiController {
     if (identity_feedthrough_)
       f -= u;
     else
-      f.noalias() -= D22_ * u;
+      f.noalias() -= D22_.lazyProduct(u);
   }
 
   static constexpr int kHistory = kMaxFeedthroughDelay + 1;

@@ -78,11 +78,19 @@ void check_options(const DiscretisationOptions& o) {
                                 " Hz");
 }
 
-// LU of a matrix that Tustin and backward Euler must solve with; singular exactly when A has the
-// real eigenvalue 1/α, which the message names.
-Eigen::PartialPivLU<MatrixXd> factor(const MatrixXd& m, const std::string& method, double pole) {
+// LU of I - αA, which Tustin and backward Euler must solve with; singular exactly when A has the
+// real eigenvalue 1/α, which the message names. "Singular" is judged against the size of the
+// terms that make the matrix, 1 + α|A|, not against the matrix itself: near 1/α the difference
+// I - αA is pure rounding (its sign and size depend on whether the machine fuses the
+// multiply-add), and its own rcond can look perfect (a 1x1 matrix always does).
+Eigen::PartialPivLU<MatrixXd> factor(const MatrixXd& A, double alpha, const std::string& method) {
+  const MatrixXd m = MatrixXd::Identity(A.rows(), A.cols()) - alpha * A;
   Eigen::PartialPivLU<MatrixXd> lu(m);
-  if (!(lu.rcond() > m.rows() * std::numeric_limits<double>::epsilon()))
+  if (m.rows() == 0) return lu;  // no states: nothing to solve
+  const double terms = 1.0 + alpha * A.lpNorm<1>();
+  const double inverse_norm = 1.0 / (lu.rcond() * m.lpNorm<1>());  // estimate of |m^-1|_1
+  const double pole = 1 / alpha;
+  if (!(inverse_norm * terms * m.rows() * std::numeric_limits<double>::epsilon() < 1))
     throw std::invalid_argument("discretise: " + method +
                                 " is singular at this rate: A has an eigenvalue at (or very "
                                 "near) " +
@@ -123,10 +131,10 @@ void first_order_hold(const StateSpace& c, double dt, StateSpace& d) {
 void tustin(const StateSpace& c, double alpha, StateSpace& d) {
   const Index n = c.nx();
   const MatrixXd eye = MatrixXd::Identity(n, n);
-  const auto lu = factor(eye - alpha * c.A, "tustin", 1 / alpha);
+  const auto lu = factor(c.A, alpha, "tustin");
   const MatrixXd mb = lu.solve(c.B);
   // C M = (M^T C^T)^T: a solve with the transposed matrix, not an inverse.
-  const auto lut = factor((eye - alpha * c.A).transpose(), "tustin", 1 / alpha);
+  const auto lut = factor(c.A.transpose(), alpha, "tustin");
   const MatrixXd cm = lut.solve(c.C.transpose()).transpose();
   const double root = std::sqrt(2 * alpha);
   d.A = lu.solve(eye + alpha * c.A);
@@ -145,7 +153,7 @@ void forward_euler(const StateSpace& c, double dt, StateSpace& d) {
 void backward_euler(const StateSpace& c, double dt, StateSpace& d) {
   const Index n = c.nx();
   const MatrixXd eye = MatrixXd::Identity(n, n);
-  const auto lu = factor(eye - dt * c.A, "backward-euler", 1 / dt);
+  const auto lu = factor(c.A, dt, "backward-euler");
   const MatrixXd mb = lu.solve(c.B);
   // Shifted state ξ = x - T M B u (see the header).
   d.A = lu.solve(eye);

@@ -37,8 +37,8 @@ class DensePlant : public StateOutput<Scalar, NX, NU, NY> {
   /// x <- x + ((Ad - I) x + Bd u).
   void advance(const typename Base::Input& u) noexcept {
     typename Base::State increment;
-    increment.noalias() = Ad_minus_I_ * this->x_;
-    increment.noalias() += Bd_ * u;
+    increment.noalias() = Ad_minus_I_.lazyProduct(this->x_);  // see StateOutput::output
+    increment.noalias() += Bd_.lazyProduct(u);
     this->x_ += increment;
   }
 

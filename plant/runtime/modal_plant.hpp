@@ -53,7 +53,7 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY> {
       increment.template head<NX - 1>() += e_.cwiseProduct(z.template tail<NX - 1>());
       increment.template tail<NX - 1>() += f_.cwiseProduct(z.template head<NX - 1>());
     }
-    increment.noalias() += Bm_ * u;
+    increment.noalias() += Bm_.lazyProduct(u);
     this->x_ += increment;
   }
 

@@ -24,8 +24,11 @@ class StateOutput {
   /// y = C x + D u, for the current state.
   Output output(const Input& u) const noexcept {
     Output y;
-    y.noalias() = C_ * x_;
-    y.noalias() += D_ * u;
+    // lazyProduct: coefficient-based and unrolled for these fixed sizes (Eigen's default product
+    // of a 12x12 by a 12-vector runs its general GEMV kernel: about twice the time here). Two
+    // statements: a sum of two lazy products in one expression is evaluated more slowly.
+    y.noalias() = C_.lazyProduct(x_);
+    y.noalias() += D_.lazyProduct(u);
     return y;
   }
 

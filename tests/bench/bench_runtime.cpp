@@ -13,7 +13,8 @@
 //  - BM_Simulate10s<form, scalar>: 10 s of simulation at 10 kHz (10^5 steps) per iteration;
 //    real_time_factor = 10 s / time. Target >= 1000.
 // The counters use the thread's CPU time (as Google Benchmark's CPU column), so that other work on
-// a shared machine does not count; the wall time is in the Time column.
+// a shared machine does not count; the wall time is in the Time column. This VM's core clock
+// wanders between about 2.1 and 3.3 GHz within minutes: compare figures of one run only.
 // Floor accelerations are drawn before timing (4096 samples, reused cyclically).
 #include <benchmark/benchmark.h>
 

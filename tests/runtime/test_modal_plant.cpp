@@ -69,11 +69,13 @@ TEST_CASE(
   CHECK((d.sys.A * m.T - m.T * m.Lambda).norm() <= 1e-13 * d.sys.A.norm() * m.T.norm());
 
   // The integrators at z = 1 remember everything: a pole offset of a few eps between the two
-  // forms (neither can hold the other's exactly) grows into a state difference ~ k eps, 1e-11 at
-  // k = 10^5. The outputs agree to 1e-12.
+  // forms (neither can hold the other's exactly) grows into a difference ~ k eps, 1e-11 at
+  // k = 10^5, in the states and so in the outputs they feed (measured 1e-12 or so, depending on
+  // whether the build fuses multiply-adds). The metrology plant below, without a double
+  // integrator, agrees to 1e-12.
   const double rel = dense_modal_disagreement<10, 3, 4>(d, m, 100000, 1e-11);
   INFO(std::scientific << "relative disagreement " << rel);
-  CHECK(rel <= 1e-12);
+  CHECK(rel <= 1e-11);
 }
 
 TEST_CASE("modal form: the metrology plant, dense and modal agree to 1e-12 over 10^5 steps",

@@ -5,7 +5,7 @@ FLEXLOOP_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 FLEXLOOP_PACKAGES=(
   build-essential cmake git pkg-config clang-format
   libeigen3-dev liblcm-dev liblcm-bin libglib2.0-dev
-  catch2 libbenchmark-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
+  libboost-dev catch2 libbenchmark-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libssl-dev iproute2 util-linux rt-tests gnuplot-nox python3-matplotlib valgrind
 )
 

@@ -53,8 +53,13 @@ class FloorGenerator {
   /// The floor acceleration of this sample [m/s²], one per channel; advances the filters.
   Vector step() noexcept {
     const Eigen::Matrix<Scalar, 1, N> n = noise_.sample().transpose();
-    const Eigen::Matrix<Scalar, 1, N> a = c_ * x_ + d_ * n;
-    const StateMatrix next = a_ * x_ + b_ * n;
+    // Coefficient-based products (lazyProduct), unrolled for these fixed sizes: Eigen's default
+    // product of a 9x9 by a 9x6 goes through its general GEMM kernel, several times slower here.
+    Eigen::Matrix<Scalar, 1, N> a = d_(0, 0) * n;
+    a.noalias() += c_.lazyProduct(x_);
+    StateMatrix next;
+    next.noalias() = a_.lazyProduct(x_);
+    next.noalias() += b_.lazyProduct(n);
     x_ = next;
     return a.transpose();
   }
