@@ -23,10 +23,26 @@ const char* to_string(ReceiveMode mode) {
   return enum_name(kReceiveModeNames, mode);
 }
 
-LcmTransport::LcmTransport(const std::string& url) {
+constexpr EnumName<ReceivePath> kReceivePathNames[] = {{ReceivePath::kLcmThread, "lcm-thread"},
+                                                       {ReceivePath::kDirect, "direct"}};
+
+ReceivePath parse_receive_path(const std::string& name) {
+  return parse_enum(kReceivePathNames, name, "receive path");
+}
+
+const char* to_string(ReceivePath path) {
+  return enum_name(kReceivePathNames, path);
+}
+
+LcmTransport::LcmTransport(const std::string& url, ReceivePath path) {
+  if (path == ReceivePath::kDirect) direct_ = std::make_unique<LcmDirectSocket>(url);
   const std::vector<pid_t> before = process_thread_ids();
   lcm_ = lcm_create(url.c_str());
   if (lcm_ == nullptr) throw std::runtime_error("cannot open LCM on '" + url + "'");
+  if (direct_) {  // LCM publishes only: no subscription, no fileno, so no receive thread
+    fileno_ = direct_->fd();
+    return;
+  }
   // Asking for the fileno makes the udpm provider set up its receive socket and thread now,
   // before the loop, so the thread can be found and configured.
   fileno_ = lcm_get_fileno(lcm_);
@@ -43,7 +59,7 @@ LcmTransport::~LcmTransport() {
   if (lcm_) lcm_destroy(lcm_);
 }
 
-void LcmTransport::subscribe_raw(const std::string& channel, lcm_msg_handler_t handler, void* user,
+void LcmTransport::subscribe_lcm(const std::string& channel, lcm_msg_handler_t handler, void* user,
                                  int queue_capacity) {
   lcm_subscription_t* sub = lcm_subscribe(lcm_, channel.c_str(), handler, user);
   if (sub == nullptr) throw std::runtime_error("cannot subscribe to LCM channel " + channel);
@@ -52,6 +68,7 @@ void LcmTransport::subscribe_raw(const std::string& channel, lcm_msg_handler_t h
 }
 
 int LcmTransport::poll_ready(std::int64_t timeout_ns) noexcept {
+  if (direct_) return direct_->wait_readable(timeout_ns);
   pollfd fd{fileno_, POLLIN, 0};
   const timespec ts = to_timespec(timeout_ns > 0 ? timeout_ns : 0);
   const int n = ppoll(&fd, 1, &ts, nullptr);
@@ -60,6 +77,7 @@ int LcmTransport::poll_ready(std::int64_t timeout_ns) noexcept {
 }
 
 int LcmTransport::handle_pending() noexcept {
+  if (direct_) return direct_->receive();
   int handled = 0;
   while (poll_ready(0) == 1 && lcm_handle(lcm_) == 0) ++handled;
   return handled;
@@ -71,7 +89,9 @@ std::vector<SetupStatus> LcmTransport::configure_receive_thread(int cpu, int fif
     if (cpu >= 0) out.push_back(pin_thread_to_cpu(tid, cpu));
     if (fifo_priority > 0) out.push_back(try_set_thread_fifo_priority(tid, fifo_priority));
   }
-  if (receive_threads_.empty())
+  if (direct_)
+    out.push_back({true, "none: the loop thread reads the multicast socket itself (direct)"});
+  else if (receive_threads_.empty())
     out.push_back({false, "LCM started no receive thread that could be configured"});
   return out;
 }

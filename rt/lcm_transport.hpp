@@ -27,6 +27,10 @@
 // messages per subscription (30 by default) and drops newer ones when full; for bursts also raise
 // the socket buffer with the URL option recv_buf_size (e.g. "...?ttl=0&recv_buf_size=2097152").
 //
+// ReceivePath::kDirect takes LCM's receive thread out of the path: the loop thread reads the
+// multicast socket itself (rt/lcm_direct_socket.hpp) and LCM only publishes (no LCM subscription,
+// so LCM never starts its thread). Same subscribe/handle API; the set-up report says which path.
+//
 // In-loop calls (publish, handle_pending, handle_until) are allocation-free once each channel
 // has delivered one message (LCM caches its channel -> handlers lookup on first use), throw
 // nothing, and make system calls (sendmsg, ppoll, read); lcm_handle takes LCM's internal mutex,
@@ -37,9 +41,11 @@
 #include <sys/types.h>
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "rt/lcm_direct_socket.hpp"
 #include "rt/message_inbox.hpp"
 #include "rt/monotonic_time.hpp"
 #include "rt/realtime_setup.hpp"
@@ -48,14 +54,22 @@ namespace flexloop::rt {
 
 enum class ReceiveMode { kBlocking, kPolling, kHybrid };
 
+/// Who reads the socket: LCM's internal thread (handing over through a pipe), or the loop thread
+/// itself (rt/lcm_direct_socket.hpp).
+enum class ReceivePath { kLcmThread, kDirect };
+
 /// "block" | "poll" | "hybrid" -> mode; throws std::invalid_argument naming the choices.
 ReceiveMode parse_receive_mode(const std::string& name);
 const char* to_string(ReceiveMode mode);
+/// "lcm-thread" | "direct" -> path; throws std::invalid_argument naming the choices.
+ReceivePath parse_receive_path(const std::string& name);
+const char* to_string(ReceivePath path);
 
 class LcmTransport {
  public:
-  /// Opens LCM on `url` and starts its receive thread; std::runtime_error when LCM cannot.
-  explicit LcmTransport(const std::string& url);
+  /// Opens LCM on `url`; with kLcmThread starts its receive thread, with kDirect opens the
+  /// loop's own socket instead. std::runtime_error when LCM or the socket cannot be opened.
+  explicit LcmTransport(const std::string& url, ReceivePath path = ReceivePath::kLcmThread);
   ~LcmTransport();
   LcmTransport(const LcmTransport&) = delete;
   LcmTransport& operator=(const LcmTransport&) = delete;
@@ -64,7 +78,10 @@ class LcmTransport {
   /// queue_capacity: unhandled messages LCM keeps for this subscription before dropping.
   template <class Msg>
   void subscribe(const std::string& channel, MessageInbox<Msg>& inbox, int queue_capacity = 30) {
-    subscribe_raw(channel, &LcmTransport::deliver<Msg>, &inbox, queue_capacity);
+    if (direct_)
+      direct_->subscribe(channel, &LcmTransport::deliver_direct<Msg>, &inbox);
+    else
+      subscribe_lcm(channel, &LcmTransport::deliver<Msg>, &inbox, queue_capacity);
   }
 
   /// 1 when a message is ready, 0 when none came within timeout_ns (0: just look), -1 on error.
@@ -99,13 +116,20 @@ class LcmTransport {
     return handle_until(deadline_ns, mode, [] { return false; });
   }
 
-  /// Kernel thread ids of LCM's internal threads (those the constructor saw appear).
+  /// Kernel thread ids of LCM's internal threads (those the constructor saw appear; none with
+  /// kDirect).
   const std::vector<pid_t>& receive_thread_ids() const { return receive_threads_; }
   /// Pins LCM's receive thread(s) to `cpu` (when >= 0) and sets SCHED_FIFO `fifo_priority`
   /// (when > 0). One status per step and thread.
   std::vector<SetupStatus> configure_receive_thread(int cpu, int fifo_priority);
 
+  ReceivePath receive_path() const noexcept {
+    return direct_ ? ReceivePath::kDirect : ReceivePath::kLcmThread;
+  }
+  /// The direct socket (kDirect), or nullptr.
+  const LcmDirectSocket* direct_socket() const noexcept { return direct_.get(); }
   lcm_t* lcm() noexcept { return lcm_; }
+  /// What poll_ready() waits on: LCM's pipe, or the direct socket.
   int fileno() const noexcept { return fileno_; }
 
  private:
@@ -114,9 +138,14 @@ class LcmTransport {
     static_cast<MessageInbox<Msg>*>(inbox)->offer(rbuf->data, static_cast<int>(rbuf->data_size),
                                                   monotonic_now_ns());
   }
-  void subscribe_raw(const std::string& channel, lcm_msg_handler_t handler, void* user,
+  template <class Msg>
+  static void deliver_direct(const std::uint8_t* data, int size, void* inbox) {
+    static_cast<MessageInbox<Msg>*>(inbox)->offer(data, size, monotonic_now_ns());
+  }
+  void subscribe_lcm(const std::string& channel, lcm_msg_handler_t handler, void* user,
                      int queue_capacity);
 
+  std::unique_ptr<LcmDirectSocket> direct_;
   lcm_t* lcm_ = nullptr;
   int fileno_ = -1;
   std::vector<pid_t> receive_threads_;

@@ -2,6 +2,7 @@
 
 #include <time.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <stdexcept>
 
@@ -79,9 +80,13 @@ void PeriodicClock::start_at(std::int64_t first_deadline_ns) noexcept {
   schedule_.anchor(first_deadline_ns);
 }
 
+std::int64_t effective_spin_margin_ns(const PeriodicClockOptions& o) noexcept {
+  return std::min(o.spin_margin_ns, o.period_ns / 2);
+}
+
 CycleStart PeriodicClock::wait_next() noexcept {
-  const std::int64_t woke =
-      wait_until(schedule_.next_deadline_ns(), options_.wait_mode, options_.spin_margin_ns);
+  const std::int64_t woke = wait_until(schedule_.next_deadline_ns(), options_.wait_mode,
+                                       effective_spin_margin_ns(options_));
   return schedule_.begin_cycle(woke);
 }
 

@@ -32,9 +32,14 @@ const char* to_string(WaitMode mode);
 
 /// Default hybrid margin: above the typical timer wake-up latency of the 2-core VM this was
 /// measured on (SCHED_FIFO sleep lateness p50 ~17 us, p99 30-60 us, like cyclictest there), so
-/// the sleep rarely overshoots the spin window. The loop spins margin/T of its CPU: a margin near
-/// or above the period (e.g. 50 us at 20 kHz) makes hybrid a pure spin, throttled at SCHED_FIFO.
+/// the sleep rarely overshoots the spin window. The loop spins margin/T of its CPU.
 inline constexpr std::int64_t kDefaultSpinMarginNs = 50'000;
+
+struct PeriodicClockOptions;
+/// The margin a loop actually spins: at most half the period. A margin near or above the period
+/// (e.g. 50 us at 20 kHz) would make hybrid a pure spin, and a SCHED_FIFO thread that spins more
+/// than sched_rt_runtime_us per second (95 %) is stopped by the kernel for the rest of it (50 ms).
+std::int64_t effective_spin_margin_ns(const PeriodicClockOptions& options) noexcept;
 
 /// Waits until CLOCK_MONOTONIC >= deadline_ns in the given mode; returns the time it returned
 /// (never before the deadline). Allocation-free, noexcept.

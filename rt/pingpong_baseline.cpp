@@ -47,7 +47,7 @@ std::string receive_block(int fd) {
 // The child: answer every ping until told to stop (or a generous time limit passes).
 int run_pong(const PingPongOptions& o, int report_fd) {
   const Channels ch(o.channel_prefix);
-  LcmTransport lcm(o.url);
+  LcmTransport lcm(o.url, o.receive_path);
   MessageInbox<sensor_sample_t> pings;  // kFollow: a ping side's epoch is taken as it comes
   MessageInbox<sensor_sample_t> stop;
   lcm.subscribe(ch.ping, pings);
@@ -63,7 +63,7 @@ int run_pong(const PingPongOptions& o, int report_fd) {
   while (!stop.has_fresh() && monotonic_now_ns() < give_up) {
     lcm.handle_until(give_up, o.receive_mode, wake, spin_from);
     if (const sensor_sample_t* p = pings.take()) {
-      spin_from = p->t_ns + o.clock.period_ns - o.clock.spin_margin_ns;
+      spin_from = p->t_ns + o.clock.period_ns - effective_spin_margin_ns(o.clock);
       cmd.seq += 1;
       cmd.answers_seq = p->seq;
       cmd.plant_epoch = p->plant_epoch;
@@ -99,7 +99,7 @@ void reap(pid_t child, std::int64_t grace_ns) {
 // The parent: ping every period, account the answers.
 void run_ping(const PingPongOptions& o, PingPongResult& r) {
   const Channels ch(o.channel_prefix);
-  LcmTransport lcm(o.url);
+  LcmTransport lcm(o.url, o.receive_path);
   const std::int64_t epoch = monotonic_now_ns() ^ (static_cast<std::int64_t>(getpid()) << 40);
   MessageInbox<actuator_command_t> answers(OrderGate(EpochPolicy::kFixed, epoch));
   lcm.subscribe(ch.pong, answers);

@@ -32,6 +32,7 @@ namespace flexloop::rt {
 struct PingPongOptions {
   PeriodicClockOptions clock;                         // the ping side's period and wait mode
   ReceiveMode receive_mode = ReceiveMode::kBlocking;  // both sides
+  ReceivePath receive_path = ReceivePath::kDirect;    // both sides
   std::int64_t duration_ns = kNsPerSecond;
   RealtimeOptions ping_realtime{.cpu = 0};
   RealtimeOptions pong_realtime{.cpu = 1};

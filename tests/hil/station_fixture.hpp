@@ -5,7 +5,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "plant/runtime/effects/white_floor.hpp"
 #include "plant/runtime/runtime_sizes.hpp"
+#include "plant/runtime/simulated_hardware.hpp"
 #include "tests/support/metrology.hpp"
 #include "tools/hil/controller_station.hpp"
 #include "tools/hil/loop_scene.hpp"
@@ -14,6 +16,9 @@
 namespace flexloop::test {
 
 using HilPlant = plant::runtime::DensePlant<double, 12, 12, 12>;
+using HilFloor = plant::runtime::effects::WhiteFloor<double, 6>;
+/// The metrology plant with a white floor and no other effect.
+using HilHardware = plant::runtime::SimulatedHardware<HilPlant, 6, 6, HilFloor>;
 
 inline const hil::LoopScene& hil_scene() {
   static const hil::LoopScene s = hil::load_loop_scene(metrology_scene_path(), 1000);
@@ -23,6 +28,13 @@ inline const hil::LoopScene& hil_scene() {
 inline HilPlant hil_plant() {
   const auto& d = hil_scene().plant.sys;
   return HilPlant::from_matrices(d.A, d.B, d.C, d.D);
+}
+
+inline constexpr double kFloorRms = 1e-3;  // m/s^2 per channel
+inline constexpr std::uint64_t kFloorSeed = 1;
+
+inline HilHardware hil_hardware(double floor_rms = kFloorRms) {
+  return HilHardware(hil_plant(), HilFloor::from_parameters(floor_rms, kFloorSeed));
 }
 
 inline constexpr std::int64_t kPeriod = 1'000'000;
@@ -37,16 +49,12 @@ auto deliver(rt::MessageInbox<Msg>& inbox, const Msg& m, std::int64_t received_n
 }
 
 struct StationPair {
-  hil::PlantStation<HilPlant> plant;
+  hil::PlantStation<HilHardware> plant;
   hil::ControllerStation controller;
   std::int64_t k = 0;  // next cycle
 
   explicit StationPair(int safe_after = 5, std::int64_t epoch = 7)
-      : plant(hil_plant(), {.floor_rms_mps2 = hil_scene().scene.floor.rms_mps2,
-                            .seed = hil_scene().scene.floor.seed,
-                            .safe_after = safe_after,
-                            .epoch = epoch,
-                            .period_ns = kPeriod}),
+      : plant(hil_hardware(), {.safe_after = safe_after, .epoch = epoch, .period_ns = kPeriod}),
         controller(hil::make_loop_controller(hil_scene()), safe_after) {}
 
   /// One cycle; the controller answers when `answer` (returns where the settled command came from).

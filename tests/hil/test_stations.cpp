@@ -18,12 +18,11 @@ TEST_CASE("hil stations: answers in time reproduce the in-process closed loop ex
   // The in-process loop of tools/sim (same convention, written out here).
   HilPlant plant = hil_plant();
   auto controller = hil::make_loop_controller(hil_scene());
-  auto noise =
-      plant::runtime::effects::GaussianNoise<double, 6>::from_seed(hil_scene().scene.floor.seed);
+  auto noise = plant::runtime::effects::GaussianNoise<double, 6>::from_seed(kFloorSeed);
   HilPlant::Input in = HilPlant::Input::Zero();
   double largest = 0;
   for (int k = 0; k < 3000; ++k) {
-    in.head<6>() = hil_scene().scene.floor.rms_mps2 * noise.sample();
+    in.head<6>() = kFloorRms * noise.sample();
     const HilPlant::Output y = plant.output(in);
     const ChannelVector u = controller.step(y.tail<6>());
     in.tail<6>() = u;
@@ -99,9 +98,8 @@ TEST_CASE("hil stations: a restarted plant (new epoch) makes the controller resy
   REQUIRE(controller.controller().state().cwiseAbs().maxCoeff() > 0);
 
   // A new plant run (new epoch, seq from 1 again, later time) talks to the same controller.
-  hil::PlantStation<HilPlant> restarted(
-      hil_plant(),
-      {.floor_rms_mps2 = 0, .seed = 1, .safe_after = 5, .epoch = 12, .period_ns = kPeriod});
+  hil::PlantStation<HilHardware> restarted(hil_hardware(0.0),
+                                           {.safe_after = 5, .epoch = 12, .period_ns = kPeriod});
   const std::int64_t t0 = 1000 * kPeriod;
   restarted.settle(t0);
   const auto& s = restarted.sample(t0);

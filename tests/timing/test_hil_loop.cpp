@@ -1,13 +1,20 @@
-// The real-time loop end to end (tools/hil/hil_run.hpp): the metrology scene at 1 kHz for 10 s,
-// plant and controller in two processes on the two cores over LCM in a private loopback-only
-// namespace, judged only against the baselines measured in the same run (DESIGN.md §7):
-//   deadline misses  <= 2 x the bare ping-pong's unanswered share + 0.2 % of the cycles
+// The real-time loop end to end (tools/hil/hil_run.hpp): the metrology scene for 10 s, plant and
+// controller in two processes on the two cores over LCM in a private loopback-only namespace,
+// judged only against the baselines measured in the same run (DESIGN.md §7):
+//   deadline misses  <= 2 x the bare ping-pong's unanswered share + 1 % of the cycles
 //   round trip p99   <= 1.5 x the bare ping-pong's p99 + one bare-timer p99 (the loop has a
 //                       plant and a controller step and a publish more than the bare exchange)
-// plus correctness: every cycle ran, no message was dropped, the controller answered. Needs root
-// for the namespace; without it the case says so and checks nothing.
+// plus correctness: every cycle ran, no message was dropped, the controller answered. Two runs,
+// both with the default settings (hybrid wait, direct receive): at 1 kHz, and at the highest rate
+// of 1, 2, 5, 10, 20 kHz that the bare baselines themselves can hold. The
+// margins are generous because this VM's tails come in bursts (a vCPU stalled for milliseconds
+// costs tens of misses at once) that the 3 s baselines and the 10 s loop need not both catch.
+// Needs root for the namespace; without it the case says so and checks nothing.
 #include <catch2/catch.hpp>
+#include <cmath>
 
+#include "rt/pingpong_baseline.hpp"
+#include "rt/timer_baseline.hpp"
 #include "tests/support/metrology.hpp"
 #include "tools/hil/hil_run.hpp"
 
@@ -15,27 +22,34 @@ using namespace flexloop;
 
 namespace {
 
-constexpr double kMissShareFactor = 2.0, kMissShareMargin = 0.002;
+constexpr double kMissShareFactor = 2.0, kMissShareMargin = 0.01;
 constexpr double kRoundTripFactor = 1.5;
 
-}  // namespace
+// Enters the namespace; false (with a warning) when this process cannot.
+bool in_private_network(const hil::HilOptions& o) {
+  try {
+    hil::prepare_hil_network(o);
+    return true;
+  } catch (const std::exception& e) {
+    WARN("skipped: cannot enter a private network namespace: " << e.what());
+    return false;
+  }
+}
 
-TEST_CASE("hil at 1 kHz: misses and round-trip p99 within a margin of the same-run baselines") {
+hil::HilOptions options(double rate_hz, rt::WaitMode wait) {
   hil::HilOptions o;
   o.loop.scene_path = test::metrology_scene_path();
-  o.loop.rate_hz = 1000;
+  o.loop.rate_hz = rate_hz;
   o.loop.duration_s = 10;
+  o.loop.wait = wait;
   o.loop.realtime = {.cpu = 0, .fifo_priority = 80};
   o.controller_cpu = 1;
   o.baseline_duration_s = 3;
   o.netns = true;
-  try {
-    hil::prepare_hil_network(o);
-  } catch (const std::exception& e) {
-    WARN("skipped: cannot enter a private network namespace: " << e.what());
-    return;
-  }
-  const nlohmann::json r = hil::run_hil(o);
+  return o;
+}
+
+void check_against_baselines(const nlohmann::json& r, double rate_hz) {
   const auto& pp = r["baseline"]["pingpong"];
   const auto& timer = r["baseline"]["timer"];
   const double cycles = r["cycles"].get<double>();
@@ -44,18 +58,66 @@ TEST_CASE("hil at 1 kHz: misses and round-trip p99 within a margin of the same-r
   const double rtt_p99 = r["round_trip_ns"]["p99"].get<double>();
   const double pp_p99 = pp["round_trip_ns"]["p99"].get<double>();
   const double timer_p99 = timer["wakeup_lateness_ns"]["p99"].get<double>();
-  WARN("loop: cycles " << cycles << ", misses " << misses << ", round trip p50/p99/max "
-                       << r["round_trip_ns"]["p50"] << "/" << rtt_p99 << "/"
-                       << r["round_trip_ns"]["max"] << " ns; baseline ping-pong p50/p99 "
-                       << pp["round_trip_ns"]["p50"] << "/" << pp_p99 << " ns, unanswered "
-                       << pp["unanswered"] << " of " << pp["sent"] << "; timer p99 " << timer_p99
-                       << " ns");
-  CHECK(r["periods"].get<double>() == 10'000);
-  CHECK(cycles + r["skipped_periods"].get<double>() == 10'000);
+  WARN(rate_hz << " Hz, wait " << r["wait_mode"] << ", receive " << r["receive_path"] << ": cycles "
+               << cycles << ", misses " << misses << ", round trip p50/p99/max "
+               << r["round_trip_ns"]["p50"] << "/" << rtt_p99 << "/" << r["round_trip_ns"]["max"]
+               << " ns; baseline ping-pong p50/p99 " << pp["round_trip_ns"]["p50"] << "/" << pp_p99
+               << " ns, unanswered " << pp["unanswered"] << " of " << pp["sent"] << "; timer p99 "
+               << timer_p99 << " ns");
+  const double periods = r["periods"].get<double>();
+  CHECK(periods == std::round(10 * rate_hz));
+  CHECK(cycles + r["skipped_periods"].get<double>() == periods);
   CHECK(r["dropped_messages"]["decode_failure"] == 0);
   CHECK(r["dropped_messages"]["non_finite"] == 0);
   CHECK(r["controller"]["dropped_messages"]["non_finite"] == 0);
   CHECK(r["controller"]["answered"].get<double>() >= cycles - misses);
   CHECK(misses <= (kMissShareFactor * pp_unanswered_share + kMissShareMargin) * cycles);
   CHECK(rtt_p99 <= kRoundTripFactor * pp_p99 + timer_p99);
+}
+
+}  // namespace
+
+TEST_CASE("hil at 1 kHz: misses and round-trip p99 within a margin of the same-run baselines") {
+  const hil::HilOptions o = options(1000, rt::WaitMode::kHybrid);
+  if (!in_private_network(o)) return;
+  check_against_baselines(hil::run_hil(o), 1000);
+}
+
+TEST_CASE(
+    "hil at the highest rate the baselines allow: misses and round-trip p99 within a margin "
+    "of the same-run baselines") {
+  hil::HilOptions o = options(1000, rt::WaitMode::kHybrid);
+  if (!in_private_network(o)) return;
+  // The rate: the highest whose bare baselines (1 s each, the loop's settings) answer 99 % of
+  // the pings within the period and leave half the period free at p99 (ping-pong round trip +
+  // timer lateness).
+  double rate_hz = 1000;
+  for (const double candidate : {20000.0, 10000.0, 5000.0, 2000.0}) {
+    const auto period_ns = static_cast<std::int64_t>(1e9 / candidate + 0.5);
+    const rt::PeriodicClockOptions clock{
+        .period_ns = period_ns, .wait_mode = o.loop.wait, .spin_margin_ns = o.loop.spin_margin_ns};
+    const rt::TimerBaselineResult t = rt::run_timer_baseline(
+        {.clock = clock, .duration_ns = rt::kNsPerSecond, .realtime = o.loop.realtime});
+    rt::PingPongOptions pp;
+    pp.clock = clock;
+    pp.receive_mode = rt::ReceiveMode::kHybrid;
+    pp.receive_path = o.loop.receive_path;
+    pp.duration_ns = rt::kNsPerSecond;
+    pp.ping_realtime = o.loop.realtime;
+    pp.pong_realtime = o.loop.realtime;
+    pp.pong_realtime.cpu = o.controller_cpu;
+    const rt::PingPongResult p = rt::run_pingpong_baseline(pp);
+    const double unanswered = static_cast<double>(p.unanswered) / static_cast<double>(p.sent);
+    const double busy_ns =
+        static_cast<double>(p.round_trip->percentile(0.99) + t.wakeup_lateness->percentile(0.99));
+    WARN(candidate << " Hz baselines: ping-pong unanswered " << 100 * unanswered
+                   << " %, p99 round trip + timer lateness " << busy_ns << " ns of a " << period_ns
+                   << " ns period");
+    if (unanswered <= 0.01 && busy_ns <= 0.5 * static_cast<double>(period_ns)) {
+      rate_hz = candidate;
+      break;
+    }
+  }
+  o.loop.rate_hz = rate_hz;
+  check_against_baselines(hil::run_hil(o), rate_hz);
 }

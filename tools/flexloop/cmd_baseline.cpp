@@ -26,6 +26,7 @@ struct BaselineArgs {
   double duration_s = 2;
   std::string wait = "sleep";
   std::string receive;  // empty: follow --wait (sleep: block, hybrid: hybrid, spin: poll)
+  std::string receive_path = rt::to_string(hil::LoopOptions{}.receive_path);
   double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
   std::string overrun = "skip";
   int cpu = 0;
@@ -96,13 +97,15 @@ void run_pingpong(const BaselineArgs& a) {
   // Unless told otherwise, receive the way the clock waits: sleep -> block, hybrid, spin -> poll.
   o.receive_mode = a.receive.empty() ? rt::receive_mode_for(o.clock.wait_mode)
                                      : rt::parse_receive_mode(a.receive);
+  o.receive_path = rt::parse_receive_path(a.receive_path);
   const int pong_cpu = a.cpu < 0 ? -1 : 1 - (a.cpu % 2);  // the other of the two cores
   o.ping_realtime = realtime_options(a, a.cpu);
   o.pong_realtime = realtime_options(a, pong_cpu);
   std::printf(
-      "LCM ping-pong baseline: %.6g Hz for %.6g s, wait %s, receive %s, ping CPU %d, "
+      "LCM ping-pong baseline: %.6g Hz for %.6g s, wait %s, receive %s (%s), ping CPU %d, "
       "pong CPU %d\n",
-      a.rate_hz, a.duration_s, a.wait.c_str(), rt::to_string(o.receive_mode), a.cpu, pong_cpu);
+      a.rate_hz, a.duration_s, a.wait.c_str(), rt::to_string(o.receive_mode),
+      rt::to_string(o.receive_path), a.cpu, pong_cpu);
   const rt::CpuDmaLatencyHold dma;  // held by the parent for both processes
   const rt::PingPongResult r = rt::run_pingpong_baseline(o);
   std::printf("ping:\n%spong:\n%s  %s  %s\n", r.ping_setup.c_str(), r.pong_setup.c_str(),
@@ -120,6 +123,7 @@ void run_pingpong(const BaselineArgs& a) {
   j["kind"] = "pingpong";
   j["cpu_dma_latency_held"] = dma.active();
   j["receive_mode"] = rt::to_string(o.receive_mode);
+  j["receive_path"] = rt::to_string(o.receive_path);
   j["pong_cpu"] = pong_cpu;
   j.update(hil::pingpong_baseline_json(r));
   write_json(a.json, j);
@@ -172,11 +176,12 @@ void register_baseline(CLI::App& app) {
                  "hybrid (block, poll from --spin-margin-us before a message is due); "
                  "default: block for --wait sleep, hybrid for hybrid, poll for spin")
       ->check(CLI::IsMember({"block", "poll", "hybrid"}));
+  add_receive_path_option(pp, pp_args->receive_path);
   pp->footer(
       "The ping side runs on --cpu, the pong side on the other of CPUs 0 and 1.\n"
       "Example:\n"
       "  tools/netns-run -- build/release/tools/flexloop baseline pingpong --rate 10000 \\\n"
-      "      --wait hybrid --receive poll --duration 5 --json pp.json");
+      "      --wait hybrid --receive poll --receive-path direct --duration 5 --json pp.json");
   pp->callback([pp_args] { run_pingpong(*pp_args); });
 }
 

@@ -13,6 +13,14 @@ void add_wait_options(CLI::App* cmd, std::string& wait, double& spin_margin_us) 
       ->check(CLI::Range(0.0, 1e6));
 }
 
+void add_receive_path_option(CLI::App* cmd, std::string& path) {
+  cmd->add_option("--receive-path", path,
+                  "Who reads the LCM socket: lcm-thread (LCM's receive thread, handing over "
+                  "through a pipe) | direct (the loop thread reads the multicast socket itself)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"lcm-thread", "direct"}));
+}
+
 void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock) {
   cmd->add_option("--cpu", cpu, "CPU to pin to (-1: do not pin)")
       ->capture_default_str()
@@ -31,6 +39,7 @@ void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu) {
   cmd->add_option("--rate", o.rate_hz, "Loop rate [Hz] (default: the scene's discretisation rate)")
       ->check(CLI::Range(1.0, 1e6));
   add_wait_options(cmd, a.wait, a.spin_margin_us);
+  add_receive_path_option(cmd, a.receive_path);
   add_realtime_options(cmd, o.realtime.cpu, o.realtime.fifo_priority, a.no_mlock);
   cmd->add_option("--safe-after", o.safe_after,
                   "Consecutive missed answers before the plant applies the safe (zero-force) "
@@ -47,6 +56,7 @@ void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu) {
 hil::LoopOptions apply_loop_options(const LoopArgs& a) {
   hil::LoopOptions o = a.options;
   o.wait = rt::parse_wait_mode(a.wait);
+  o.receive_path = rt::parse_receive_path(a.receive_path);
   o.spin_margin_ns = static_cast<std::int64_t>(a.spin_margin_us * 1e3);
   o.realtime.lock_memory = !a.no_mlock;
   return o;

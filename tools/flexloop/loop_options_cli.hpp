@@ -11,13 +11,16 @@ namespace flexloop::cli {
 
 struct LoopArgs {
   hil::LoopOptions options;
-  std::string wait = "sleep";
+  std::string wait = rt::to_string(hil::LoopOptions{}.wait);
+  std::string receive_path = rt::to_string(hil::LoopOptions{}.receive_path);
   double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
   bool no_mlock = false;
 };
 
 /// --wait sleep|hybrid|spin and --spin-margin-us (also used by `flexloop baseline`).
 void add_wait_options(CLI::App* cmd, std::string& wait, double& spin_margin_us);
+/// --receive-path lcm-thread|direct (also used by `flexloop baseline pingpong`).
+void add_receive_path_option(CLI::App* cmd, std::string& path);
 /// --cpu, --priority, --no-mlock (also used by `flexloop baseline`).
 void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock);
 

@@ -22,11 +22,13 @@ ControllerLoopResult run_controller_loop(const LoopOptions& o, const LoopScene& 
   require_private_network("flexloop controller", o.link);
   const std::string url = loop_lcm_url(o.url, o.link);
   const auto period_ns = static_cast<std::int64_t>(1e9 / scene.rate_hz + 0.5);
+  const std::int64_t spin_margin_ns = rt::effective_spin_margin_ns(
+      {.period_ns = period_ns, .wait_mode = o.wait, .spin_margin_ns = o.spin_margin_ns});
   install_stop_handlers();
 
   ControllerLoopResult r;
   auto station = std::make_unique<ControllerStation>(make_loop_controller(scene), o.safe_after);
-  rt::LcmTransport lcm(url);
+  rt::LcmTransport lcm(url, o.receive_path);
   lcm.subscribe(o.channels.sensor, station->samples());
   rt::LcmPublisher<flexloop_msgs::actuator_command_t> command(lcm, o.channels.command);
   const rt::CpuDmaLatencyHold dma;
@@ -60,7 +62,7 @@ ControllerLoopResult run_controller_loop(const LoopOptions& o, const LoopScene& 
       command.publish(cmd);
       r.compute->record(t1 - t0);
       r.response->record(rt::monotonic_now_ns() - station->samples().newest_received_ns());
-      spin_from = s->t_ns + period_ns - o.spin_margin_ns;
+      spin_from = s->t_ns + period_ns - spin_margin_ns;
     }
   }
   r.answered = station->answered();

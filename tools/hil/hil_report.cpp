@@ -61,8 +61,8 @@ std::vector<std::string> write_hil_report(const nlohmann::json& report, const st
   const auto& h = report["histograms"];
   const auto& base = report["baseline"];
   char rate[64];
-  std::snprintf(rate, sizeof rate, "%.6g Hz, wait %s", report.value("rate_hz", 0.0),
-                report.value("wait_mode", "?").c_str());
+  std::snprintf(rate, sizeof rate, "%.6g Hz, wait %s, receive %s", report.value("rate_hz", 0.0),
+                report.value("wait_mode", "?").c_str(), report.value("receive_path", "?").c_str());
   const std::string rtt_png = stem + "_round_trip.png", late_png = stem + "_wakeup_lateness.png";
   plot_bins(h["round_trip_ns"],
             std::string("sensor -> actuator round trip, ") + rate +
@@ -80,10 +80,12 @@ std::vector<std::string> write_hil_report(const nlohmann::json& report, const st
 void print_hil_summary(const nlohmann::json& r) {
   const double cycles = r.value("cycles", 0.0);
   const auto& pp = r["baseline"]["pingpong"];
-  std::printf("hil: %s at %.6g Hz for %.6g s, wait %s, plant CPU %d, controller CPU %d%s\n",
-              r.value("scene", "?").c_str(), r.value("rate_hz", 0.0), r.value("duration_s", 0.0),
-              r.value("wait_mode", "?").c_str(), r.value("cpu", -1), r.value("controller_cpu", -1),
-              r.value("fifo", false) ? ", SCHED_FIFO" : ", SCHED_FIFO NOT granted");
+  std::printf(
+      "hil: %s at %.6g Hz for %.6g s, wait %s, receive %s, plant CPU %d, controller CPU %d%s\n",
+      r.value("scene", "?").c_str(), r.value("rate_hz", 0.0), r.value("duration_s", 0.0),
+      r.value("wait_mode", "?").c_str(), r.value("receive_path", "?").c_str(), r.value("cpu", -1),
+      r.value("controller_cpu", -1),
+      r.value("fifo", false) ? ", SCHED_FIFO" : ", SCHED_FIFO NOT granted");
   std::printf(
       "  cycles %lld, deadline misses %lld (%.3f %%), late answers %lld, overruns %lld, "
       "safe-command cycles %lld\n",
@@ -105,9 +107,9 @@ void print_hil_summary(const nlohmann::json& r) {
 
 void print_sweep_table(const std::vector<nlohmann::json>& reports) {
   std::printf(
-      "\n| rate | wait | cycles | misses | misses, ping-pong | round trip p50 / p99 / p99.9 [us] "
-      "| ping-pong p50 / p99 / p99.9 [us] | p99 ratio | timer lateness p99 [us] |\n"
-      "|---|---|---|---|---|---|---|---|---|\n");
+      "\n| rate | wait | receive | cycles | misses | misses, ping-pong | round trip p50 / p99 / "
+      "p99.9 [us] | ping-pong p50 / p99 / p99.9 [us] | p99 ratio | timer lateness p99 [us] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& r : reports) {
     const auto& rtt = r["round_trip_ns"];
     const auto& pp = r["baseline"]["pingpong"];
@@ -115,9 +117,10 @@ void print_sweep_table(const std::vector<nlohmann::json>& reports) {
     const double ratio =
         ppr.value("p99", 0.0) > 0 ? rtt.value("p99", 0.0) / ppr.value("p99", 0.0) : 0.0;
     std::printf(
-        "| %.6g kHz | %s | %lld | %lld (%.2f %%) | %lld (%.2f %%) | %.1f / %.1f / %.1f "
+        "| %.6g kHz | %s | %s | %lld | %lld (%.2f %%) | %lld (%.2f %%) | %.1f / %.1f / %.1f "
         "| %.1f / %.1f / %.1f | %.2f | %.1f |\n",
-        r.value("rate_hz", 0.0) / 1e3, r.value("wait_mode", "?").c_str(), r.value("cycles", 0LL),
+        r.value("rate_hz", 0.0) / 1e3, r.value("wait_mode", "?").c_str(),
+        r.value("receive_path", "?").c_str(), r.value("cycles", 0LL),
         r.value("deadline_misses", 0LL),
         percent(r.value("deadline_misses", 0.0), r.value("cycles", 0.0)),
         pp.value("unanswered", 0LL), percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)),

@@ -37,6 +37,7 @@ nlohmann::json run_baselines(const HilOptions& o, double rate_hz) {
   rt::PingPongOptions pp;
   pp.clock = timer.clock;
   pp.receive_mode = rt::receive_mode_for(o.loop.wait);
+  pp.receive_path = o.loop.receive_path;
   pp.duration_ns = duration_ns;
   pp.ping_realtime = o.loop.realtime;
   pp.pong_realtime = o.loop.realtime;

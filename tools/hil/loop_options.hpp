@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <string>
 
+#include "rt/lcm_transport.hpp"
 #include "rt/periodic_clock.hpp"
 #include "rt/realtime_setup.hpp"
 
@@ -21,7 +22,13 @@ struct LoopOptions {
   double rate_hz = 0;     ///< <= 0: the scene's [discretisation] rate
   double duration_s = 0;  ///< plant: <= 0: the scene's [run] duration; controller: 0 = until
                           ///< SIGINT/SIGTERM
-  rt::WaitMode wait = rt::WaitMode::kSleep;
+  /// Hybrid by default: sleep until the spin margin before a deadline or an expected message,
+  /// then spin; a sleeping loop pays one timer or socket wake-up per message (tens of us on a
+  /// VM), which at 10 kHz is most of the period.
+  rt::WaitMode wait = rt::WaitMode::kHybrid;
+  /// Who reads the socket: the loop thread itself by default (LCM's receive thread adds a
+  /// wake-up per message, see rt/lcm_direct_socket.hpp and the README's measurements).
+  rt::ReceivePath receive_path = rt::ReceivePath::kDirect;
   std::int64_t spin_margin_ns = rt::kDefaultSpinMarginNs;
   rt::RealtimeOptions realtime{.cpu = 0, .fifo_priority = 80};
   int safe_after = 10;  ///< consecutive missed answers before the safe command

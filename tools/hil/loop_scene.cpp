@@ -1,7 +1,8 @@
 #include "tools/hil/loop_scene.hpp"
 
-#include "tools/scene/pi_parameters.hpp"
+#include "plant/model/input_error.hpp"
 #include "tools/scene/scene_plant.hpp"
+#include "tools/sim/scene_hardware.hpp"
 
 namespace flexloop::hil {
 
@@ -18,8 +19,9 @@ LoopScene load_loop_scene(const std::string& path, double rate_hz) {
                        "[plant]: the real-time loop needs 6 disturbances, actuators, performance "
                        "outputs and sensors (the messages' channels)");
   const scene::ScenePlant p = scene::build_scene_plant(s.scene);
+  scene::require_stable_loop(p);
   s.plant = scene::sample_scene(p).plant;
-  s.controller = scene::pi_parameters(p, s.plant.dt);
+  s.controller = sim::pi_parameters_with_hardware(p, s.plant.dt);
   return s;
 }
 

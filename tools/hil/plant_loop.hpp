@@ -25,7 +25,8 @@ namespace flexloop::hil {
 struct PlantLoopResult {
   LoopAccounts accounts;
   double rate_hz = 0;
-  std::int64_t periods = 0;  ///< grid periods elapsed (cycles + skipped)
+  std::int64_t spin_margin_ns = 0;  ///< hybrid: as spun (rt::effective_spin_margin_ns)
+  std::int64_t periods = 0;         ///< grid periods elapsed (cycles + skipped)
   std::int64_t cycles = 0;
   std::int64_t deadline_misses = 0;
   std::int64_t late_answers = 0;

@@ -1,22 +1,26 @@
 #pragma once
 // The plant process's work in one period, without clocks or sockets (so that tests can drive it
-// sample by sample): the simulated hardware of DESIGN.md §7 around a fixed-size discrete plant
-// with inputs [w (6 floor accelerations); u (6 actuator forces)] and outputs [z (6 frame
-// accelerations); y (6 strut forces)].
+// sample by sample): the simulated hardware of the scene (plant/runtime/simulated_hardware.hpp:
+// the fixed-size discrete plant with inputs [w (6 floor accelerations); u (6 actuator forces)]
+// and outputs [z (6 frame accelerations); y (6 strut forces)], the scene's floor, and whichever
+// actuator, sensor and transport effects the scene asks for -- composed at compile time, so an
+// absent effect costs nothing here either).
 //
 // Cycle k (k = 0, 1, ...), as the real-time loop calls it:
-//   settle(due_k)  decide the command u that was held over the last period and advance the plant
-//                  over it: x <- x + ((Ad - I) x + Bd [w_{k-1}; u]). u is
+//   settle(due_k)  decide the command u that is held over the last period and apply it
+//                  (actuator, then the plant advances with [w_{k-1}; force]). u is
 //                    the answer to sample k-1 when it was received by due_k     (answered)
 //                    else the command held before (a deadline miss)             (held)
-//                    else zero force once `safe_after` consecutive samples were missed (safe)
+//                    else zero once `safe_after` consecutive samples were missed (safe)
 //                  An answer that came for an older sample, or after due_k, is late: counted,
 //                  never applied. Nothing happens at k = 0 (no sample was out yet).
-//   sample(t_k)    draw w_k = floor_rms n_k (seeded white noise), compute [z; y] =
-//                  output([w_k; u]) and fill the sensor message (seq k + 1, t_ns = t_k).
-// With every answer in time this is exactly the in-process loop of tools/sim/closed_loop_run.hpp.
-// When answers return after the safe command, the plant applies them at once; the controller
-// makes that bumpless (tools/hil/controller_station.hpp restarts from the zero command).
+//   sample(t_k)    the hardware's sample k (floor w_k, plant outputs with the force held, the
+//                  sensors' readings after their effects) into the sensor message (seq k + 1,
+//                  t_ns = t_k).
+// With every answer in time this is exactly the in-process loop of tools/sim/closed_loop_run.hpp
+// (tests/hil/test_stations.cpp checks it bit for bit, with and without effects). When answers
+// return after the safe command, the plant applies them at once; the controller makes that
+// bumpless (tools/hil/controller_station.hpp restarts from the zero command).
 //
 // Commands arrive through commands(), a MessageInbox with a fixed epoch (this plant run's) and a
 // maximum transit age of one period: messages that fail to decode, carry NaN/Inf, answer another
@@ -27,7 +31,9 @@
 #include <flexloop_msgs/actuator_command_t.hpp>
 #include <flexloop_msgs/sensor_sample_t.hpp>
 
-#include "plant/runtime/effects/gaussian_noise.hpp"
+#include <type_traits>
+#include <utility>
+
 #include "rt/message_inbox.hpp"
 
 namespace flexloop::hil {
@@ -37,32 +43,28 @@ inline constexpr int kChannels = 6;
 using ChannelVector = Eigen::Matrix<double, kChannels, 1>;
 
 struct PlantStationSettings {
-  double floor_rms_mps2 = 0;  ///< per floor channel
-  std::uint64_t seed = 1;     ///< of the floor noise
-  int safe_after = 10;        ///< consecutive missed answers before the safe command, >= 1
-  std::int64_t epoch = 1;     ///< this plant run's id (sensor_sample_t.plant_epoch)
+  int safe_after = 10;     ///< consecutive missed answers before the safe command, >= 1
+  std::int64_t epoch = 1;  ///< this plant run's id (sensor_sample_t.plant_epoch)
   std::int64_t period_ns = 1'000'000;
 };
 
 /// Where the command applied over the last period came from.
 enum class CommandSource { kNone, kAnswer, kHeld, kSafe };
 
-template <class Plant>
+template <class Hardware>
 class PlantStation {
-  using Input = typename Plant::Input;
-  using Output = typename Plant::Output;
-  static_assert(Input::RowsAtCompileTime == 2 * kChannels, "inputs: 6 floor + 6 actuators");
-  static_assert(Output::RowsAtCompileTime == 2 * kChannels, "outputs: 6 frame + 6 sensors");
+  static_assert(std::is_same_v<typename Hardware::Command, ChannelVector>,
+                "6 actuator channels in double");
+  static_assert(std::is_same_v<typename Hardware::Performance, ChannelVector>,
+                "6 frame accelerations in double");
 
  public:
-  /// Set-up (allocates the noise engines); safe_after < 1 is taken as 1.
-  PlantStation(const Plant& plant, const PlantStationSettings& s)
-      : plant_(plant),
+  /// Set-up; safe_after < 1 is taken as 1.
+  PlantStation(Hardware hardware, const PlantStationSettings& s)
+      : hw_(std::move(hardware)),
         settings_(s),
-        noise_(plant::runtime::effects::GaussianNoise<double, kChannels>::from_seed(s.seed)),
         commands_(rt::OrderGate(rt::EpochPolicy::kFixed, s.epoch, s.period_ns)) {
     if (settings_.safe_after < 1) settings_.safe_after = 1;
-    in_.setZero();
     msg_.plant_epoch = s.epoch;
   }
 
@@ -86,7 +88,7 @@ class PlantStation {
     if (a != nullptr && a->answers_seq == msg_.seq && commands_.newest_received_ns() <= due_ns) {
       consecutive_misses_ = 0;
       last_answer_ = a;
-      in_.template tail<kChannels>() = Eigen::Map<const ChannelVector>(a->force_n);
+      u_ = Eigen::Map<const ChannelVector>(a->force_n);
     } else {
       if (a != nullptr) ++late_answers_;
       ++deadline_misses_;
@@ -94,20 +96,19 @@ class PlantStation {
       source = CommandSource::kHeld;
       if (consecutive_misses_ >= settings_.safe_after) {
         source = CommandSource::kSafe;
-        in_.template tail<kChannels>().setZero();
+        u_.setZero();
         ++safe_command_cycles_;
       }
     }
-    plant_.advance(in_);
+    hw_.apply(u_);
     return source;
   }
 
   /// Takes sample k at t_ns: the message to publish.
   const flexloop_msgs::sensor_sample_t& sample(std::int64_t t_ns) noexcept {
-    in_.template head<kChannels>() = settings_.floor_rms_mps2 * noise_.sample();
-    const Output out = plant_.output(in_);
-    Eigen::Map<ChannelVector>(msg_.accel_mps2) = out.template head<kChannels>();
-    Eigen::Map<ChannelVector>(msg_.force_n) = out.template tail<kChannels>();
+    const auto& reading = hw_.sample();
+    Eigen::Map<ChannelVector>(msg_.accel_mps2) = reading.accel;
+    Eigen::Map<ChannelVector>(msg_.force_n) = reading.force;
     msg_.seq += 1;
     msg_.t_ns = t_ns;
     return msg_;
@@ -117,9 +118,9 @@ class PlantStation {
   const flexloop_msgs::sensor_sample_t& last_sample() const noexcept { return msg_; }
   /// The answer applied by the last settle(), or nullptr.
   const flexloop_msgs::actuator_command_t* last_answer() const noexcept { return last_answer_; }
-  /// The command the actuators hold now.
-  ChannelVector command() const noexcept { return in_.template tail<kChannels>(); }
-  const Plant& plant() const noexcept { return plant_; }
+  /// The command the actuators hold now (what they make of it: hardware().actuator_force()).
+  const ChannelVector& command() const noexcept { return u_; }
+  const Hardware& hardware() const noexcept { return hw_; }
 
   std::int64_t samples() const noexcept { return msg_.seq; }
   std::int64_t deadline_misses() const noexcept { return deadline_misses_; }
@@ -129,11 +130,10 @@ class PlantStation {
   const PlantStationSettings& settings() const noexcept { return settings_; }
 
  private:
-  Plant plant_;
+  Hardware hw_;
   PlantStationSettings settings_;
-  plant::runtime::effects::GaussianNoise<double, kChannels> noise_;
   rt::MessageInbox<flexloop_msgs::actuator_command_t> commands_;
-  Input in_;
+  ChannelVector u_ = ChannelVector::Zero();
   flexloop_msgs::sensor_sample_t msg_{};
   const flexloop_msgs::actuator_command_t* last_answer_ = nullptr;
   std::int64_t deadline_misses_ = 0;
