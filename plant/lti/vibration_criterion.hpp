@@ -33,9 +33,9 @@
 // whose worst band error, continuous and discretised at 1 and 2 kHz, stays below 0.1 dB.
 // Accuracy of the default design (order 9), from filter_band_velocity_rms, checked by
 // tests/effects: the continuous filter is within ±0.08 dB of the curve in all 20 bands 1-80 Hz;
-// its zoh discretisation within ±0.10 dB at 1 kHz, ±0.09 dB at 2 kHz, ±0.08 dB at 5 and 10 kHz
-// (the hold's sinc costs -0.09 dB at 80 Hz at 1 kHz). Below 1 kHz the 80 Hz band nears Nyquist:
-// ±0.67 dB at 500 Hz. Outside the range the level falls: -1.8 dB at 0.4 Hz, -20 dB at
+// its discretisation (discretise_floor_filter: zoh, sample-mean output) within ±0.08 dB at 2, 5
+// and 10 kHz, and -0.20 dB in the 80 Hz band at 1 kHz (the hold's sinc and the sample mean's,
+// -0.09 dB each there). Below 1 kHz the 80 Hz band nears Nyquist. Outside the range the level falls: -1.8 dB at 0.4 Hz, -20 dB at
 // 0.1 Hz, -0.8 dB at 160 Hz, -9 dB at 400 Hz (band levels at those centres).
 #include <Eigen/Dense>
 #include <string>
@@ -84,8 +84,26 @@ StateSpace design_floor_filter(double band_velocity_rms, const FloorFilterOption
 /// Zero-order hold of the filter at sample time dt with its input scaled by 1/sqrt(dt), so that a
 /// unit-variance white sequence n_k drives it: u_k = n_k / sqrt(dt) held over a sample has the
 /// low-frequency PSD of the unit-intensity continuous noise. The matrices the online
-/// FloorGenerator takes. @throws std::invalid_argument as discretise() does.
+/// FloorGenerator takes.
+///
+/// Its output is the floor acceleration averaged over the sample, (v_{k+1} - v_k)/dt with v the
+/// floor velocity at the sample instants, not the acceleration at the instant: a plant that
+/// integrates the held acceleration (the floor's position and velocity are states of a
+/// gravity-preloaded plant) then follows the floor's own velocity exactly, where the point
+/// samples would leave a bounded velocity error and a displacement that drifts. In band the two
+/// differ by the sample's sinc: -0.09 dB at 80 Hz at 1 kHz, -0.001 dB at 10 kHz.
+/// @throws std::invalid_argument as discretise() does, or when the filter is not a floor filter
+///         whose displacement is stationary (see floor_motion_outputs).
 DiscreteStateSpace discretise_floor_filter(const StateSpace& filter, double dt);
+
+/// Velocity and displacement of the floor as functions of the filter's state (rows: velocity
+/// [m/s], displacement [m]; the state is the same in the continuous and the discretised filter):
+/// H(s) = s² P(s) with P the displacement's transfer function, so with A invertible and
+/// C A⁻¹ B = C A⁻² B = 0 (H has a double zero at s = 0), v = C A⁻¹ x and p = C A⁻² x. A gravity-
+/// preloaded plant starts its floor states there, so that the floor it integrates is the same
+/// stationary floor the generator draws. @throws std::invalid_argument when A is singular or H
+/// lacks the double zero (a floor whose displacement would not be stationary).
+Eigen::MatrixXd floor_motion_outputs(const StateSpace& filter);
 
 /// Band RMS velocity the filter's output has in each band [m/s]: ∫ S_a(f) / (2πf)² df over the
 /// band (Simpson's rule in log f, 64 intervals), S_a = 2|H(j2πf)|² for the continuous filter

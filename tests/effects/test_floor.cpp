@@ -111,7 +111,9 @@ void check_floor_levels(double rate_hz) {
 
 }  // namespace
 
-TEST_CASE("floor filter: every VC curve within 0.1 dB, continuous and zoh at 1 to 10 kHz") {
+TEST_CASE(
+    "floor filter: every VC curve within 0.1 dB, continuous and zoh at 2 to 10 kHz (0.25 dB at 1 "
+    "kHz)") {
   const auto bands = criterion_bands();
   REQUIRE(bands.size() == 20);
   CHECK(bands.front().nominal_hz == 1);
@@ -128,7 +130,8 @@ TEST_CASE("floor filter: every VC curve within 0.1 dB, continuous and zoh at 1 t
       const double discrete =
           worst_db(filter_band_velocity_rms(discretise_floor_filter(h, 1 / rate), bands), v);
       INFO("zoh at " << rate << " Hz: worst band error " << discrete << " dB");
-      CHECK(discrete <= 0.1);
+      // At 1 kHz the 80 Hz band loses the hold's sinc and the sample mean's, -0.09 dB each.
+      CHECK(discrete <= (rate < 2e3 ? 0.25 : 0.1));
     }
     CHECK(parse_vibration_criterion(to_string(c)) == c);
   }
@@ -215,8 +218,49 @@ TEST_CASE("floor generator: stationary start has the stationary variance; at res
   CHECK(std::abs(first_sq / kSeeds / variance - 1) <= 5 * std::sqrt(2.0 / kSeeds));
 
   auto rest = Gen::from_parameters(d.sys.A, d.sys.B, d.sys.C, d.sys.D, 1, FloorStart::kAtRest);
-  CHECK(rest.step()(0) == 0.0);  // D = 0 and x_0 = 0
+  CHECK(rest.state().norm() == 0.0);
+  rest.step();
   CHECK(rest.state().norm() > 0);
+}
+
+TEST_CASE(
+    "floor generator: a plant that integrates its acceleration from motion() follows the floor's "
+    "velocity exactly and its displacement without drift") {
+  // The sample-mean acceleration (discretise_floor_filter) integrated over a held sample is the
+  // velocity increment; the displacement integrates by the trapezoid rule, so its error stays at
+  // the trapezoid's, with no random walk (what the preloaded plant's floor states do).
+  const double dt = 1e-3;
+  const auto h = design_floor_filter(12.5e-6);
+  const auto d = discretise_floor_filter(h, dt);
+  using Gen = FloorGenerator<double, 1, kFloorFilterOrder>;
+  auto g = Gen::from_parameters(d.sys.A, d.sys.B, d.sys.C, d.sys.D, 5);
+  g.set_motion_outputs(floor_motion_outputs(h));
+  double v = g.motion()(0, 0), x = g.motion()(1, 0);
+  double worst_v = 0, worst_x = 0, sum_v2 = 0, sum_x2 = 0;
+  constexpr int kSteps = 200'000;  // 200 s
+  for (int k = 0; k < kSteps; ++k) {
+    const double a = g.step()(0);
+    x += dt * v + 0.5 * dt * dt * a;
+    v += dt * a;
+    const auto m = g.motion();
+    worst_v = std::max(worst_v, std::abs(v - m(0, 0)));
+    worst_x = std::max(worst_x, std::abs(x - m(1, 0)));
+    sum_v2 += m(0, 0) * m(0, 0);
+    sum_x2 += m(1, 0) * m(1, 0);
+  }
+  const double v_rms = std::sqrt(sum_v2 / kSteps), x_rms = std::sqrt(sum_x2 / kSteps);
+  INFO("velocity: worst error " << worst_v << " m/s of RMS " << v_rms << "; displacement: worst "
+                                << worst_x << " m of RMS " << x_rms);
+  CHECK(worst_v <= 1e-9 * v_rms);
+  CHECK(worst_x <= 1e-2 * x_rms);
+  // Without the double zero at s = 0 there is no stationary displacement: refused.
+  auto white = h;
+  white.A = -Eigen::MatrixXd::Identity(1, 1);
+  white.B = Eigen::MatrixXd::Ones(1, 1);
+  white.C = Eigen::MatrixXd::Ones(1, 1);
+  white.D = Eigen::MatrixXd::Zero(1, 1);
+  white.states = {"x"};
+  CHECK_THROWS_WITH(floor_motion_outputs(white), Catch::Contains("double zero"));
 }
 
 TEST_CASE("floor generator: start-up rejects wrong sizes, non-finite and unstable matrices") {

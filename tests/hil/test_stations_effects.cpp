@@ -21,7 +21,7 @@ TEST_CASE(
   const auto plant =
       plant::runtime::DensePlant<double, 24, 12, 12>::from_matrices(d.A, d.B, d.C, d.D);
   constexpr long kSteps = 4000;
-  sim::with_scene_hardware<6, 6>(scene.scene, plant, scene.plant.dt, [&](auto hw) {
+  sim::with_scene_hardware<6, 6>(scene.scene, plant, d.states, scene.plant.dt, [&](auto hw) {
     const sim::RunResult reference = sim::run_closed_loop(
         hw, hil::make_loop_controller(scene),
         {.steps = kSteps, .dt = scene.plant.dt, .log_every = 0, .chunks = 1}, {});

@@ -106,9 +106,9 @@ void run_plant_of_size(const LoopScene& scene, const LoopOptions& o, const std::
   const auto plant =
       plant::runtime::DensePlant<double, NX, 2 * kChannels, 2 * kChannels>::from_matrices(d.A, d.B,
                                                                                           d.C, d.D);
-  sim::with_scene_hardware<kChannels, kChannels>(scene.scene, plant, scene.plant.dt, [&](auto hw) {
-    run_plant_with(std::move(hw), scene, o, url, r);
-  });
+  sim::with_scene_hardware<kChannels, kChannels>(
+      scene.scene, plant, d.states, scene.plant.dt,
+      [&](auto hw) { run_plant_with(std::move(hw), scene, o, url, r); });
 }
 
 void run_plant_metrology(const LoopScene&, const LoopOptions&, const std::string&,

@@ -9,8 +9,8 @@
 namespace flexloop::sim::detail {
 
 template <int NW, int NC, bool kEffects, class Plant>
-BothRuns run_both(const Plant& plant, const scene::ScenePlant& p, const RunSettings& s,
-                  const SceneRunOptions& o) {
+BothRuns run_both(const Plant& plant, const std::vector<std::string>& plant_states,
+                  const scene::ScenePlant& p, const RunSettings& s, const SceneRunOptions& o) {
   auto ctrl = controller::runtime::PiController<double, NC>::from_parameters(
       pi_parameters_with_hardware(p, s.dt));
   RunSettings off = s, on = s;
@@ -26,9 +26,9 @@ BothRuns run_both(const Plant& plant, const scene::ScenePlant& p, const RunSetti
     return r;
   };
   if constexpr (kEffects)
-    return with_scene_hardware<NW, NC>(p.scene, plant, s.dt, both);
+    return with_scene_hardware<NW, NC>(p.scene, plant, plant_states, s.dt, both);
   else
-    return with_bare_hardware<NW, NC>(p.scene, plant, s.dt, both);
+    return with_bare_hardware<NW, NC>(p.scene, plant, plant_states, s.dt, both);
 }
 
 template <int NX>
@@ -36,7 +36,8 @@ BothRuns run_dense_metrology(const scene::ScenePlant& p, const scene::SampledSce
                              const RunSettings& s, const SceneRunOptions& o) {
   const auto& d = sampled.plant.sys;
   return run_both<6, 6, true>(
-      plant::runtime::DensePlant<double, NX, 12, 12>::from_matrices(d.A, d.B, d.C, d.D), p, s, o);
+      plant::runtime::DensePlant<double, NX, 12, 12>::from_matrices(d.A, d.B, d.C, d.D), d.states,
+      p, s, o);
 }
 
 }  // namespace flexloop::sim::detail

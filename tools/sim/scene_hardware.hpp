@@ -3,7 +3,18 @@
 // simulated hardware (plant/runtime/simulated_hardware.hpp). Each effect the scene asks for picks
 // its type; each one it leaves out picks NoEffect. `f` is called with the composed hardware
 // (one instantiation per combination: 2 floors x 3 actuators x 2 x 2 sensors x 2 transports).
+//
+// The floor's own position and velocity: a gravity-preloaded plant has them as states (the
+// dynamics depend on where the floor is). They start where the floor generator's floor is
+// (FloorGenerator::motion), so that the plant integrates the same stationary floor the generator
+// draws; started at rest they would carry the floor's initial velocity as a constant offset and
+// the floor would drift away at it (millimetres in seconds, which the soft force-feedback loop
+// turns into kilonewtons). A white floor acceleration has no stationary displacement: a plant
+// with floor states refuses it.
 #include <cmath>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "controller/runtime/pi_controller.hpp"
 #include "plant/lti/vibration_criterion.hpp"
@@ -37,8 +48,38 @@ fx::SensorParameters<N> sensor_parameters(const scene::SensorEffect& e) {
 template <int NW, class F>
 decltype(auto) with_scene_floor(const scene::Scene& sc, double dt, F&& f);
 
+/// The plant with its floor states (labels "pos:<c>", "vel:<c>" for a disturbance "acc:<c>",
+/// among `states`, the sampled plant's state labels) set to the floor's start; the plant as it
+/// is when it has none. @throws flexloop::InputError for floor states with a white floor.
+template <class Plant, class Floor>
+Plant plant_at_floor_start(Plant plant, const Floor& floor, const scene::Scene& sc,
+                           const std::vector<std::string>& states) {
+  typename Plant::State x = plant.state();
+  bool any = false;
+  for (std::size_t c = 0; c < sc.disturbances.size(); ++c) {
+    const std::string& name = sc.disturbances[c];
+    if (name.rfind("acc:", 0) != 0) continue;
+    const std::string coordinate = name.substr(4);
+    for (std::size_t i = 0; i < states.size(); ++i) {
+      const bool vel = states[i] == "vel:" + coordinate, pos = states[i] == "pos:" + coordinate;
+      if (!vel && !pos) continue;
+      any = true;
+      if constexpr (requires { floor.motion(); })
+        x(static_cast<Eigen::Index>(i)) = floor.motion()(pos ? 1 : 0, static_cast<Eigen::Index>(c));
+    }
+  }
+  if (any && !requires { floor.motion(); })
+    throw InputError(sc.file,
+                     "[floor]: this plant has the floor's position as a state (gravity preload), "
+                     "and a white floor acceleration has no stationary position (it would drift "
+                     "as a random walk); use a VC spectrum");
+  plant.set_state(x);
+  return plant;
+}
+
 template <int NW, int NC, class Plant, class F>
-decltype(auto) with_scene_hardware(const scene::Scene& sc, const Plant& plant, double dt, F&& f) {
+decltype(auto) with_scene_hardware(const scene::Scene& sc, const Plant& plant,
+                                   const std::vector<std::string>& plant_states, double dt, F&& f) {
   constexpr int NZ = Plant::Output::RowsAtCompileTime - NC;
   const auto& e = sc.effects;
   auto with_transport = [&](auto floor, auto actuator, auto force, auto accel) -> decltype(auto) {
@@ -46,7 +87,8 @@ decltype(auto) with_scene_hardware(const scene::Scene& sc, const Plant& plant, d
       return f(
           plant::runtime::SimulatedHardware<Plant, NW, NC, decltype(floor), decltype(actuator),
                                             decltype(force), decltype(accel), decltype(transport)>(
-              plant, floor, actuator, force, accel, transport));
+              plant_at_floor_start(plant, floor, sc, plant_states), floor, actuator, force, accel,
+              transport));
     };
     if (e.transport_delay_samples > 0)
       return make(fx::SampleDelay<double, NC + NZ>::from_parameters(e.transport_delay_samples));
@@ -86,12 +128,13 @@ template <int NW, class F>
 decltype(auto) with_scene_floor(const scene::Scene& sc, double dt, F&& f) {
   if (sc.floor.spectrum == "white")
     return f(fx::WhiteFloor<double, NW>::from_parameters(sc.floor.rms_mps2, sc.floor.seed));
-  const auto filter = plant::lti::discretise_floor_filter(
-      plant::lti::design_floor_filter(plant::lti::criterion_band_velocity_rms(
-          plant::lti::parse_vibration_criterion(sc.floor.spectrum))),
-      dt);
-  return f(fx::FloorGenerator<double, NW, plant::lti::kFloorFilterOrder>::from_parameters(
-      filter.sys.A, filter.sys.B, filter.sys.C, filter.sys.D, sc.floor.seed));
+  const auto continuous = plant::lti::design_floor_filter(plant::lti::criterion_band_velocity_rms(
+      plant::lti::parse_vibration_criterion(sc.floor.spectrum)));
+  const auto filter = plant::lti::discretise_floor_filter(continuous, dt);
+  auto floor = fx::FloorGenerator<double, NW, plant::lti::kFloorFilterOrder>::from_parameters(
+      filter.sys.A, filter.sys.B, filter.sys.C, filter.sys.D, sc.floor.seed);
+  floor.set_motion_outputs(plant::lti::floor_motion_outputs(continuous));
+  return f(std::move(floor));
 }
 
 inline bool has_effects(const scene::EffectsSettings& e) {
@@ -103,13 +146,15 @@ inline bool has_effects(const scene::EffectsSettings& e) {
 /// compiled without the effect combinations, to keep the build short).
 /// @throws flexloop::InputError naming the scene when it asks for effects.
 template <int NW, int NC, class Plant, class F>
-decltype(auto) with_bare_hardware(const scene::Scene& sc, const Plant& plant, double dt, F&& f) {
+decltype(auto) with_bare_hardware(const scene::Scene& sc, const Plant& plant,
+                                  const std::vector<std::string>& plant_states, double dt, F&& f) {
   if (has_effects(sc.effects))
     throw InputError(sc.file,
                      "[effects]: hardware effects are compiled for the dense 12-state "
                      "metrology plant only; remove [effects] or use --form dense");
   return with_scene_floor<NW>(sc, dt, [&](auto floor) -> decltype(auto) {
-    return f(plant::runtime::SimulatedHardware<Plant, NW, NC, decltype(floor)>(plant, floor));
+    return f(plant::runtime::SimulatedHardware<Plant, NW, NC, decltype(floor)>(
+        plant_at_floor_start(plant, floor, sc, plant_states), floor));
   });
 }
 

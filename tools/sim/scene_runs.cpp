@@ -24,11 +24,11 @@ BothRuns run_bare(const scene::ScenePlant& p, const scene::SampledScene& sampled
         return run_both<NW, NC, false>(
             plant::runtime::ModalPlant<double, Size::NX, Size::NU, Size::NY>::from_modal_form(
                 plant::lti::to_modal_form(sampled.plant)),
-            p, s, o);
+            d.states, p, s, o);
       return run_both<NW, NC, false>(
           plant::runtime::DensePlant<double, Size::NX, Size::NU, Size::NY>::from_matrices(d.A, d.B,
                                                                                           d.C, d.D),
-          p, s, o);
+          d.states, p, s, o);
     }
   });
 }

@@ -53,10 +53,11 @@ class FloorGenerator {
   /// The floor acceleration of this sample [m/s²], one per channel; advances the filters.
   Vector step() noexcept {
     const Eigen::Matrix<Scalar, 1, N> n = noise_.sample().transpose();
-    // Coefficient-based products (lazyProduct), unrolled for these fixed sizes: Eigen's default
-    // product of a 9x9 by a 9x6 goes through its general GEMM kernel, several times slower here.
-    Eigen::Matrix<Scalar, 1, N> a = d_(0, 0) * n;
-    a.noalias() += c_.lazyProduct(x_);
+    // The output as before: small enough for Eigen's coefficient-based product, and the same
+    // arithmetic per channel whatever N is (channel c's signal depends on c alone, to the bit).
+    const Eigen::Matrix<Scalar, 1, N> a = c_ * x_ + d_ * n;
+    // lazyProduct: coefficient-based and unrolled; Eigen's default product of a 9x9 by a 9x6
+    // goes through its general GEMM kernel, several times slower here.
     StateMatrix next;
     next.noalias() = a_.lazyProduct(x_);
     next.noalias() += b_.lazyProduct(n);
@@ -66,6 +67,17 @@ class FloorGenerator {
 
   /// The filters' states, one column per channel.
   const StateMatrix& state() const noexcept { return x_; }
+
+  /// Start-up: the floor's velocity and displacement as rows over the filter state (2 x NF,
+  /// plant::lti::floor_motion_outputs), so that motion() can say where the floor is.
+  /// @throws std::invalid_argument for another size or a non-finite entry.
+  void set_motion_outputs(const Eigen::MatrixXd& motion) {
+    motion_ = to_fixed<Eigen::Matrix<Scalar, 2, NF>>("floor generator: motion outputs", motion);
+  }
+  /// Floor velocity [m/s] (row 0) and displacement [m] (row 1) per channel at the sample the next
+  /// step() returns (zero until set_motion_outputs). A plant with the floor's position and
+  /// velocity as states starts them here.
+  Eigen::Matrix<Scalar, 2, N> motion() const noexcept { return motion_ * x_; }
 
   /// P = Ad P Adᵀ + Bd Bdᵀ by doubling (Smith): after j rounds P holds Σ_{i < 2^j} Ad^i Bd Bdᵀ
   /// Ad^iᵀ. @throws std::invalid_argument when the sum does not converge in 64 rounds.
@@ -107,6 +119,7 @@ class FloorGenerator {
   Eigen::Matrix<Scalar, 1, NF> c_;
   Eigen::Matrix<Scalar, 1, 1> d_;
   StateMatrix x_;
+  Eigen::Matrix<Scalar, 2, NF> motion_ = Eigen::Matrix<Scalar, 2, NF>::Zero();
   GaussianNoise<Scalar, N> noise_;
 };
 
