@@ -35,8 +35,9 @@
 // tests/effects: the continuous filter is within ±0.08 dB of the curve in all 20 bands 1-80 Hz;
 // its discretisation (discretise_floor_filter: zoh, sample-mean output) within ±0.08 dB at 2, 5
 // and 10 kHz, and -0.20 dB in the 80 Hz band at 1 kHz (the hold's sinc and the sample mean's,
-// -0.09 dB each there). Below 1 kHz the 80 Hz band nears Nyquist. Outside the range the level falls: -1.8 dB at 0.4 Hz, -20 dB at
-// 0.1 Hz, -0.8 dB at 160 Hz, -9 dB at 400 Hz (band levels at those centres).
+// -0.09 dB each there). Below 1 kHz the 80 Hz band nears Nyquist. Outside the range the level
+// falls: -1.8 dB at 0.4 Hz, -20 dB at 0.1 Hz, -0.8 dB at 160 Hz, -9 dB at 400 Hz (band levels at
+// those centres).
 #include <Eigen/Dense>
 #include <string>
 #include <vector>
