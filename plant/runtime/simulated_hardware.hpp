@@ -52,39 +52,37 @@ class SimulatedHardware {
 
   /// The sample at instant k: what the sensors read (after the transport delay, if any).
   const Reading& sample() noexcept {
-    in_.template head<NW>() = floor_.step();
-    in_.template tail<NC>() = force_held_;
+    in_.template head<NW>() = floor_.step();  // the tail holds the actuator force since k-1
     const auto out = plant_.output(in_);
     z_ = out.template head<NZ>();
-    Command force = out.template tail<NC>();
-    Performance accel = z_;
-    if constexpr (kPresent<ForceSensor>) force = force_sensor_.step(force);
-    if constexpr (kPresent<Accelerometer>) accel = accelerometer_.step(accel);
+    // Straight into the reading: with no effect present this is all a sample does.
+    reading_.force = out.template tail<NC>();
+    reading_.accel = z_;
+    if constexpr (kPresent<ForceSensor>) reading_.force = force_sensor_.step(reading_.force);
+    if constexpr (kPresent<Accelerometer>) reading_.accel = accelerometer_.step(reading_.accel);
     if constexpr (kPresent<Transport>) {
       Eigen::Matrix<Scalar, NC + NZ, 1> packed;
-      packed << force, accel;
+      packed << reading_.force, reading_.accel;
       packed = transport_.step(packed);
-      force = packed.template head<NC>();
-      accel = packed.template tail<NZ>();
+      reading_.force = packed.template head<NC>();
+      reading_.accel = packed.template tail<NZ>();
     }
-    reading_.force = force;
-    reading_.accel = accel;
     return reading_;
   }
 
   /// The controller's command for [k, k+1): through the actuator, then the plant advances.
   void apply(const Command& u) noexcept {
     if constexpr (kPresent<Actuator>)
-      force_held_ = actuator_.step(u);
+      in_.template tail<NC>() = actuator_.step(u);
     else
-      force_held_ = u;
-    in_.template tail<NC>() = force_held_;
+      in_.template tail<NC>() = u;
     plant_.advance(in_);
   }
 
   const Performance& frame_acceleration() const noexcept { return z_; }
   Disturbance floor_acceleration() const noexcept { return in_.template head<NW>(); }
-  const Command& actuator_force() const noexcept { return force_held_; }
+  /// The force the actuators hold over the current period.
+  Command actuator_force() const noexcept { return in_.template tail<NC>(); }
   const Actuator& actuator() const noexcept { return actuator_; }
   const Plant& plant() const noexcept { return plant_; }
 
@@ -95,8 +93,7 @@ class SimulatedHardware {
   [[no_unique_address]] ForceSensor force_sensor_;
   [[no_unique_address]] Accelerometer accelerometer_;
   [[no_unique_address]] Transport transport_;
-  typename Plant::Input in_ = Plant::Input::Zero();
-  Command force_held_ = Command::Zero();
+  typename Plant::Input in_ = Plant::Input::Zero();  // [floor; actuator force held]
   Performance z_ = Performance::Zero();
   Reading reading_{Command::Zero(), Performance::Zero()};
 };
