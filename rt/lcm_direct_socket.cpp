@@ -103,6 +103,10 @@ LcmDirectSocket::LcmDirectSocket(const std::string& url) : buffer_(kMaxDatagram)
   join.imr_interface.s_addr = htonl(INADDR_ANY);
   if (setsockopt(fd_, IPPROTO_IP, IP_ADD_MEMBERSHIP, &join, sizeof join) != 0)
     fail("joining the multicast group");
+  // Only this group's datagrams (Linux delivers every joined group on the port otherwise).
+  const int zero = 0;
+  if (setsockopt(fd_, IPPROTO_IP, IP_MULTICAST_ALL, &zero, sizeof zero) != 0)
+    fail("IP_MULTICAST_ALL");
 }
 
 LcmDirectSocket::~LcmDirectSocket() {
@@ -118,7 +122,9 @@ void LcmDirectSocket::subscribe(const std::string& channel, Handler handler, voi
 
 int LcmDirectSocket::receive() noexcept {
   int handled = 0;
-  for (;;) {
+  // At most kMaxDatagramsPerCall per call, so that a flood cannot hold the loop past its
+  // deadline; what is left is read by the next call.
+  for (int read = 0; read < kMaxDatagramsPerCall; ++read) {
     const ssize_t n = recv(fd_, buffer_.data(), buffer_.size(), MSG_DONTWAIT);
     if (n < 0) {
       if (errno == EINTR) continue;
@@ -154,6 +160,7 @@ int LcmDirectSocket::receive() noexcept {
     else
       ++unsubscribed_;
   }
+  return handled;
 }
 
 int LcmDirectSocket::wait_readable(std::int64_t timeout_ns) noexcept {

@@ -41,7 +41,8 @@ class LcmDirectSocket {
  public:
   using Handler = void (*)(const std::uint8_t* payload, int size, void* user);
 
-  /// Binds to the URL's port and joins its group. @throws std::runtime_error naming the step.
+  /// Binds to the URL's port and joins its group. @throws std::invalid_argument for a URL that is
+  /// not udpm (parse_udpm_url), std::runtime_error naming the socket step that failed.
   explicit LcmDirectSocket(const std::string& url);
   ~LcmDirectSocket();
   LcmDirectSocket(const LcmDirectSocket&) = delete;
@@ -50,7 +51,8 @@ class LcmDirectSocket {
   /// Payloads on `channel` go to handler(payload, size, user). At most kMaxSubscriptions.
   void subscribe(const std::string& channel, Handler handler, void* user);
 
-  /// Reads every datagram waiting now and dispatches it; returns how many went to a handler.
+  /// Reads the datagrams waiting now (at most kMaxDatagramsPerCall) and dispatches them; returns
+  /// how many went to a handler.
   int receive() noexcept;
   /// 1 when a datagram is waiting, 0 when none came within timeout_ns (0: just look), -1 error.
   int wait_readable(std::int64_t timeout_ns) noexcept;
@@ -61,6 +63,7 @@ class LcmDirectSocket {
   std::int64_t unsubscribed() const noexcept { return unsubscribed_; }  ///< other channels
 
   static constexpr int kMaxSubscriptions = 8;
+  static constexpr int kMaxDatagramsPerCall = 64;
 
  private:
   struct Subscription {

@@ -68,7 +68,8 @@ const char* to_string(ReceivePath path);
 class LcmTransport {
  public:
   /// Opens LCM on `url`; with kLcmThread starts its receive thread, with kDirect opens the
-  /// loop's own socket instead. std::runtime_error when LCM or the socket cannot be opened.
+  /// loop's own socket instead. std::runtime_error when LCM or the socket cannot be opened,
+  /// std::invalid_argument when kDirect is asked for a URL that is not udpm://.
   explicit LcmTransport(const std::string& url, ReceivePath path = ReceivePath::kLcmThread);
   ~LcmTransport();
   LcmTransport(const LcmTransport&) = delete;

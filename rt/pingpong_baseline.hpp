@@ -9,7 +9,8 @@
 // ping stamped just before publishing and receives until the answer arrives or the next ping is
 // due; round trip = answer handled - ping stamped (CLOCK_MONOTONIC, one clock for both).
 // Receive modes (rt/lcm_transport.hpp) apply to both sides; with kHybrid the ping side polls
-// from the moment it sent, the pong side sleeps until clock.spin_margin_ns before the next ping
+// from the moment it sent, the pong side sleeps until the spin margin (effective_spin_margin_ns:
+// at most half the period) before the next ping
 // is due (a spinning SCHED_FIFO pong would otherwise be throttled ~50 ms every second).
 // Set-up per process: LCM first, then rt/realtime_setup.hpp's order; when SCHED_FIFO is granted
 // LCM's receive thread gets the same CPU and one priority level above the process's loop, so a

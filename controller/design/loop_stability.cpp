@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -72,8 +73,11 @@ double equal_strut_minimum_leak_rad_s(const Eigen::MatrixXd& Mdd, const Eigen::M
                                       const PiForceFeedbackSettings& s) {
   const double wd = s.omega_d_rad_s;
   double bound = 0;
-  for (double g : geometric_stiffness_per_mass(Mdd, Gdd))
+  for (double g : geometric_stiffness_per_mass(Mdd, Gdd)) {
+    // a1 = w_d^2 + g_i <= 0: the cubic is unstable whatever the leak.
+    if (wd * wd + g <= 0) return std::numeric_limits<double>::infinity();
     if (g < 0) bound = std::max(bound, 2 * s.zeta * wd * (-g) / (wd * wd + g));
+  }
   return bound;
 }
 

@@ -53,7 +53,8 @@ std::optional<double> minimum_stable_leak_rad_s(const plant::lti::StateSpace& g2
                                                 double rel_tol = 1e-6);
 
 /// The bound of the header comment for equal undamped struts: max_i 2 zeta w_d (-g_i) /
-/// (w_d^2 + g_i) over the negative eigenvalues g_i of Mdd^-1 Gdd (0 when there are none).
+/// (w_d^2 + g_i) over the negative eigenvalues g_i of Mdd^-1 Gdd (0 when there are none;
+/// infinity when some w_d^2 + g_i <= 0: no leak helps then).
 double equal_strut_minimum_leak_rad_s(const Eigen::MatrixXd& Mdd, const Eigen::MatrixXd& Gdd,
                                       const PiForceFeedbackSettings& settings);
 

@@ -87,8 +87,8 @@ Eigen::PartialPivLU<MatrixXd> factor(const MatrixXd& A, double alpha, const std:
   const MatrixXd m = MatrixXd::Identity(A.rows(), A.cols()) - alpha * A;
   Eigen::PartialPivLU<MatrixXd> lu(m);
   if (m.rows() == 0) return lu;  // no states: nothing to solve
-  const double terms = 1.0 + alpha * A.lpNorm<1>();
-  const double inverse_norm = 1.0 / (lu.rcond() * m.lpNorm<1>());  // estimate of |m^-1|_1
+  const double terms = 1.0 + alpha * induced_norm_1(A);
+  const double inverse_norm = 1.0 / (lu.rcond() * induced_norm_1(m));  // estimate of |m^-1|_1
   const double pole = 1 / alpha;
   if (!(inverse_norm * terms * m.rows() * std::numeric_limits<double>::epsilon() < 1))
     throw std::invalid_argument("discretise: " + method +
@@ -243,6 +243,10 @@ std::string to_string(DiscretisationMethod method) {
   for (const auto& [m, text] : kMethodNames)
     if (m == method) return text;
   throw std::invalid_argument("invalid DiscretisationMethod value");
+}
+
+double induced_norm_1(const Eigen::MatrixXd& m) {
+  return m.size() == 0 ? 0.0 : m.cwiseAbs().colwise().sum().maxCoeff();
 }
 
 double spectral_radius(const Eigen::MatrixXd& m) {

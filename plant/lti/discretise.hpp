@@ -76,6 +76,10 @@ struct DiscreteStateSpace {
 /// stable plant made unstable.
 DiscreteStateSpace discretise(const StateSpace& c, const DiscretisationOptions& o);
 
+/// The induced 1-norm of m (its largest absolute column sum), the norm Eigen's LU rcond() is
+/// relative to.
+double induced_norm_1(const Eigen::MatrixXd& m);
+
 /// max |λ| over the eigenvalues of a square matrix; 0 for an empty one.
 double spectral_radius(const Eigen::MatrixXd& m);
 

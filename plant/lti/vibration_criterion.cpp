@@ -195,7 +195,7 @@ Eigen::MatrixXd floor_motion_outputs(const StateSpace& filter) {
   m.row(1) = lut.solve(cv).transpose();                                                // C A^-2
   // H(s) = C (sI - A)^-1 B must vanish twice at s = 0: C A^-1 B = 0 and C A^-2 B = 0 (to
   // rounding, relative to |C| |A^-1|^k |B|).
-  const double inv = 1.0 / (lu.rcond() * filter.A.lpNorm<1>());  // ~ |A^-1|
+  const double inv = 1.0 / (lu.rcond() * induced_norm_1(filter.A));  // ~ |A^-1|_1
   const double cb = filter.C.norm() * filter.B.norm();
   require(filter.D.norm() == 0 && std::abs((m.row(0) * filter.B)(0, 0)) <= 1e-9 * cb * inv &&
               std::abs((m.row(1) * filter.B)(0, 0)) <= 1e-9 * cb * inv * inv,
@@ -207,7 +207,6 @@ DiscreteStateSpace discretise_floor_filter(const StateSpace& filter, double dt) 
   const MatrixXd motion = floor_motion_outputs(filter);
   auto d = discretise(filter, {.method = DiscretisationMethod::kZeroOrderHold, .dt = dt});
   d.sys.B /= std::sqrt(dt);
-  d.sys.D /= std::sqrt(dt);
   // Sample-mean acceleration: a_k = (v_{k+1} - v_k) / dt, v = C A^-1 x (see the header).
   const MatrixXd cv = motion.row(0);
   d.sys.C = cv * (d.sys.A - MatrixXd::Identity(d.sys.A.rows(), d.sys.A.cols())) / dt;

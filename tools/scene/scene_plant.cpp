@@ -1,5 +1,6 @@
 #include "tools/scene/scene_plant.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <numbers>
 
@@ -96,14 +97,18 @@ void require_stable_loop(const ScenePlant& p) {
   std::string what = std::string("[controller]: ") + growth;
   const auto leak = minimum_stable_leak_hz(p);
   if (leak && *leak > c.leak_hz) {
+    // Rounded up at 3 significant digits: the bound itself is only marginally stable.
+    const double step = std::pow(10.0, std::floor(std::log10(*leak)) - 2);
     char fix[200];
     std::snprintf(fix, sizeof fix, "; a leak_hz of at least %.3g makes it stable (it is %.3g): %s",
-                  *leak, c.leak_hz,
+                  std::ceil(*leak / step) * step, c.leak_hz,
                   p.scene.gravity_preload
                       ? "the gravity preload's negative geometric stiffness needs the static "
                         "stiffness a leaky integrator gives back"
                       : "a leaky integrator gives the struts static stiffness back");
     what += fix;
+  } else if (leak) {
+    what += "; a smaller leak would be stable but this one is not: check omega_d_hz and zeta";
   } else {
     what += "; no leak up to omega_d stabilises it: change omega_d_hz or zeta";
   }

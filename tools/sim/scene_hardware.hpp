@@ -73,6 +73,13 @@ Plant plant_at_floor_start(Plant plant, const Floor& floor, const scene::Scene& 
                      "[floor]: this plant has the floor's position as a state (gravity preload), "
                      "and a white floor acceleration has no stationary position (it would drift "
                      "as a random walk); use a VC spectrum");
+  // Only the zero-order hold keeps the continuous state as the discrete one; Tustin, FOH and
+  // backward Euler use shifted or scaled coordinates (plant/lti/discretise.hpp).
+  if (any && sc.discretisation.method != plant::lti::DiscretisationMethod::kZeroOrderHold)
+    throw InputError(sc.file,
+                     "[discretisation]: this plant has the floor's position and velocity as "
+                     "states (gravity preload), which start where the floor is; that needs "
+                     "method = \"zoh\" (the other methods' states are other coordinates)");
   plant.set_state(x);
   return plant;
 }
