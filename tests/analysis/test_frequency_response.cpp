@@ -9,6 +9,7 @@
 #include <random>
 
 #include "plant/lti/frequency_response.hpp"
+#include "tests/discretise/reference.hpp"  // labelled
 
 using flexloop::plant::lti::balancing_scaling;
 using flexloop::plant::lti::frequency_response;
@@ -16,18 +17,11 @@ using flexloop::plant::lti::FrequencyResponseOptions;
 using flexloop::plant::lti::log_frequency_grid_hz;
 using flexloop::plant::lti::singular_values;
 using flexloop::plant::lti::StateSpace;
+using flexloop::test::labelled;
 using cd = std::complex<double>;
 
 namespace {
 constexpr double kTwoPi = 6.283185307179586476925286766559;
-
-StateSpace labelled(Eigen::MatrixXd A, Eigen::MatrixXd B, Eigen::MatrixXd C, Eigen::MatrixXd D) {
-  StateSpace s{std::move(A), std::move(B), std::move(C), std::move(D), {}, {}, {}};
-  for (Eigen::Index i = 0; i < s.nx(); ++i) s.states.push_back("z" + std::to_string(i));
-  for (Eigen::Index i = 0; i < s.nu(); ++i) s.inputs.push_back("u" + std::to_string(i));
-  for (Eigen::Index i = 0; i < s.ny(); ++i) s.outputs.push_back("y" + std::to_string(i));
-  return s;
-}
 
 Eigen::MatrixXd gaussian(Eigen::Index r, Eigen::Index c, std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);

@@ -8,6 +8,7 @@
 #include <complex>
 #include <numbers>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "plant/lti/state_space.hpp"
@@ -25,12 +26,22 @@ inline Eigen::MatrixXd random_matrix(std::mt19937& rng, Eigen::Index r, Eigen::I
   return m;
 }
 
+/// prefix1, prefix2, ... prefixN. Appended, not "x" + std::to_string(k): GCC 12 warns falsely
+/// (-Wrestrict, GCC bug 105329) on that prepend at -O3.
+inline std::vector<std::string> numbered(const char* prefix, Eigen::Index n) {
+  std::vector<std::string> names;
+  for (Eigen::Index k = 1; k <= n; ++k)
+    names.push_back(std::string(prefix).append(std::to_string(k)));
+  return names;
+}
+
+/// A state space with the labels x1.., u1.., y1.. (every StateSpace needs labels).
 inline StateSpace labelled(Eigen::MatrixXd A, Eigen::MatrixXd B, Eigen::MatrixXd C,
                            Eigen::MatrixXd D) {
   StateSpace s{std::move(A), std::move(B), std::move(C), std::move(D), {}, {}, {}};
-  for (Eigen::Index i = 0; i < s.nx(); ++i) s.states.push_back("x" + std::to_string(i + 1));
-  for (Eigen::Index i = 0; i < s.nu(); ++i) s.inputs.push_back("u" + std::to_string(i + 1));
-  for (Eigen::Index i = 0; i < s.ny(); ++i) s.outputs.push_back("y" + std::to_string(i + 1));
+  s.states = numbered("x", s.nx());
+  s.inputs = numbered("u", s.nu());
+  s.outputs = numbered("y", s.ny());
   return s;
 }
 

@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "plant/lti/discretise.hpp"
-#include "tests/discretise/reference.hpp"  // random_matrix
+#include "tests/discretise/reference.hpp"  // random_matrix, numbered
 
 namespace flexloop::test {
 
@@ -42,9 +42,9 @@ inline plant::lti::DiscreteStateSpace discrete_system(const std::vector<Discrete
   d.sys.B = random_matrix(rng, n, nu);
   d.sys.C = random_matrix(rng, ny, n);
   d.sys.D = random_matrix(rng, ny, nu);
-  for (Eigen::Index k = 0; k < n; ++k) d.sys.states.push_back("x" + std::to_string(k));
-  for (Eigen::Index k = 0; k < nu; ++k) d.sys.inputs.push_back("u" + std::to_string(k));
-  for (Eigen::Index k = 0; k < ny; ++k) d.sys.outputs.push_back("y" + std::to_string(k));
+  d.sys.states = numbered("x", n);
+  d.sys.inputs = numbered("u", nu);
+  d.sys.outputs = numbered("y", ny);
   d.dt = dt;
   d.method = plant::lti::DiscretisationMethod::kZeroOrderHold;
   d.spectral_radius = plant::lti::spectral_radius(d.sys.A);

@@ -43,7 +43,8 @@ ChildProcess::ChildProcess(const Body& body) {
     std::string out;
     int code = 0;
     try {
-      out = "O" + body([fd = fds[1]] { write_all(fd, "R"); });
+      // Appended, not "O" + body(...): GCC 12 warns falsely (-Wrestrict) on that prepend.
+      out = std::string("O").append(body([fd = fds[1]] { write_all(fd, "R"); }));
     } catch (const std::exception& e) {
       out = std::string("E") + e.what();
       code = 1;
