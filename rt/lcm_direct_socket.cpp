@@ -16,9 +16,8 @@ namespace flexloop::rt {
 
 namespace {
 
-constexpr std::uint32_t kSmallMagic = 0x4c433032;     // "LC02"
-constexpr std::uint32_t kFragmentMagic = 0x4c433033;  // "LC03"
-constexpr std::size_t kHeaderBytes = 8;               // magic, sequence
+constexpr std::uint32_t kSmallMagic = 0x4c433032;  // "LC02"
+constexpr std::size_t kHeaderBytes = 8;            // magic, sequence
 constexpr std::size_t kMaxDatagram = 65536;
 
 std::uint32_t read_be32(const std::uint8_t* p) {
@@ -46,7 +45,8 @@ UdpmAddress parse_udpm_url(const std::string& url) {
   const std::string scheme = "udpm://";
   if (url.rfind(scheme, 0) != 0)
     throw std::invalid_argument("LCM URL '" + url +
-                                "': direct receive needs a udpm:// URL (UDP multicast)");
+                                "': direct receive needs a udpm:// URL (UDP multicast); for other "
+                                "providers use --receive-path lcm-thread");
   UdpmAddress a;
   std::string rest = url.substr(scheme.size());
   std::string options;
@@ -70,8 +70,11 @@ UdpmAddress parse_udpm_url(const std::string& url) {
     const std::string kv = options.substr(0, amp);
     options = amp == std::string::npos ? "" : options.substr(amp + 1);
     const auto eq = kv.find('=');
-    if (eq != std::string::npos && kv.substr(0, eq) == "recv_buf_size")
+    if (eq != std::string::npos && kv.substr(0, eq) == "recv_buf_size") {
       a.recv_buf_size = to_int(kv.substr(eq + 1), "recv_buf_size", url);
+      if (a.recv_buf_size < 1)
+        throw std::invalid_argument("LCM URL '" + url + "': recv_buf_size must be >= 1 byte");
+    }
   }
   return a;
 }
@@ -90,7 +93,7 @@ LcmDirectSocket::LcmDirectSocket(const std::string& url) : buffer_(kMaxDatagram)
   };
   const int one = 1;
   if (setsockopt(fd_, SOL_SOCKET, SO_REUSEADDR, &one, sizeof one) != 0) fail("SO_REUSEADDR");
-  if (a.recv_buf_size > 0 &&
+  if (a.recv_buf_size > 0 &&  // 0: not given, the kernel's default
       setsockopt(fd_, SOL_SOCKET, SO_RCVBUF, &a.recv_buf_size, sizeof a.recv_buf_size) != 0)
     fail("SO_RCVBUF");
   sockaddr_in bind_to{};
@@ -114,9 +117,6 @@ LcmDirectSocket::~LcmDirectSocket() {
 }
 
 void LcmDirectSocket::subscribe(const std::string& channel, Handler handler, void* user) {
-  if (static_cast<int>(subscriptions_.size()) >= kMaxSubscriptions)
-    throw std::runtime_error("LCM direct receive: more than " + std::to_string(kMaxSubscriptions) +
-                             " subscriptions");
   subscriptions_.push_back({channel, handler, user});
 }
 
@@ -136,14 +136,11 @@ int LcmDirectSocket::receive() noexcept {
       continue;
     }
     const std::uint32_t magic = read_be32(buffer_.data());
-    if (magic == kFragmentMagic) {
-      ++fragmented_;
-      continue;
-    }
     const auto* channel = reinterpret_cast<const char*>(buffer_.data() + kHeaderBytes);
     const std::size_t room = size - kHeaderBytes;
     const std::size_t length = strnlen(channel, room);
-    if (magic != kSmallMagic || length == room) {  // not LCM, or no NUL in the datagram
+    // Not a small LCM message (fragments of large ones included), or no NUL in the datagram.
+    if (magic != kSmallMagic || length == room) {
       ++foreign_;
       continue;
     }
@@ -161,14 +158,6 @@ int LcmDirectSocket::receive() noexcept {
       ++unsubscribed_;
   }
   return handled;
-}
-
-int LcmDirectSocket::wait_readable(std::int64_t timeout_ns) noexcept {
-  pollfd p{fd_, POLLIN, 0};
-  const timespec ts = to_timespec(timeout_ns > 0 ? timeout_ns : 0);
-  const int n = ppoll(&p, 1, &ts, nullptr);
-  if (n < 0) return errno == EINTR ? 0 : -1;
-  return n > 0 && (p.revents & POLLIN) ? 1 : (n > 0 ? -1 : 0);
 }
 
 }  // namespace flexloop::rt

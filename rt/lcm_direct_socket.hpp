@@ -48,21 +48,16 @@ class LcmDirectSocket {
   LcmDirectSocket(const LcmDirectSocket&) = delete;
   LcmDirectSocket& operator=(const LcmDirectSocket&) = delete;
 
-  /// Payloads on `channel` go to handler(payload, size, user). At most kMaxSubscriptions.
+  /// Payloads on `channel` go to handler(payload, size, user). Start-up only (allocates).
   void subscribe(const std::string& channel, Handler handler, void* user);
 
   /// Reads the datagrams waiting now (at most kMaxDatagramsPerCall) and dispatches them; returns
   /// how many went to a handler.
   int receive() noexcept;
-  /// 1 when a datagram is waiting, 0 when none came within timeout_ns (0: just look), -1 error.
-  int wait_readable(std::int64_t timeout_ns) noexcept;
-
   int fd() const noexcept { return fd_; }
-  std::int64_t foreign() const noexcept { return foreign_; }            ///< not LCM small messages
-  std::int64_t fragmented() const noexcept { return fragmented_; }      ///< LC03: skipped
+  std::int64_t foreign() const noexcept { return foreign_; }  ///< not small LCM messages (LC03 too)
   std::int64_t unsubscribed() const noexcept { return unsubscribed_; }  ///< other channels
 
-  static constexpr int kMaxSubscriptions = 8;
   static constexpr int kMaxDatagramsPerCall = 64;
 
  private:
@@ -74,7 +69,7 @@ class LcmDirectSocket {
   int fd_ = -1;
   std::vector<Subscription> subscriptions_;
   std::vector<std::uint8_t> buffer_;  // one datagram, 64 kB
-  std::int64_t foreign_ = 0, fragmented_ = 0, unsubscribed_ = 0;
+  std::int64_t foreign_ = 0, unsubscribed_ = 0;
 };
 
 }  // namespace flexloop::rt

@@ -68,7 +68,6 @@ void LcmTransport::subscribe_lcm(const std::string& channel, lcm_msg_handler_t h
 }
 
 int LcmTransport::poll_ready(std::int64_t timeout_ns) noexcept {
-  if (direct_) return direct_->wait_readable(timeout_ns);
   pollfd fd{fileno_, POLLIN, 0};
   const timespec ts = to_timespec(timeout_ns > 0 ? timeout_ns : 0);
   const int n = ppoll(&fd, 1, &ts, nullptr);

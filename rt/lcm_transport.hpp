@@ -124,9 +124,6 @@ class LcmTransport {
   /// (when > 0). One status per step and thread.
   std::vector<SetupStatus> configure_receive_thread(int cpu, int fifo_priority);
 
-  ReceivePath receive_path() const noexcept {
-    return direct_ ? ReceivePath::kDirect : ReceivePath::kLcmThread;
-  }
   /// The direct socket (kDirect), or nullptr.
   const LcmDirectSocket* direct_socket() const noexcept { return direct_.get(); }
   lcm_t* lcm() noexcept { return lcm_; }

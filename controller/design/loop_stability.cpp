@@ -42,6 +42,9 @@ LoopStability loop_stability(const plant::lti::StateSpace& g22, const PiGains& g
 std::optional<double> minimum_stable_leak_rad_s(const plant::lti::StateSpace& g22,
                                                 const PiGains& gains, double w_max_rad_s,
                                                 double rel_tol) {
+  if (!(rel_tol > 0) || !(std::isfinite(w_max_rad_s) && w_max_rad_s > 0))
+    throw std::invalid_argument(
+        "minimum_stable_leak_rad_s: needs rel_tol > 0 and a finite w_max_rad_s > 0");
   const auto stable_with = [&](double leak) {
     PiGains g = gains;
     g.settings.leak_rad_s = leak;
@@ -60,13 +63,10 @@ std::optional<double> minimum_stable_leak_rad_s(const plant::lti::StateSpace& g2
 
 Eigen::VectorXd geometric_stiffness_per_mass(const Eigen::MatrixXd& Mdd,
                                              const Eigen::MatrixXd& Gdd) {
-  // Symmetric-definite: G v = g M v (Gdd is symmetric at rest; its skew part is dropped).
+  // G v = g M v (Gdd is symmetric at rest; its skew part is dropped): the "natural modes" of the
+  // stiffness Gs, whose checks (sizes, finite, Mdd positive definite) apply.
   const Eigen::MatrixXd Gs = 0.5 * (Gdd + Gdd.transpose());
-  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> eig(Gs, Mdd);
-  if (eig.info() != Eigen::Success)
-    throw std::invalid_argument(
-        "geometric_stiffness_per_mass: Mdd must be symmetric positive definite");
-  return eig.eigenvalues();
+  return plant::lti::natural_modes(Mdd, Gs).omega_squared.real();
 }
 
 double equal_strut_minimum_leak_rad_s(const Eigen::MatrixXd& Mdd, const Eigen::MatrixXd& Gdd,

@@ -10,10 +10,12 @@
 
 #include <catch2/catch.hpp>
 #include <cstring>
+#include <vector>
 
 #include "rt/lcm_transport.hpp"
 #include "rt/loopback_guard.hpp"
 #include "rt/monotonic_time.hpp"
+#include "rt/realtime_setup.hpp"
 #include "tools/hil/private_network.hpp"
 
 using namespace flexloop;
@@ -44,13 +46,15 @@ TEST_CASE(
   }
   rt::require_private_loopback_namespace("direct receive test");
   const std::string url = rt::kPrivateLoopbackLcmUrl;
-  rt::LcmTransport direct(url, rt::ReceivePath::kDirect);
   rt::LcmTransport classic(url, rt::ReceivePath::kLcmThread);
-  CHECK(direct.receive_thread_ids().empty());
-  CHECK(direct.receive_path() == rt::ReceivePath::kDirect);
+  // The direct transport starts no thread of LCM's: not on creation, subscription or publishing.
+  const std::vector<pid_t> threads_before = rt::process_thread_ids();
+  rt::LcmTransport direct(url, rt::ReceivePath::kDirect);
   rt::MessageInbox<sensor_sample_t> direct_inbox, classic_inbox;
   direct.subscribe("FLEXLOOP_DIRECT_TEST", direct_inbox);
   classic.subscribe("FLEXLOOP_DIRECT_TEST", classic_inbox);
+  REQUIRE(rt::LcmPublisher<sensor_sample_t>(direct, "FLEXLOOP_DIRECT_SELF").publish({}));
+  CHECK(rt::process_thread_ids() == threads_before);
   rt::LcmPublisher<sensor_sample_t> pub(classic, "FLEXLOOP_DIRECT_TEST");
   rt::LcmPublisher<sensor_sample_t> other(classic, "FLEXLOOP_SOMETHING_ELSE");
 

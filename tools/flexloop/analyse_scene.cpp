@@ -116,9 +116,11 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
         "; needs leak_hz > %.4g (has %g)%s\n", *min_leak, c.leak_hz,
         sc.gravity_preload ? ": the gravity preload's geometric stiffness is negative" : "");
   else if (min_leak)
-    std::printf(" without a leak\n");
+    std::printf(p.loop.stable() ? " without a leak\n"
+                                : "; it would be without a leak: check omega_d_hz and zeta\n");
   else
-    std::printf("; no leak up to omega_d makes it stable\n");
+    std::printf(p.loop.stable() ? " (no leak up to omega_d would be)\n"
+                                : "; no leak up to omega_d makes it stable\n");
   j["closed_loop_stable"] = p.loop.stable();
   j["floor_integrator_states"] = floor_states;
   j["minimum_stable_leak_hz"] = min_leak ? nlohmann::json(*min_leak) : nlohmann::json(nullptr);
