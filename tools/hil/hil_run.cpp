@@ -26,6 +26,8 @@ rt::PeriodicClockOptions clock_options(const LoopOptions& o, double rate_hz) {
           .spin_margin_ns = o.spin_margin_ns};
 }
 
+}  // namespace
+
 nlohmann::json run_baselines(const HilOptions& o, double rate_hz) {
   const auto duration_ns = static_cast<std::int64_t>(o.baseline_duration_s * 1e9);
   rt::TimerBaselineOptions timer;
@@ -46,8 +48,6 @@ nlohmann::json run_baselines(const HilOptions& o, double rate_hz) {
   const rt::PingPongResult p = rt::run_pingpong_baseline(pp);
   return {{"timer", timer_baseline_json(t)}, {"pingpong", pingpong_baseline_json(p)}};
 }
-
-}  // namespace
 
 void prepare_hil_network(const HilOptions& o) {
   static bool entered = false;

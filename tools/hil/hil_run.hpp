@@ -33,6 +33,11 @@ struct HilOptions {
 /// Enters the private namespace when asked (once per process; later calls do nothing).
 void prepare_hil_network(const HilOptions& o);
 
+/// Step 3 alone: the bare timer and ping-pong baselines at `rate_hz` with the loop's wait mode,
+/// receive path, URL, CPUs and priority, each for `o.baseline_duration_s`; the report's
+/// "baseline" object {timer, pingpong}. Call prepare_hil_network first.
+nlohmann::json run_baselines(const HilOptions& o, double rate_hz);
+
 /// Runs the rehearsal and returns the report (see the header comment).
 nlohmann::json run_hil(const HilOptions& o);
 
