@@ -17,18 +17,26 @@
 //
 // This is the controller state space (Ac = aI, Bc = bI, Cc = -K_I, Dc = -K_P) closed around D22:
 // u = (I - Dc D22)^-1 (Cc x + Dc f),  x+ = Ac x + Bc (f + D22 u), exactly the sampled loop of
-// plant::lti::close_loop_sampled (plant/lti/feedback_interconnection.hpp). While no channel
-// saturates the anti-windup term is exactly zero and that law holds to the last bit.
+// plant::lti::close_loop_sampled (plant/lti/feedback_interconnection.hpp).
+//
+// The step carries the integral command s = G_x x instead of x (the same law, one product fewer
+// and a shorter chain from one sample to the next; x = G_x^-1 s is computed only when asked):
+//
+//   p_k = G_f f_k,   v_k = p_k + s_k,   u_k = clamp(v_k)
+//   s'_k = s_k + (u_k - v_k)                                   (= G_x x'_k)
+//   s_{k+1} = a s'_k + b G_x (f_k + D22 u_k)                   (= G_x x_{k+1})
+//
+// While no channel saturates u_k - v_k is exactly zero, so s'_k = s_k to the last bit.
 //
 // Anti-windup (back-calculation with a one-sample tracking time): when a channel saturates, the
 // integrator state is moved to the one for which the unsaturated law gives the command actually
 // applied, G_x x' = u_k - G_f f_k, and integrates from there. This works with coupled (full)
 // gains: it changes no unsaturated channel's command at that sample, and the integrator never
 // holds more than what the saturated command needs, so on release the command leaves the limit
-// continuously. It needs K_I invertible (G_x^-1 = -K_I^-1 (I + K_P D22)).
+// continuously. K_I must be invertible (x and s then describe the same controller).
 //
-// Bumpless start: start(y_now, u_now) sets u_{k-1} = u_now and x = G_x^-1 (u_now - G_f f) with
-// f = y_now - D22 u_now, so a first step with y = y_now returns u_now (also needs K_I invertible).
+// Bumpless start: start(y_now, u_now) sets u_{k-1} = u_now and s = u_now - G_f f with
+// f = y_now - D22 u_now, so a first step with y = y_now returns u_now.
 //
 // step() never allocates, locks, throws or makes a system call. from_parameters (start-up) does.
 #include <Eigen/Core>
@@ -39,6 +47,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "plant/runtime/column_product.hpp"
 #include "plant/runtime/fixed_size_matrix.hpp"
 
 namespace flexloop::controller::runtime {
@@ -76,81 +85,84 @@ class PiController {
   /// One sample: y = measured forces (including the command held since the previous sample).
   /// Returns the (saturated) command to hold until the next sample.
   Vector step(const Vector& y) noexcept {
-    Vector f = y;
+    Lanes f = pad(y);
     subtract_feedthrough(f, measured_command());
-    Vector v;
-    v.noalias() = G_f_.lazyProduct(f);  // unrolled fixed-size products
-    v.noalias() += G_x_.lazyProduct(x_);
-    const Vector u = v.cwiseMax(u_min_).cwiseMin(u_max_);
-    // Only a clamped channel moves the integrator: u - v is exactly zero elsewhere, so the term
-    // adds exact zeros in the usual unsaturated sample. Branch-free: a data-dependent branch per
-    // sample costs more than these N² multiply-adds when saturation comes and goes.
-    Vector x = x_;
-    x.noalias() += G_x_inv_.lazyProduct(u - v);
+    const Lanes p = plant::runtime::column_product(G_f_, f.template head<N>());
+    const Lanes v = p + s_;
+    const Lanes u = v.cwiseMax(u_min_).cwiseMin(u_max_);
+    // Only a clamped channel moves the integral command: u - v is exactly zero elsewhere.
+    // Branch-free: a data-dependent branch per sample costs more when saturation comes and goes.
+    const Lanes s_held = s_ + (u - v);
     subtract_feedthrough(f, -u);
-    x_ = a_ * x + b_ * f;
+    s_ = a_ * s_held + b_ * plant::runtime::column_product(G_x_, f.template head<N>());
     remember(u);
-    return u;
+    return u.template head<N>();
   }
 
   /// Bumpless start: the next step(y_now) returns u_now. See the header comment.
   void start(const Vector& y_now, const Vector& u_now) noexcept {
-    history_.fill(u_now);  // the actuator has been holding u_now
-    u_prev_ = u_now;
-    Vector f = y_now;
-    subtract_feedthrough(f, u_now);
-    Vector r = u_now;
-    r.noalias() -= G_f_ * f;
-    x_.noalias() = G_x_inv_ * r;
+    const Lanes u = pad(u_now);
+    history_.fill(u);  // the actuator has been holding u_now
+    Lanes f = pad(y_now);
+    subtract_feedthrough(f, u);
+    s_ = u - plant::runtime::column_product(G_f_, f.template head<N>());
   }
 
   /// When the actuator reports that it applied something else (e.g. a safe command).
-  void set_previous_command(const Vector& u) noexcept {
-    history_[head_] = u;
-    u_prev_ = u;
-  }
-  const Vector& previous_command() const noexcept { return u_prev_; }
-  const Vector& state() const noexcept { return x_; }
-  void set_state(const Vector& x) noexcept { x_ = x; }
+  void set_previous_command(const Vector& u) noexcept { history_[head_] = pad(u); }
+  Vector previous_command() const noexcept { return history_[head_].template head<N>(); }
+  /// The integrator state x = G_x^-1 s (a product; not used in a step).
+  Vector state() const noexcept { return G_x_inv_ * s_.template head<N>(); }
+  void set_state(const Vector& x) noexcept { s_ = G_x_ * x; }
+  /// The integral command s = G_x x, the part of the command due to the integrator.
+  Vector integral_command() const noexcept { return s_.template head<N>(); }
   void reset() noexcept {
-    x_.setZero();
-    u_prev_.setZero();
-    history_.fill(Vector::Zero());
+    s_.setZero();
+    history_.fill(Lanes::Zero());
   }
-
-  const Matrix& G_f() const noexcept { return G_f_; }
-  const Matrix& G_x() const noexcept { return G_x_; }
 
  private:
+  // Vectors padded to whole SIMD packets (plant/runtime/column_product.hpp); the padding lanes
+  // stay exactly zero: the padded rows of G_f, G_x and D22 are zero and so are both limits.
+  static constexpr int NP = plant::runtime::kPaddedRows<Scalar, N>;
+  using Lanes = Eigen::Matrix<Scalar, NP, 1>;
+  using LaneMatrix = Eigen::Matrix<Scalar, NP, N>;  // N columns of NP rows
+
   PiController() = default;
 
+  static Lanes pad(const Vector& v) noexcept {
+    Lanes l = Lanes::Zero();
+    l.template head<N>() = v;
+    return l;
+  }
+
   // f <- f - D22 u; D22 = I (force sensors in series with the actuators) skips the product.
-  void subtract_feedthrough(Vector& f, const Vector& u) const noexcept {
+  void subtract_feedthrough(Lanes& f, const Lanes& u) const noexcept {
     if (identity_feedthrough_)
       f -= u;
     else
-      f.noalias() -= D22_.lazyProduct(u);
+      f -= plant::runtime::column_product(D22_, u.template head<N>());
   }
 
   static constexpr int kHistory = kMaxFeedthroughDelay + 1;
   // u_{k-1-d}: the command the current measurement contains (d = feedthrough_delay).
-  const Vector& measured_command() const noexcept {
+  const Lanes& measured_command() const noexcept {
     const int i = head_ - delay_;
     return history_[i < 0 ? i + kHistory : i];
   }
-  void remember(const Vector& u) noexcept {
+  void remember(const Lanes& u) noexcept {
     head_ = head_ + 1 == kHistory ? 0 : head_ + 1;
     history_[head_] = u;
-    u_prev_ = u;
   }
 
-  Matrix G_f_, G_x_, G_x_inv_, D22_;
+  LaneMatrix G_f_, G_x_, D22_;
+  Matrix G_x_inv_;
   int delay_ = 0, head_ = 0;
-  std::array<Vector, kHistory> history_;
+  std::array<Lanes, kHistory> history_;  // history_[head_]: the last command
   bool identity_feedthrough_ = true;
   Scalar a_ = 1, b_ = 0;
-  Vector u_min_, u_max_;
-  Vector x_ = Vector::Zero(), u_prev_ = Vector::Zero();
+  Lanes u_min_, u_max_;
+  Lanes s_ = Lanes::Zero();  // s = G_x x
 };
 
 namespace detail {
@@ -201,23 +213,28 @@ PiController<Scalar, N> PiController<Scalar, N>::from_parameters(const PiParamet
 
   PiController c;
   const M G_f = -loop.solve(K_P), G_x = -loop.solve(K_I);
-  c.G_f_ = G_f.template cast<Scalar>();
-  c.G_x_ = G_x.template cast<Scalar>();
+  const auto padded = [](const M& m) {
+    LaneMatrix l = LaneMatrix::Zero();
+    l.template topRows<N>() = m.template cast<Scalar>();
+    return l;
+  };
+  c.G_f_ = padded(G_f);
+  c.G_x_ = padded(G_x);
   c.G_x_inv_ = (-integral.solve(M::Identity() + K_P * D22)).template cast<Scalar>();
-  c.D22_ = D22.template cast<Scalar>();
+  c.D22_ = padded(D22);
   c.identity_feedthrough_ = D22 == M::Identity();
   if (p.feedthrough_delay < 0 || p.feedthrough_delay > kMaxFeedthroughDelay)
     throw std::invalid_argument("PiController: feedthrough_delay must be 0 .. " +
                                 std::to_string(kMaxFeedthroughDelay) + ", got " +
                                 std::to_string(p.feedthrough_delay));
   c.delay_ = p.feedthrough_delay;
-  c.history_.fill(Vector::Zero());
+  c.history_.fill(Lanes::Zero());
   const double a = std::exp(-p.leak_rad_s * p.dt);
   c.a_ = static_cast<Scalar>(a);
   c.b_ = static_cast<Scalar>(p.leak_rad_s > 0 ? -std::expm1(-p.leak_rad_s * p.dt) / p.leak_rad_s
                                               : p.dt);
-  c.u_min_ = lo.template cast<Scalar>();
-  c.u_max_ = hi.template cast<Scalar>();
+  c.u_min_ = pad(lo.template cast<Scalar>());
+  c.u_max_ = pad(hi.template cast<Scalar>());
   return c;
 }
 

@@ -15,6 +15,7 @@
 // so the output sees the state before the update.
 #include <Eigen/Core>
 
+#include "plant/runtime/column_product.hpp"
 #include "plant/runtime/fixed_size_matrix.hpp"
 #include "plant/runtime/state_output.hpp"
 
@@ -36,10 +37,7 @@ class DensePlant : public StateOutput<Scalar, NX, NU, NY> {
 
   /// x <- x + ((Ad - I) x + Bd u).
   void advance(const typename Base::Input& u) noexcept {
-    typename Base::State increment;
-    increment.noalias() = Ad_minus_I_.lazyProduct(this->x_);  // see StateOutput::output
-    increment.noalias() += Bd_.lazyProduct(u);
-    this->x_ += increment;
+    this->x_ += product_sum(Ad_minus_I_, this->x_, Bd_, u);  // plant/runtime/column_product.hpp
   }
 
  private:

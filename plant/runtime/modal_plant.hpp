@@ -21,6 +21,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "plant/runtime/column_product.hpp"
 #include "plant/runtime/fixed_size_matrix.hpp"
 #include "plant/runtime/state_output.hpp"
 
@@ -53,7 +54,7 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY> {
       increment.template head<NX - 1>() += e_.cwiseProduct(z.template tail<NX - 1>());
       increment.template tail<NX - 1>() += f_.cwiseProduct(z.template head<NX - 1>());
     }
-    increment.noalias() += Bm_.lazyProduct(u);
+    increment += column_product(Bm_, u);
     this->x_ += increment;
   }
 

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <string>
 
+#include "plant/runtime/column_product.hpp"
 #include "plant/runtime/fixed_size_matrix.hpp"
 
 namespace flexloop::plant::runtime {
@@ -23,13 +24,7 @@ class StateOutput {
 
   /// y = C x + D u, for the current state.
   Output output(const Input& u) const noexcept {
-    Output y;
-    // lazyProduct: coefficient-based and unrolled for these fixed sizes (Eigen's default product
-    // of a 12x12 by a 12-vector runs its general GEMV kernel: about twice the time here). Two
-    // statements: a sum of two lazy products in one expression is evaluated more slowly.
-    y.noalias() = C_.lazyProduct(x_);
-    y.noalias() += D_.lazyProduct(u);
-    return y;
+    return product_sum(C_, x_, D_, u);  // (C x) + (D u), column by column
   }
 
   const State& state() const noexcept { return x_; }

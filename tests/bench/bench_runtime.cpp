@@ -63,11 +63,12 @@ const std::vector<Eigen::Matrix<Scalar, 6, 1>>& floor_samples() {
   return w;
 }
 
-// The step written the obvious way with dynamic sizes; same numbers, same law.
+// The step written the obvious way with dynamic sizes; same numbers, same law (the PI in its
+// integral-command form, as controller/runtime/pi_controller.hpp).
 struct NaiveLoop {
-  Eigen::MatrixXd Ad, Bd, Cd, Dd, G_f, G_x, G_x_inv;
+  Eigen::MatrixXd Ad, Bd, Cd, Dd, G_f, G_x;
   double a, b;
-  Eigen::VectorXd lo, hi, x, xc, u_prev;
+  Eigen::VectorXd lo, hi, x, s, u_prev;
 
   NaiveLoop() {
     const auto& d = test::metrology().s.plant.sys;
@@ -76,13 +77,12 @@ struct NaiveLoop {
     Ad = d.A, Bd = d.B, Cd = d.C, Dd = d.D;
     G_f = -(I + p.K_P).inverse() * p.K_P;
     G_x = -(I + p.K_P).inverse() * p.K_I;
-    G_x_inv = G_x.inverse();
     a = std::exp(-p.leak_rad_s * p.dt);
     b = p.leak_rad_s > 0 ? (1 - a) / p.leak_rad_s : p.dt;
     lo = Eigen::VectorXd::Constant(6, -kLimit);
     hi = Eigen::VectorXd::Constant(6, kLimit);
     x = Eigen::VectorXd::Zero(12);
-    xc = u_prev = Eigen::VectorXd::Zero(6);
+    s = u_prev = Eigen::VectorXd::Zero(6);
   }
 
   Eigen::VectorXd step(const Eigen::VectorXd& w) {
@@ -90,9 +90,10 @@ struct NaiveLoop {
     in << w, u_prev;
     Eigen::VectorXd y = Cd * x + Dd * in;
     Eigen::VectorXd f = y.tail(6) - u_prev;
-    Eigen::VectorXd v = G_f * f + G_x * xc;
+    Eigen::VectorXd p = G_f * f;
+    Eigen::VectorXd v = p + s;
     Eigen::VectorXd u = v.cwiseMax(lo).cwiseMin(hi);
-    xc = a * (xc + G_x_inv * (u - v)) + b * (f + u);
+    s = a * (s + (u - v)) + b * (G_x * (f + u));
     u_prev = u;
     in.tail(6) = u;
     x = Ad * x + Bd * in;

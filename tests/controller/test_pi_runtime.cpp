@@ -10,6 +10,7 @@
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/modal_form.hpp"
 #include "plant/runtime/runtime_sizes.hpp"
+#include "tests/discretise/reference.hpp"
 #include "tests/support/closed_loop.hpp"
 #include "tests/support/discrete_systems.hpp"
 #include "tests/support/dynamic_reference.hpp"
@@ -40,12 +41,9 @@ PiParameters random_parameters(unsigned seed, double leak_rad_s) {
 test::PiReference reference(const PiParameters& p) {
   const Eigen::Index n = p.K_P.rows();
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
-  plant::lti::StateSpace c{-p.leak_rad_s * I, I, -p.K_I, -p.K_P, {}, {}, {}};
-  for (Eigen::Index i = 0; i < n; ++i) {
-    c.states.push_back("xi" + std::to_string(i));
-    c.inputs.push_back("y" + std::to_string(i));
-    c.outputs.push_back("u" + std::to_string(i));
-  }
+  plant::lti::StateSpace c{
+      -p.leak_rad_s * I,     I, -p.K_I, -p.K_P, test::numbered("xi", n), test::numbered("y", n),
+      test::numbered("u", n)};
   const auto d =
       plant::lti::discretise(c, {plant::lti::DiscretisationMethod::kZeroOrderHold, p.dt, 0, false});
   const double inf = std::numeric_limits<double>::infinity();
