@@ -5,8 +5,11 @@
 //   a_k     = Cd x_k + Dd n_k          [m/s²]
 //   x_{k+1} = Ad x_k + Bd n_k
 // The filter is designed offline (plant/lti/vibration_criterion.hpp: design_floor_filter, then
-// discretise_floor_filter, whose Bd already carries the 1/sqrt(dt) noise scaling); the channels'
-// states are the columns of one NF x N matrix, so a step is one NF x NF by NF x N product.
+// discretise_floor_filter, whose Bd already carries the 1/sqrt(dt) noise scaling). The channels
+// run side by side in SIMD lanes: the state is held as one row per channel (rows padded to whole
+// packets, plant/runtime/column_product.hpp), so state i of every channel is one column product,
+//   x_{k+1}(i, all channels) = Σ_j Ad(i, j) x_k(j, all channels) + Bd(i) n_k,
+// with the same arithmetic in every lane (channel c's signal does not depend on N).
 //
 // Start: by default each channel's state is drawn from the filter's stationary distribution
 // N(0, P), P = Ad P Adᵀ + Bd Bdᵀ (found at start-up by the doubling iteration
@@ -16,6 +19,7 @@
 #include <Eigen/Dense>
 #include <cstdint>
 
+#include "plant/runtime/column_product.hpp"
 #include "plant/runtime/effects/channels.hpp"
 #include "plant/runtime/effects/gaussian_noise.hpp"
 #include "plant/runtime/fixed_size_matrix.hpp"
@@ -52,21 +56,17 @@ class FloorGenerator {
 
   /// The floor acceleration of this sample [m/s²], one per channel; advances the filters.
   Vector step() noexcept {
-    const Eigen::Matrix<Scalar, 1, N> n = noise_.sample().transpose();
-    // The output as before: small enough for Eigen's coefficient-based product, and the same
-    // arithmetic per channel whatever N is (channel c's signal depends on c alone, to the bit).
-    const Eigen::Matrix<Scalar, 1, N> a = c_ * x_ + d_ * n;
-    // lazyProduct: coefficient-based and unrolled; Eigen's default product of a 9x9 by a 9x6
-    // goes through its general GEMM kernel, several times slower here.
-    StateMatrix next;
-    next.noalias() = a_.lazyProduct(x_);
-    next.noalias() += b_.lazyProduct(n);
-    x_ = next;
-    return a.transpose();
+    Lanes n = Lanes::Zero();
+    n.template head<N>() = noise_.sample();
+    const Lanes a = column_product(x_, c_) + d_ * n;
+    Lanes next[NF];
+    for (int i = 0; i < NF; ++i) next[i] = column_product(x_, a_t_.col(i)) + b_(i) * n;
+    for (int i = 0; i < NF; ++i) x_.col(i) = next[i];
+    return a.template head<N>();
   }
 
   /// The filters' states, one column per channel.
-  const StateMatrix& state() const noexcept { return x_; }
+  StateMatrix state() const noexcept { return x_.template topRows<N>().transpose(); }
 
   /// Start-up: the floor's velocity and displacement as rows over the filter state (2 x NF,
   /// plant::lti::floor_motion_outputs), so that motion() can say where the floor is.
@@ -77,7 +77,7 @@ class FloorGenerator {
   /// Floor velocity [m/s] (row 0) and displacement [m] (row 1) per channel at the sample the next
   /// step() returns (zero until set_motion_outputs). A plant with the floor's position and
   /// velocity as states starts them here.
-  Eigen::Matrix<Scalar, 2, N> motion() const noexcept { return motion_ * x_; }
+  Eigen::Matrix<Scalar, 2, N> motion() const noexcept { return motion_ * state(); }
 
   /// P = Ad P Adᵀ + Bd Bdᵀ by doubling (Smith): after j rounds P holds Σ_{i < 2^j} Ad^i Bd Bdᵀ
   /// Ad^iᵀ. @throws std::invalid_argument when the sum does not converge in 64 rounds.
@@ -97,10 +97,13 @@ class FloorGenerator {
   }
 
  private:
+  static constexpr int NP = kPaddedRows<Scalar, N>;  // lanes: N channels, then zero padding
+  using Lanes = Eigen::Matrix<Scalar, NP, 1>;
+
   FloorGenerator(const Eigen::Matrix<Scalar, NF, NF>& a, const Eigen::Matrix<Scalar, NF, 1>& b,
                  const Eigen::Matrix<Scalar, 1, NF>& c, const Eigen::Matrix<Scalar, 1, 1>& d,
                  const GaussianNoise<Scalar, N>& noise)
-      : a_(a), b_(b), c_(c), d_(d), x_(StateMatrix::Zero()), noise_(noise) {}
+      : a_t_(a.transpose()), b_(b), c_(c.transpose()), d_(d(0)), noise_(noise) {}
 
   // x_c = V sqrt(Λ) z with P = V Λ Vᵀ (P is only semidefinite in general), z from channel c.
   void draw_stationary_state(const Eigen::MatrixXd& p) {
@@ -110,15 +113,15 @@ class FloorGenerator {
     for (int c = 0; c < N; ++c) {
       Eigen::VectorXd z(NF);
       for (int i = 0; i < NF; ++i) z(i) = static_cast<double>(noise_.sample(c));
-      x_.col(c) = (root * z).cast<Scalar>();
+      x_.row(c) = (root * z).transpose().cast<Scalar>();
     }
   }
 
-  Eigen::Matrix<Scalar, NF, NF> a_;
+  Eigen::Matrix<Scalar, NF, NF> a_t_;  // Adᵀ: column i holds row i of Ad
   Eigen::Matrix<Scalar, NF, 1> b_;
-  Eigen::Matrix<Scalar, 1, NF> c_;
-  Eigen::Matrix<Scalar, 1, 1> d_;
-  StateMatrix x_;
+  Eigen::Matrix<Scalar, NF, 1> c_;  // Cdᵀ
+  Scalar d_;
+  Eigen::Matrix<Scalar, NP, NF> x_ = Eigen::Matrix<Scalar, NP, NF>::Zero();  // row c: channel c
   Eigen::Matrix<Scalar, 2, NF> motion_ = Eigen::Matrix<Scalar, 2, NF>::Zero();
   GaussianNoise<Scalar, N> noise_;
 };
