@@ -50,8 +50,8 @@ struct RowPackets {
 template <typename T, int N>
 struct Lanes {
   T v[N > 0 ? N : 1];
-  EIGEN_STRONG_INLINE T& operator[](int i) { return v[i]; }
-  EIGEN_STRONG_INLINE const T& operator[](int i) const { return v[i]; }
+  EIGEN_ALWAYS_INLINE T& operator[](int i) { return v[i]; }
+  EIGEN_ALWAYS_INLINE const T& operator[](int i) const { return v[i]; }
 };
 
 // The R sums of a product, in registers.
@@ -63,7 +63,7 @@ struct Accumulator {
   Lanes<Scalar, Rows::kScalar> scalar;
 
   // acc += column * s, for the R contiguous entries of `column`.
-  EIGEN_STRONG_INLINE void add_column(const Scalar* column, Scalar s) {
+  EIGEN_ALWAYS_INLINE void add_column(const Scalar* column, Scalar s) {
     if constexpr (Rows::kFull > 0) {
       const auto b = ei::pset1<typename Rows::Full>(s);
 #pragma GCC unroll 16
@@ -84,7 +84,7 @@ struct Accumulator {
       scalar[i] = ei::pmadd(column[Rows::kScalarStart + i], s, scalar[i]);
   }
 
-  EIGEN_STRONG_INLINE static Accumulator zero_sums() {
+  EIGEN_ALWAYS_INLINE static Accumulator zero_sums() {
     Accumulator a;
 #pragma GCC unroll 16
     for (int p = 0; p < Rows::kFull; ++p) a.full[p] = ei::pset1<typename Rows::Full>(Scalar(0));
@@ -99,7 +99,7 @@ struct Accumulator {
   // sums of one sample are ready sooner for the next (on the closed-loop step two chains were
   // faster than one and than three, plant/runtime/README.md).
   template <int K>
-  EIGEN_STRONG_INLINE static Accumulator product(const Scalar* M, const Scalar* x) {
+  EIGEN_ALWAYS_INLINE static Accumulator product(const Scalar* M, const Scalar* x) {
     constexpr int kChains = K < 2 ? K : 2;
     Accumulator chain[kChains];
 #pragma GCC unroll 4
@@ -112,7 +112,7 @@ struct Accumulator {
   }
 
   // out = the sums.
-  EIGEN_STRONG_INLINE void store(Scalar* out) const {
+  EIGEN_ALWAYS_INLINE void store(Scalar* out) const {
 #pragma GCC unroll 16
     for (int p = 0; p < Rows::kFull; ++p) ei::pstoreu(out + p * Rows::kFullSize, full[p]);
 #pragma GCC unroll 16
@@ -122,7 +122,7 @@ struct Accumulator {
     for (int i = 0; i < Rows::kScalar; ++i) out[Rows::kScalarStart + i] = scalar[i];
   }
   // this += o, packet by packet.
-  EIGEN_STRONG_INLINE void add(const Accumulator& o) {
+  EIGEN_ALWAYS_INLINE void add(const Accumulator& o) {
 #pragma GCC unroll 16
     for (int p = 0; p < Rows::kFull; ++p) full[p] = ei::padd(full[p], o.full[p]);
 #pragma GCC unroll 16
@@ -144,7 +144,7 @@ inline constexpr int kPaddedRows =
 /// M x, summed column by column (see the header comment). x: any contiguous vector of K entries
 /// (e.g. a head() of a longer one).
 template <typename Scalar, int R, int K, typename V>
-EIGEN_STRONG_INLINE Eigen::Matrix<Scalar, R, 1> column_product(const Eigen::Matrix<Scalar, R, K>& M,
+EIGEN_ALWAYS_INLINE Eigen::Matrix<Scalar, R, 1> column_product(const Eigen::Matrix<Scalar, R, K>& M,
                                                                const Eigen::MatrixBase<V>& x) {
   static_assert(V::SizeAtCompileTime == K && V::InnerStrideAtCompileTime == 1,
                 "column_product: x must be a contiguous vector of M.cols() entries");
@@ -155,7 +155,7 @@ EIGEN_STRONG_INLINE Eigen::Matrix<Scalar, R, 1> column_product(const Eigen::Matr
 
 /// A a + B b: the two products summed separately (two independent chains), then added.
 template <typename Scalar, int R, int KA, int KB>
-EIGEN_STRONG_INLINE Eigen::Matrix<Scalar, R, 1> product_sum(const Eigen::Matrix<Scalar, R, KA>& A,
+EIGEN_ALWAYS_INLINE Eigen::Matrix<Scalar, R, 1> product_sum(const Eigen::Matrix<Scalar, R, KA>& A,
                                                             const Eigen::Matrix<Scalar, KA, 1>& a,
                                                             const Eigen::Matrix<Scalar, R, KB>& B,
                                                             const Eigen::Matrix<Scalar, KB, 1>& b) {
