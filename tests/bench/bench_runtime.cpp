@@ -10,6 +10,8 @@
 //    speedup_vs_naive = (naive ns per step) / (its ns per step), the naive time measured in this
 //    process (BM_ClosedLoopStepNaive's own result, or a 10^5-step measurement when filtered out).
 //    Targets: <= 30 ns per step in double, >= 5x the naive step.
+//  - BM_TwoClosedLoopsInterleaved: two independent dense double loops, one step of each per
+//    iteration (latency-bound steps would overlap; operation-bound ones add up).
 //  - BM_Simulate10s<form, scalar>: 10 s of simulation at 10 kHz (10^5 steps) per iteration;
 //    real_time_factor = 10 s / time. Target >= 1000.
 // The counters use the thread's CPU time (as Google Benchmark's CPU column), so that other work on
@@ -167,6 +169,23 @@ BENCHMARK_TEMPLATE(BM_ClosedLoopStep, double, plant::runtime::DensePlant);
 BENCHMARK_TEMPLATE(BM_ClosedLoopStep, float, plant::runtime::DensePlant);
 BENCHMARK_TEMPLATE(BM_ClosedLoopStep, double, plant::runtime::ModalPlant);
 BENCHMARK_TEMPLATE(BM_ClosedLoopStep, float, plant::runtime::ModalPlant);
+
+// Two independent loops stepped alternately: if a step were bound by the chain from one sample
+// to the next alone, the pair would cost about one step; twice a step means the operations bound.
+void BM_TwoClosedLoopsInterleaved(benchmark::State& state) {
+  auto a = make_loop<double, plant::runtime::DensePlant>();
+  auto b = make_loop<double, plant::runtime::DensePlant>();
+  const auto& w = floor_samples<double>();
+  int k = 0;
+  for (auto _ : state) {
+    auto ya = a.step(w[k & (kSamples - 1)]);
+    auto yb = b.step(w[(k + kSamples / 2) & (kSamples - 1)]);
+    ++k;
+    benchmark::DoNotOptimize(ya);
+    benchmark::DoNotOptimize(yb);
+  }
+}
+BENCHMARK(BM_TwoClosedLoopsInterleaved);
 
 template <typename Scalar, template <typename, int, int, int> class Plant>
 void BM_Simulate10s(benchmark::State& state) {
