@@ -16,10 +16,13 @@ target_link_libraries(flexloop_eigen INTERFACE Eigen3::Eigen)
 get_target_property(_eigen_inc Eigen3::Eigen INTERFACE_INCLUDE_DIRECTORIES)
 target_include_directories(flexloop_eigen SYSTEM INTERFACE ${_eigen_inc})
 
-# Boost.Random (header-only): the ziggurat normal distribution of the noise sources.
-find_package(Boost 1.74 REQUIRED)
+# Boost.Random (header-only): the ziggurat normal distribution of the noise sources. CONFIG:
+# Boost's own package file (libboost-dev ships it); CMake's FindBoost module is deprecated
+# (policy CMP0167).
+find_package(Boost 1.74 REQUIRED CONFIG COMPONENTS headers)
 add_library(flexloop_boost INTERFACE)
-target_include_directories(flexloop_boost SYSTEM INTERFACE ${Boost_INCLUDE_DIRS})
+get_target_property(_boost_inc Boost::headers INTERFACE_INCLUDE_DIRECTORIES)
+target_include_directories(flexloop_boost SYSTEM INTERFACE ${_boost_inc})
 
 find_package(Catch2 2.13 REQUIRED)
 include(Catch)

@@ -55,7 +55,7 @@ nlohmann::json settings_json(const BaselineArgs& a, const rt::PeriodicClockOptio
           {"period_ns", c.period_ns},
           {"duration_s", a.duration_s},
           {"wait_mode", rt::to_string(c.wait_mode)},
-          {"spin_margin_ns", c.spin_margin_ns},
+          {"spin_margin_ns", rt::effective_spin_margin_ns(c)},  // as spun (<= half a period)
           {"overrun_policy", rt::to_string(c.overrun_policy)},
           {"cpu", a.cpu},
           {"fifo_priority", a.priority}};
