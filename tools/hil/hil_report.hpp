@@ -8,6 +8,8 @@
 //   controller {answered, resyncs, resumes, dropped_messages, compute_ns, response_ns, ...},
 //   baseline {timer {wakeup_lateness_ns, ...}, pingpong {round_trip_ns, unanswered, ...}},
 //   scene, lcm_url, cpu, controller_cpu, fifo, set-up texts, lcm_log (when recorded).
+// periods = cycles + skipped_periods: the grid periods the run covered, at least rate x duration,
+// more when a stall in the last cycle skipped past the end.
 // PNGs beside the report: <stem>_round_trip.png and <stem>_wakeup_lateness.png (log-spaced bins,
 // log counts), with the baseline's p50/p99 in the title. Reporting only (allocates, throws).
 #include <nlohmann/json.hpp>
