@@ -114,8 +114,6 @@ class PiController {
   /// The integrator state x = G_x^-1 s (a product; not used in a step).
   Vector state() const noexcept { return G_x_inv_ * s_.template head<N>(); }
   void set_state(const Vector& x) noexcept { s_ = G_x_ * x; }
-  /// The integral command s = G_x x, the part of the command due to the integrator.
-  Vector integral_command() const noexcept { return s_.template head<N>(); }
   void reset() noexcept {
     s_.setZero();
     history_.fill(Lanes::Zero());
@@ -130,11 +128,7 @@ class PiController {
 
   PiController() = default;
 
-  static Lanes pad(const Vector& v) noexcept {
-    Lanes l = Lanes::Zero();
-    l.template head<N>() = v;
-    return l;
-  }
+  static Lanes pad(const Vector& v) noexcept { return plant::runtime::padded_rows<NP>(v); }
 
   // f <- f - D22 u; D22 = I (force sensors in series with the actuators) skips the product.
   void subtract_feedthrough(Lanes& f, const Lanes& u) const noexcept {
@@ -213,15 +207,11 @@ PiController<Scalar, N> PiController<Scalar, N>::from_parameters(const PiParamet
 
   PiController c;
   const M G_f = -loop.solve(K_P), G_x = -loop.solve(K_I);
-  const auto padded = [](const M& m) {
-    LaneMatrix l = LaneMatrix::Zero();
-    l.template topRows<N>() = m.template cast<Scalar>();
-    return l;
-  };
-  c.G_f_ = padded(G_f);
-  c.G_x_ = padded(G_x);
+  using plant::runtime::padded_rows;
+  c.G_f_ = padded_rows<NP>(G_f.template cast<Scalar>());
+  c.G_x_ = padded_rows<NP>(G_x.template cast<Scalar>());
   c.G_x_inv_ = (-integral.solve(M::Identity() + K_P * D22)).template cast<Scalar>();
-  c.D22_ = padded(D22);
+  c.D22_ = padded_rows<NP>(D22.template cast<Scalar>());
   c.identity_feedthrough_ = D22 == M::Identity();
   if (p.feedthrough_delay < 0 || p.feedthrough_delay > kMaxFeedthroughDelay)
     throw std::invalid_argument("PiController: feedthrough_delay must be 0 .. " +

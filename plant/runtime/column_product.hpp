@@ -45,10 +45,10 @@ struct RowPackets {
   static constexpr int kScalar = R - kScalarStart;
 };
 
-// N values of type T. A plain array (std::array of SIMD types drops their attributes); one unused
-// slot when N = 0, which the compiler removes.
+// N values of type T, meant to live in registers. A plain array (std::array of SIMD types drops
+// their attributes); one unused slot when N = 0, which the compiler removes.
 template <typename T, int N>
-struct Lanes {
+struct Registers {
   T v[N > 0 ? N : 1];
   EIGEN_ALWAYS_INLINE T& operator[](int i) { return v[i]; }
   EIGEN_ALWAYS_INLINE const T& operator[](int i) const { return v[i]; }
@@ -58,9 +58,9 @@ struct Lanes {
 template <typename Scalar, int R>
 struct Accumulator {
   using Rows = RowPackets<Scalar, R>;
-  Lanes<typename Rows::Full, Rows::kFull> full;
-  Lanes<typename Rows::Half, Rows::kHalf> half;
-  Lanes<Scalar, Rows::kScalar> scalar;
+  Registers<typename Rows::Full, Rows::kFull> full;
+  Registers<typename Rows::Half, Rows::kHalf> half;
+  Registers<Scalar, Rows::kScalar> scalar;
 
   // acc += column * s, for the R contiguous entries of `column`.
   EIGEN_ALWAYS_INLINE void add_column(const Scalar* column, Scalar s) {
@@ -140,6 +140,17 @@ template <typename Scalar, int N>
 inline constexpr int kPaddedRows =
     (N + detail::RowPackets<Scalar, N>::kFullSize - 1) /
     detail::RowPackets<Scalar, N>::kFullSize* detail::RowPackets<Scalar, N>::kFullSize;
+
+/// m with its rows padded to NP with zeros (start-up and the step's short vectors; the padding
+/// lanes of a product stay zero when the padded rows of its matrix are zero).
+template <int NP, typename Derived>
+EIGEN_ALWAYS_INLINE auto padded_rows(const Eigen::MatrixBase<Derived>& m) {
+  static_assert(NP >= Derived::RowsAtCompileTime, "padded_rows: NP must not be below the rows");
+  using Padded = Eigen::Matrix<typename Derived::Scalar, NP, Derived::ColsAtCompileTime>;
+  Padded p = Padded::Zero();
+  p.template topRows<Derived::RowsAtCompileTime>() = m;
+  return p;
+}
 
 /// M x, summed column by column (see the header comment). x: any contiguous vector of K entries
 /// (e.g. a head() of a longer one).
