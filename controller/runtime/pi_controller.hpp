@@ -84,18 +84,19 @@ class PiController {
 
   /// One sample: y = measured forces (including the command held since the previous sample).
   /// Returns the (saturated) command to hold until the next sample.
-  Vector step(const Vector& y) noexcept {
+  EIGEN_ALWAYS_INLINE Vector step(const Vector& y) noexcept {
+    if (identity_feedthrough_) {
+      // f = y - u_measured and f + u enter the products entry by entry: no padded copy of y.
+      const auto u_measured = measured_command().template head<N>();
+      const Lanes u = command(plant::runtime::column_product(G_f_, y - u_measured));
+      integrate(plant::runtime::column_product(G_x_, y - u_measured + u.template head<N>()), u);
+      return u.template head<N>();
+    }
     Lanes f = pad(y);
     subtract_feedthrough(f, measured_command());
-    const Lanes p = plant::runtime::column_product(G_f_, f.template head<N>());
-    const Lanes v = p + s_;
-    const Lanes u = v.cwiseMax(u_min_).cwiseMin(u_max_);
-    // Only a clamped channel moves the integral command: u - v is exactly zero elsewhere.
-    // Branch-free: a data-dependent branch per sample costs more when saturation comes and goes.
-    const Lanes s_held = s_ + (u - v);
+    const Lanes u = command(plant::runtime::column_product(G_f_, f.template head<N>()));
     subtract_feedthrough(f, -u);
-    s_ = a_ * s_held + b_ * plant::runtime::column_product(G_x_, f.template head<N>());
-    remember(u);
+    integrate(plant::runtime::column_product(G_x_, f.template head<N>()), u);
     return u.template head<N>();
   }
 
@@ -127,6 +128,21 @@ class PiController {
   using LaneMatrix = Eigen::Matrix<Scalar, NP, N>;  // N columns of NP rows
 
   PiController() = default;
+
+  // The command u = sat(G_f f + s). Only a clamped channel moves the integral command: u - v is
+  // exactly zero elsewhere. Branch-free: a data-dependent branch per sample costs more when
+  // saturation comes and goes.
+  Lanes command(const Lanes& G_f_f) noexcept {
+    const Lanes v = G_f_f + s_;
+    const Lanes u = v.cwiseMax(u_min_).cwiseMin(u_max_);
+    s_ += u - v;
+    return u;
+  }
+  // s <- a s + b G_x f (f with the new command u fed through), and u remembered as sent.
+  void integrate(const Lanes& G_x_f, const Lanes& u) noexcept {
+    s_ = a_ * s_ + b_ * G_x_f;
+    remember(u);
+  }
 
   static Lanes pad(const Vector& v) noexcept { return plant::runtime::padded_rows<NP>(v); }
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <sstream>
 #include <stdexcept>
+#include <vector>
 
 namespace flexloop::plant::lti {
 
@@ -118,25 +119,36 @@ ModalForm to_modal_form(const DiscreteStateSpace& d, const ModalFormOptions& opt
 
   m.Lambda_minus_I.setZero(n, n);
   m.T.resize(n, n);
+  // EigenSolver gives real eigenvalues with an exactly zero imaginary part, and complex ones as
+  // adjacent conjugate pairs. The pairs go first, so that every 2x2 block starts at an even index
+  // (the runtime's modal step swaps neighbours inside SIMD packets, plant/runtime/modal_plant.hpp).
+  std::vector<Eigen::Index> pairs, reals;
   for (Eigen::Index i = 0; i < n;) {
-    // EigenSolver gives real eigenvalues with an exactly zero imaginary part, and complex ones as
-    // adjacent conjugate pairs.
     if (mu(i).imag() == 0.0) {
-      m.T.col(i) = (scale.asDiagonal() * V.col(i).real()).normalized();
-      m.Lambda_minus_I(i, i) = mu(i).real();
-      m.block_sizes.push_back(1);
+      reals.push_back(i);
       i += 1;
       continue;
     }
     if (i + 1 >= n || mu(i + 1) != std::conj(mu(i)))
       throw std::invalid_argument("to_modal_form: unpaired complex eigenvalue of Ad");
+    pairs.push_back(i);
+    i += 2;
+  }
+  Eigen::Index k = 0;  // the next free modal coordinate
+  for (const Eigen::Index i : pairs) {
     const Eigen::VectorXcd v = rotate_and_normalise(scale.asDiagonal() * V.col(i));
     const double a = mu(i).real(), b = mu(i).imag();
-    m.T.col(i) = v.real();
-    m.T.col(i + 1) = v.imag();
-    m.Lambda_minus_I.block<2, 2>(i, i) << a, b, -b, a;
+    m.T.col(k) = v.real();
+    m.T.col(k + 1) = v.imag();
+    m.Lambda_minus_I.block<2, 2>(k, k) << a, b, -b, a;
     m.block_sizes.push_back(2);
-    i += 2;
+    k += 2;
+  }
+  for (const Eigen::Index i : reals) {
+    m.T.col(k) = (scale.asDiagonal() * V.col(i).real()).normalized();
+    m.Lambda_minus_I(k, k) = mu(i).real();
+    m.block_sizes.push_back(1);
+    k += 1;
   }
   const double residual = (delta * m.T - m.T * m.Lambda_minus_I).norm();
   if (residual > kResidualTolerance * delta.norm() * m.T.norm()) {

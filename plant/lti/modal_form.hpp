@@ -43,7 +43,7 @@ struct ModalForm {
   Eigen::MatrixXd Lambda;          ///< Λ = I + (Λ - I), for readers
   Eigen::MatrixXd B, C, D;         ///< Bm = T^-1 Bd, Cm = Cd T, D = Dd
   Eigen::MatrixXd T;               ///< physical state x = T z
-  std::vector<int> block_sizes;    ///< 1 or 2, along the diagonal of Λ
+  std::vector<int> block_sizes;    ///< 1 or 2, along the diagonal of Λ: the 2s first
   double dt = 0;
   double eigenvector_condition = 0;  ///< cond_2 of the balanced eigenvector matrix V
 };

@@ -3,11 +3,11 @@
 //
 //   acc = 0;  for j in 0..K-1:  acc += M(:, j) * x_j        (one SIMD broadcast of x_j per column)
 //
-// with the R rows of acc held in registers as full SIMD packets, then half packets, then
-// scalars, and the columns split over two accumulators (even and odd j) added at the end.
-// Why not Eigen's `M.lazyProduct(x)`, which the step used before: it unrolls the sums row packet
-// by row packet and broadcasts x_j again for every packet (36 broadcasts for a 12x12 product in
-// AVX double instead of 12), for 6-row matrices it uses 2-wide packets only (its packet must
+// with the R rows of acc held in registers as the widest SIMD packets that fit, then narrower
+// ones, then scalars, and the columns split over two accumulators (even and odd j) added at the
+// end. Why not Eigen's `M.lazyProduct(x)`, which the step used before: it unrolls the sums row
+// packet by row packet and broadcasts x_j again for every packet (36 broadcasts for a 12x12 product
+// in AVX double instead of 12), for 6-row matrices it uses 2-wide packets only (its packet must
 // divide the size), and each row's sum is one chain of K dependent multiply-adds. Measured on
 // the closed-loop step in plant/runtime/README.md.
 // The two chains change the order of the sums (last-bit differences against lazyProduct).
@@ -30,20 +30,22 @@ namespace detail {
 
 namespace ei = Eigen::internal;
 
-// How R rows split into full packets, half packets and single scalars.
-template <typename Scalar, int R>
-struct RowPackets {
-  using Full = typename ei::packet_traits<Scalar>::type;
-  using Half = typename ei::unpacket_traits<Full>::half;
-  static constexpr int kFullSize = ei::unpacket_traits<Full>::size;
-  static constexpr int kHalfSize =
-      std::is_same_v<Half, Full> ? R + 1 : ei::unpacket_traits<Half>::size;  // R + 1: no halves
-  static constexpr int kFull = R / kFullSize;
-  static constexpr int kHalf = (R - kFull * kFullSize) / kHalfSize;
-  static constexpr int kHalfStart = kFull * kFullSize;
-  static constexpr int kScalarStart = kHalfStart + kHalf * kHalfSize;
-  static constexpr int kScalar = R - kScalarStart;
+// The packet sizes the build offers for Scalar, widest first: AVX-512 double 8, 4, 2; AVX2
+// double 4, 2; AVX-512 float 16, 8, 4; without SIMD the scalar alone. Level L's packet type is
+// Packet<Scalar, L>; a level past the narrowest is the scalar (size 1).
+template <typename Scalar, int L>
+struct PacketLevel {
+  using Wider = typename PacketLevel<Scalar, L - 1>::type;
+  using Half = typename ei::unpacket_traits<Wider>::half;
+  // The narrowest packet is its own half: below it come scalars, then nothing smaller.
+  using type = std::conditional_t<std::is_same_v<Half, Wider>, Scalar, Half>;
 };
+template <typename Scalar>
+struct PacketLevel<Scalar, 0> {
+  using type = typename ei::packet_traits<Scalar>::type;
+};
+template <typename Scalar, int L>
+inline constexpr int kPacketSize = ei::unpacket_traits<typename PacketLevel<Scalar, L>::type>::size;
 
 // N values of type T, meant to live in registers. A plain array (std::array of SIMD types drops
 // their attributes); one unused slot when N = 0, which the compiler removes.
@@ -54,58 +56,58 @@ struct Registers {
   EIGEN_ALWAYS_INLINE const T& operator[](int i) const { return v[i]; }
 };
 
-// The R sums of a product, in registers.
-template <typename Scalar, int R>
+// The R sums of a product in registers, rows Offset .. Offset + R - 1 of the column: as many
+// packets of level L as fit, the rest in narrower ones (12 doubles: one 8-wide and one 4-wide
+// packet with AVX-512, three 4-wide with AVX2; 12 floats: 8 + 4 with either).
+template <typename Scalar, int R, int L = 0, int Offset = 0>
 struct Accumulator {
-  using Rows = RowPackets<Scalar, R>;
-  Registers<typename Rows::Full, Rows::kFull> full;
-  Registers<typename Rows::Half, Rows::kHalf> half;
-  Registers<Scalar, Rows::kScalar> scalar;
+  using Packet = typename PacketLevel<Scalar, L>::type;
+  static constexpr int kSize = kPacketSize<Scalar, L>;
+  static constexpr int kCount = R / kSize;
+  static constexpr int kRest = R - kCount * kSize;
+  struct None {  // no narrower rows
+    EIGEN_ALWAYS_INLINE void add_column(const Scalar*, Scalar) {}
+    EIGEN_ALWAYS_INLINE static None zero_sums() { return {}; }
+    EIGEN_ALWAYS_INLINE void store(Scalar*) const {}
+    EIGEN_ALWAYS_INLINE void add(const None&) {}
+  };
+  using Rest = std::conditional_t<kRest == 0, None,
+                                  Accumulator<Scalar, kRest, L + 1, Offset + kCount * kSize>>;
 
-  // acc += column * s, for the R contiguous entries of `column`.
+  Registers<Packet, kCount> packets;
+  Rest rest;
+
+  // acc += column * s, for the R contiguous entries of `column` from Offset on.
   EIGEN_ALWAYS_INLINE void add_column(const Scalar* column, Scalar s) {
-    if constexpr (Rows::kFull > 0) {
-      const auto b = ei::pset1<typename Rows::Full>(s);
+    if constexpr (kCount > 0) {
+      const Packet b = ei::pset1<Packet>(s);
 #pragma GCC unroll 16
-      for (int p = 0; p < Rows::kFull; ++p)
-        full[p] =
-            ei::pmadd(ei::ploadu<typename Rows::Full>(column + p * Rows::kFullSize), b, full[p]);
+      for (int p = 0; p < kCount; ++p)
+        packets[p] = ei::pmadd(ei::ploadu<Packet>(column + Offset + p * kSize), b, packets[p]);
     }
-    if constexpr (Rows::kHalf > 0) {
-      const auto b = ei::pset1<typename Rows::Half>(s);
-#pragma GCC unroll 16
-      for (int p = 0; p < Rows::kHalf; ++p)
-        half[p] = ei::pmadd(
-            ei::ploadu<typename Rows::Half>(column + Rows::kHalfStart + p * Rows::kHalfSize), b,
-            half[p]);
-    }
-#pragma GCC unroll 16
-    for (int i = 0; i < Rows::kScalar; ++i)
-      scalar[i] = ei::pmadd(column[Rows::kScalarStart + i], s, scalar[i]);
+    rest.add_column(column, s);
   }
 
   EIGEN_ALWAYS_INLINE static Accumulator zero_sums() {
     Accumulator a;
 #pragma GCC unroll 16
-    for (int p = 0; p < Rows::kFull; ++p) a.full[p] = ei::pset1<typename Rows::Full>(Scalar(0));
-#pragma GCC unroll 16
-    for (int p = 0; p < Rows::kHalf; ++p) a.half[p] = ei::pset1<typename Rows::Half>(Scalar(0));
-#pragma GCC unroll 16
-    for (int i = 0; i < Rows::kScalar; ++i) a.scalar[i] = Scalar(0);
+    for (int p = 0; p < kCount; ++p) a.packets[p] = ei::pset1<Packet>(Scalar(0));
+    a.rest = Rest::zero_sums();
     return a;
   }
 
   // Two chains (even and odd columns) summed at the end: each chain is half as long, so the
   // sums of one sample are ready sooner for the next (on the closed-loop step two chains were
   // faster than one and than three, plant/runtime/README.md).
-  template <int K>
-  EIGEN_ALWAYS_INLINE static Accumulator product(const Scalar* M, const Scalar* x) {
+  // x: any Eigen vector expression of K entries, read entry by entry (x.coeff(j)).
+  template <int K, typename X>
+  EIGEN_ALWAYS_INLINE static Accumulator product(const Scalar* M, const X& x) {
     constexpr int kChains = K < 2 ? K : 2;
     Accumulator chain[kChains];
 #pragma GCC unroll 4
     for (int c = 0; c < kChains; ++c) chain[c] = zero_sums();
 #pragma GCC unroll 32
-    for (int j = 0; j < K; ++j) chain[j % kChains].add_column(M + j * R, x[j]);
+    for (int j = 0; j < K; ++j) chain[j % kChains].add_column(M + j * R, x.coeff(j));
 #pragma GCC unroll 4
     for (int c = 1; c < kChains; ++c) chain[0].add(chain[c]);
     return chain[0];
@@ -114,32 +116,36 @@ struct Accumulator {
   // out = the sums.
   EIGEN_ALWAYS_INLINE void store(Scalar* out) const {
 #pragma GCC unroll 16
-    for (int p = 0; p < Rows::kFull; ++p) ei::pstoreu(out + p * Rows::kFullSize, full[p]);
-#pragma GCC unroll 16
-    for (int p = 0; p < Rows::kHalf; ++p)
-      ei::pstoreu(out + Rows::kHalfStart + p * Rows::kHalfSize, half[p]);
-#pragma GCC unroll 16
-    for (int i = 0; i < Rows::kScalar; ++i) out[Rows::kScalarStart + i] = scalar[i];
+    for (int p = 0; p < kCount; ++p) ei::pstoreu(out + Offset + p * kSize, packets[p]);
+    rest.store(out);
   }
   // this += o, packet by packet.
   EIGEN_ALWAYS_INLINE void add(const Accumulator& o) {
 #pragma GCC unroll 16
-    for (int p = 0; p < Rows::kFull; ++p) full[p] = ei::padd(full[p], o.full[p]);
-#pragma GCC unroll 16
-    for (int p = 0; p < Rows::kHalf; ++p) half[p] = ei::padd(half[p], o.half[p]);
-#pragma GCC unroll 16
-    for (int i = 0; i < Rows::kScalar; ++i) scalar[i] += o.scalar[i];
+    for (int p = 0; p < kCount; ++p) packets[p] = ei::padd(packets[p], o.packets[p]);
+    rest.add(o.rest);
   }
 };
 
+// The smallest packet size of the cascade that holds N rows in one packet, else N rounded up to
+// whole widest packets.
+template <typename Scalar, int N, int L = 0>
+constexpr int padded_size() {
+  if constexpr (L == 0 && N > kPacketSize<Scalar, 0>)
+    return (N + kPacketSize<Scalar, 0> - 1) / kPacketSize<Scalar, 0> * kPacketSize<Scalar, 0>;
+  else if constexpr (kPacketSize<Scalar, L + 1> < N || kPacketSize<Scalar, L> == 1)
+    return kPacketSize<Scalar, L>;
+  else
+    return padded_size<Scalar, N, L + 1>();
+}
+
 }  // namespace detail
 
-/// N rounded up to whole SIMD packets of Scalar: a vector of 6 doubles is padded to 8, two AVX
-/// registers, instead of one 4-wide and one 2-wide packet (N itself without SIMD).
+/// N padded to one SIMD packet, or to whole widest packets when N is wider: a vector of 6
+/// doubles takes 8 lanes (two AVX2 registers, or one AVX-512 register) instead of a 4-wide and a
+/// 2-wide packet; 6 floats take one 8-wide packet (N itself without SIMD).
 template <typename Scalar, int N>
-inline constexpr int kPaddedRows =
-    (N + detail::RowPackets<Scalar, N>::kFullSize - 1) /
-    detail::RowPackets<Scalar, N>::kFullSize* detail::RowPackets<Scalar, N>::kFullSize;
+inline constexpr int kPaddedRows = detail::padded_size<Scalar, N>();
 
 /// m with its rows padded to NP with zeros (start-up and the step's short vectors; the padding
 /// lanes of a product stay zero when the padded rows of its matrix are zero).
@@ -152,15 +158,16 @@ EIGEN_ALWAYS_INLINE auto padded_rows(const Eigen::MatrixBase<Derived>& m) {
   return p;
 }
 
-/// M x, summed column by column (see the header comment). x: any contiguous vector of K entries
-/// (e.g. a head() of a longer one).
+/// M x, summed column by column (see the header comment). x: any vector expression of K entries,
+/// evaluated entry by entry as the columns need them: a head() of a longer vector, or a
+/// difference y - u that then never exists as a vector in memory.
 template <typename Scalar, int R, int K, typename V>
 EIGEN_ALWAYS_INLINE Eigen::Matrix<Scalar, R, 1> column_product(const Eigen::Matrix<Scalar, R, K>& M,
                                                                const Eigen::MatrixBase<V>& x) {
-  static_assert(V::SizeAtCompileTime == K && V::InnerStrideAtCompileTime == 1,
-                "column_product: x must be a contiguous vector of M.cols() entries");
+  static_assert(V::SizeAtCompileTime == K && V::ColsAtCompileTime == 1,
+                "column_product: x must be a column vector of M.cols() entries");
   Eigen::Matrix<Scalar, R, 1> y;
-  detail::Accumulator<Scalar, R>::template product<K>(M.data(), x.derived().data()).store(y.data());
+  detail::Accumulator<Scalar, R>::template product<K>(M.data(), x.derived()).store(y.data());
   return y;
 }
 
@@ -171,8 +178,8 @@ EIGEN_ALWAYS_INLINE Eigen::Matrix<Scalar, R, 1> product_sum(const Eigen::Matrix<
                                                             const Eigen::Matrix<Scalar, R, KB>& B,
                                                             const Eigen::Matrix<Scalar, KB, 1>& b) {
   using Acc = detail::Accumulator<Scalar, R>;
-  Acc sum = Acc::template product<KA>(A.data(), a.data());
-  sum.add(Acc::template product<KB>(B.data(), b.data()));
+  Acc sum = Acc::template product<KA>(A.data(), a);
+  sum.add(Acc::template product<KB>(B.data(), b));
   Eigen::Matrix<Scalar, R, 1> y;
   sum.store(y.data());
   return y;

@@ -10,6 +10,7 @@
 //    speedup_vs_naive = (naive ns per step) / (its ns per step), the naive time measured in this
 //    process (BM_ClosedLoopStepNaive's own result, or a 10^5-step measurement when filtered out).
 //    Targets: <= 30 ns per step in double, >= 5x the naive step.
+//  - BM_PiStep<scalar>: the PI controller's step alone (what the controller process computes).
 //  - BM_TwoClosedLoopsInterleaved: two independent dense double loops, one step of each per
 //    iteration (latency-bound steps would overlap; operation-bound ones add up).
 //  - BM_Simulate10s<form, scalar>: 10 s of simulation at 10 kHz (10^5 steps) per iteration;
@@ -169,6 +170,22 @@ BENCHMARK_TEMPLATE(BM_ClosedLoopStep, double, plant::runtime::DensePlant);
 BENCHMARK_TEMPLATE(BM_ClosedLoopStep, float, plant::runtime::DensePlant);
 BENCHMARK_TEMPLATE(BM_ClosedLoopStep, double, plant::runtime::ModalPlant);
 BENCHMARK_TEMPLATE(BM_ClosedLoopStep, float, plant::runtime::ModalPlant);
+
+// The PI alone, as the controller process runs it: measured forces from a table (the floor samples
+// scaled to the sensors' 100 N range), one step per iteration.
+template <typename Scalar>
+void BM_PiStep(benchmark::State& state) {
+  using Pi = controller::runtime::PiController<Scalar, 6>;
+  Pi pi = Pi::from_parameters(pi_parameters());
+  const auto& w = floor_samples<Scalar>();
+  int k = 0;
+  for (auto _ : state) {
+    auto u = pi.step(Scalar(1e5) * w[k++ & (kSamples - 1)]);
+    benchmark::DoNotOptimize(u);
+  }
+}
+BENCHMARK_TEMPLATE(BM_PiStep, double);
+BENCHMARK_TEMPLATE(BM_PiStep, float);
 
 // Two independent loops stepped alternately: if a step were bound by the chain from one sample
 // to the next alone, the pair would cost about one step; twice a step means the operations bound.

@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <functional>
 #include <random>
 
 #include "plant/lti/modal_form.hpp"
@@ -64,6 +65,8 @@ TEST_CASE(
   for (int b : m.block_sizes) states += b;
   CHECK(states == 10);
   CHECK(std::count(m.block_sizes.begin(), m.block_sizes.end(), 2) >= 3);
+  // The pairs come first, so every 2x2 block starts at an even index (the runtime needs it).
+  CHECK(std::is_sorted(m.block_sizes.begin(), m.block_sizes.end(), std::greater<>()));
   CHECK(m.eigenvector_condition < 1e3);
   // Λ is T^-1 Ad T to rounding.
   CHECK((d.sys.A * m.T - m.T * m.Lambda).norm() <= 1e-13 * d.sys.A.norm() * m.T.norm());
@@ -124,6 +127,10 @@ TEST_CASE("modal plant: start-up refuses a Lambda that is not real block-diagona
   skew(1, 0) = -0.2;
   CHECK_THROWS_WITH(Plant::from_modal_form(skew, B, C, D, T),
                     Catch::Contains("not of the form [[a, b], [-b, a]]"));
+  Eigen::MatrixXd real_first = Eigen::MatrixXd::Zero(3, 3);
+  real_first << 0.5, 0, 0, 0, 0.9, 0.1, 0, -0.1, 0.9;
+  CHECK_THROWS_WITH(Plant::from_modal_form(real_first, B, C, D, T),
+                    Catch::Contains("starts at an odd index"));
   CHECK_THROWS_WITH(Plant::from_modal_form(L, Eigen::MatrixXd::Ones(3, 2), C, D, T),
                     Catch::Contains("Bm is 3x2, expected 3x1"));
 }
