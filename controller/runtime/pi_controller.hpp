@@ -86,7 +86,10 @@ class PiController {
   /// Returns the (saturated) command to hold until the next sample.
   EIGEN_ALWAYS_INLINE Vector step(const Vector& y) noexcept {
     if (identity_feedthrough_) {
-      // f = y - u_measured and f + u enter the products entry by entry: no padded copy of y.
+      // f = y - u_measured and f + u enter the products entry by entry: no padded copy of y,
+      // which would be written in pieces and read back whole (the store buffer cannot forward
+      // that). The metrology frame's path; one path for both cases, with D22 u as a returned
+      // value, measured 19 ns against 16 in BM_PiStep.
       const auto u_measured = measured_command().template head<N>();
       const Lanes u = command(plant::runtime::column_product(G_f_, y - u_measured));
       integrate(plant::runtime::column_product(G_x_, y - u_measured + u.template head<N>()), u);

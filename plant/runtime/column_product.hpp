@@ -32,7 +32,7 @@ namespace ei = Eigen::internal;
 
 // The packet sizes the build offers for Scalar, widest first: AVX-512 double 8, 4, 2; AVX2
 // double 4, 2; AVX-512 float 16, 8, 4; without SIMD the scalar alone. Level L's packet type is
-// Packet<Scalar, L>; a level past the narrowest is the scalar (size 1).
+// PacketLevel<Scalar, L>::type; the level past the narrowest is the scalar (size 1).
 template <typename Scalar, int L>
 struct PacketLevel {
   using Wider = typename PacketLevel<Scalar, L - 1>::type;
