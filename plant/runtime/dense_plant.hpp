@@ -12,7 +12,9 @@
 // loaded once at start-up from the discrete artefact (from_matrices, which checks the sizes);
 // output() and advance() never allocate, lock, throw or make a system call. The usual sample is
 //   y = plant.output(u); ...; plant.advance(u);
-// so the output sees the state before the update.
+// so the output sees the state before the update. advance() also computes C x_{k+1} for the next
+// output (state_output.hpp): one product of x_k and one of u_k with the stacked matrices
+// [Ad - I; C Ad] and [Bd; C Bd].
 #include <Eigen/Core>
 
 #include "plant/runtime/column_product.hpp"
@@ -26,8 +28,6 @@ class DensePlant : public StateOutput<Scalar, NX, NU, NY> {
   using Base = StateOutput<Scalar, NX, NU, NY>;
 
  public:
-  using StateMatrix = Eigen::Matrix<Scalar, NX, NX>;
-
   /// Start-up only. The matrices are in double (the artefact's precision) and are rounded to
   /// Scalar. The state starts at zero.
   /// @throws std::invalid_argument naming the matrix, its size and the expected size when a
@@ -35,16 +35,17 @@ class DensePlant : public StateOutput<Scalar, NX, NU, NY> {
   static DensePlant from_matrices(const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd,
                                   const Eigen::MatrixXd& Cd, const Eigen::MatrixXd& Dd);
 
-  /// x <- x + ((Ad - I) x + Bd u).
+  /// x <- x + ((Ad - I) x + Bd u), and C x of the new state.
   void advance(const typename Base::Input& u) noexcept {
-    this->x_ += product_sum(Ad_minus_I_, this->x_, Bd_, u);  // plant/runtime/column_product.hpp
+    // Rows 0 .. NX-1: the increment; rows NX ..: C x_{k+1} (plant/runtime/column_product.hpp).
+    this->take_next(product_sum(from_x_, this->x_, from_u_, u));
   }
 
  private:
   DensePlant() = default;
 
-  StateMatrix Ad_minus_I_;
-  typename Base::InputMatrix Bd_;
+  Eigen::Matrix<Scalar, Base::kStackedRows, NX> from_x_;  // [Ad - I; C Ad]
+  Eigen::Matrix<Scalar, Base::kStackedRows, NU> from_u_;  // [Bd; C Bd]
 };
 
 template <typename Scalar, int NX, int NU, int NY>
@@ -52,11 +53,14 @@ DensePlant<Scalar, NX, NU, NY> DensePlant<Scalar, NX, NU, NY>::from_matrices(
     const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd, const Eigen::MatrixXd& Cd,
     const Eigen::MatrixXd& Dd) {
   using Square = Eigen::Matrix<double, NX, NX>;
+  const Square A = to_fixed<Square>("DensePlant: Ad", Ad);
+  const auto B = to_fixed<Eigen::Matrix<double, NX, NU>>("DensePlant: Bd", Bd);
   DensePlant p;
-  p.Ad_minus_I_ =
-      (to_fixed<Square>("DensePlant: Ad", Ad) - Square::Identity()).template cast<Scalar>();
-  p.Bd_ = to_fixed<typename Base::InputMatrix>("DensePlant: Bd", Bd);
   p.load_output("DensePlant", "Cd", Cd, "Dd", Dd);
+  const auto C = to_fixed<Eigen::Matrix<double, NY, NX>>("DensePlant: Cd", Cd);
+  // The products in double, rounded to Scalar once.
+  p.from_x_ = Base::stacked(Square(A - Square::Identity()), Eigen::Matrix<double, NY, NX>(C * A));
+  p.from_u_ = Base::stacked(B, Eigen::Matrix<double, NY, NU>(C * B));
   return p;
 }
 

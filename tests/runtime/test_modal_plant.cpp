@@ -146,3 +146,52 @@ TEST_CASE(
   CHECK_NOTHROW(DensePlant<double, 24, 12, 12>::from_matrices(d.sys.A, d.sys.B, d.sys.C, d.sys.D));
   CHECK_THROWS_WITH(plant::lti::to_modal_form(d), Catch::Contains("use the dense form"));
 }
+
+namespace {
+
+// max over `steps` steps of |output(u) - (C state + D u)|_inf / |y|_inf: the C x the plant keeps
+// (computed in advance() from the previous state, plant/runtime/state_output.hpp) against C times
+// the state it now holds.
+template <typename Plant>
+double kept_output_disagreement(Plant& plant, const Eigen::MatrixXd& C, const Eigen::MatrixXd& D,
+                                int steps) {
+  std::mt19937 rng(5);
+  std::normal_distribution<double> n01;
+  typename Plant::Input u;
+  double diff = 0, scale = 0;
+  for (int k = 0; k < steps; ++k) {
+    for (int i = 0; i < u.size(); ++i) u(i) = n01(rng);
+    const Eigen::VectorXd direct = C * plant.state() + D * u;
+    diff = std::max(diff, (plant.output(u) - direct).cwiseAbs().maxCoeff());
+    scale = std::max(scale, direct.cwiseAbs().maxCoeff());
+    plant.advance(u);
+  }
+  return diff / scale;
+}
+
+}  // namespace
+
+TEST_CASE(
+    "dense and modal plant: the output's C x, kept with the state, is C times the state to "
+    "rounding, after every step and after set_state",
+    "[runtime][dense][modal][metrology]") {
+  const auto& d = test::metrology().s.plant;
+  const auto m = plant::lti::to_modal_form(d);
+  auto dense = DensePlant<double, 12, 12, 12>::from_matrices(d.sys.A, d.sys.B, d.sys.C, d.sys.D);
+  auto modal = ModalPlant<double, 12, 12, 12>::from_modal_form(m);
+  // (C Ad) x + (C Bd) u against C (x + (Ad - I) x + Bd u): different sums of the same terms.
+  const double dense_rel = kept_output_disagreement(dense, d.sys.C, d.sys.D, 10000);
+  const double modal_rel = kept_output_disagreement(modal, m.C, m.D, 10000);
+  INFO(std::scientific << "dense " << dense_rel << ", modal " << modal_rel);
+  CHECK(dense_rel <= 1e-13);
+  CHECK(modal_rel <= 1e-13);
+
+  const Eigen::Matrix<double, 12, 1> x0 = Eigen::Matrix<double, 12, 1>::LinSpaced(-1, 2);
+  const Eigen::Matrix<double, 12, 1> u0 = Eigen::Matrix<double, 12, 1>::LinSpaced(3, -1);
+  modal.set_state(x0);
+  const Eigen::VectorXd expected = m.C * x0 + m.D * u0;
+  CHECK((modal.output(u0) - expected).cwiseAbs().maxCoeff() <=
+        1e-14 * expected.cwiseAbs().maxCoeff());
+  modal.reset();
+  CHECK((modal.output(u0) - m.D * u0).cwiseAbs().maxCoeff() <= 1e-14 * (m.D * u0).norm());
+}
