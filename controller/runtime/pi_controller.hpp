@@ -86,13 +86,19 @@ class PiController {
   /// Returns the (saturated) command to hold until the next sample.
   EIGEN_ALWAYS_INLINE Vector step(const Vector& y) noexcept {
     if (identity_feedthrough_) {
-      // f = y - u_measured and f + u enter the products entry by entry: no padded copy of y,
-      // which would be written in pieces and read back whole (the store buffer cannot forward
-      // that). The metrology frame's path; one path for both cases, with D22 u as a returned
-      // value, measured 19 ns against 16 in BM_PiStep.
-      const auto u_measured = measured_command().template head<N>();
-      const Lanes u = command(plant::runtime::column_product(G_f_, y - u_measured));
-      integrate(plant::runtime::column_product(G_x_, y - u_measured + u.template head<N>()), u);
+      // The metrology frame's path. f = y - u_measured is formed once, as N scalars, and both
+      // products read it (and f + u) entry by entry: no padded copy of y, which would be written
+      // in pieces and read back whole (the store buffer cannot forward that), and no second
+      // subtraction (BM_PiStep 13.5-13.7 ns against 15.7-15.9 when each product formed its own
+      // y - u_measured). One path for both cases, with D22 u as a returned value, measured 19 ns
+      // against 16.
+      const Lanes& u_measured = measured_command();
+      Scalar f_entries[N];
+#pragma GCC unroll 16
+      for (int j = 0; j < N; ++j) f_entries[j] = y[j] - u_measured[j];
+      const Eigen::Map<const Vector> f(f_entries);
+      const Lanes u = command(plant::runtime::column_product(G_f_, f));
+      integrate(plant::runtime::column_product(G_x_, f + u.template head<N>()), u);
       return u.template head<N>();
     }
     Lanes f = pad(y);
@@ -113,11 +119,19 @@ class PiController {
   }
 
   /// When the actuator reports that it applied something else (e.g. a safe command).
-  void set_previous_command(const Vector& u) noexcept { history_[head_] = pad(u); }
-  Vector previous_command() const noexcept { return history_[head_].template head<N>(); }
+  void set_previous_command(const Vector& u) noexcept {
+    history_[head_] = pad(u);
+  }
+  Vector previous_command() const noexcept {
+    return history_[head_].template head<N>();
+  }
   /// The integrator state x = G_x^-1 s (a product; not used in a step).
-  Vector state() const noexcept { return G_x_inv_ * s_.template head<N>(); }
-  void set_state(const Vector& x) noexcept { s_ = G_x_ * x; }
+  Vector state() const noexcept {
+    return G_x_inv_ * s_.template head<N>();
+  }
+  void set_state(const Vector& x) noexcept {
+    s_ = G_x_ * x;
+  }
   void reset() noexcept {
     s_.setZero();
     history_.fill(Lanes::Zero());
@@ -147,7 +161,9 @@ class PiController {
     remember(u);
   }
 
-  static Lanes pad(const Vector& v) noexcept { return plant::runtime::padded_rows<NP>(v); }
+  static Lanes pad(const Vector& v) noexcept {
+    return plant::runtime::padded_rows<NP>(v);
+  }
 
   // f <- f - D22 u; D22 = I (force sensors in series with the actuators) skips the product.
   void subtract_feedthrough(Lanes& f, const Lanes& u) const noexcept {

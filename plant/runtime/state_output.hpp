@@ -29,8 +29,9 @@ class StateOutput {
   using OutputMatrix = Eigen::Matrix<Scalar, NY, NX>;
   using FeedthroughMatrix = Eigen::Matrix<Scalar, NY, NU>;
 
-  /// y = C x + D u, for the current state (C x kept with it).
-  Output output(const Input& u) const noexcept {
+  /// y = C x + D u, for the current state (C x kept with it). Forced inline: left to itself GCC
+  /// inlined it into one plant form's closed loop and called it from the other's, by turns.
+  EIGEN_ALWAYS_INLINE Output output(const Input& u) const noexcept {
     return (cx_ + column_product(D_, u)).template head<NY>();
   }
 
