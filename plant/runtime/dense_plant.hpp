@@ -56,8 +56,7 @@ DensePlant<Scalar, NX, NU, NY> DensePlant<Scalar, NX, NU, NY>::from_matrices(
   const Square A = to_fixed<Square>("DensePlant: Ad", Ad);
   const auto B = to_fixed<Eigen::Matrix<double, NX, NU>>("DensePlant: Bd", Bd);
   DensePlant p;
-  p.load_output("DensePlant", "Cd", Cd, "Dd", Dd);
-  const auto C = to_fixed<Eigen::Matrix<double, NY, NX>>("DensePlant: Cd", Cd);
+  const auto C = p.load_output("DensePlant", "Cd", Cd, "Dd", Dd);
   // The products in double, rounded to Scalar once.
   p.from_x_ = Base::stacked(Square(A - Square::Identity()), Eigen::Matrix<double, NY, NX>(C * A));
   p.from_u_ = Base::stacked(B, Eigen::Matrix<double, NY, NU>(C * B));

@@ -90,8 +90,7 @@ ModalPlant<Scalar, NX, NU, NY> ModalPlant<Scalar, NX, NU, NY>::from_modal_form(
   const Square L = to_fixed<Square>("ModalPlant: Lambda - I", Lambda_minus_I);
   const auto B = to_fixed<Eigen::Matrix<double, NX, NU>>("ModalPlant: Bm", Bm);
   ModalPlant p;
-  p.load_output("ModalPlant", "Cm", Cm, "D", D);
-  const auto C = to_fixed<Eigen::Matrix<double, NY, NX>>("ModalPlant: Cm", Cm);
+  const auto C = p.load_output("ModalPlant", "Cm", Cm, "D", D);
   // The products in double, rounded to Scalar once.
   p.from_u_ = Base::stacked(B, Eigen::Matrix<double, NY, NU>(C * B));
   p.Cm_Lambda_ = padded_rows<Base::kOutputLanes>(

@@ -58,11 +58,15 @@ class StateOutput {
   static constexpr int kStackedRows = kPaddedRows<Scalar, NX + NY>;
   using Stacked = Eigen::Matrix<Scalar, kStackedRows, 1>;
 
-  /// Start-up: C and D from the artefact, named "<who>: <c_name>" in a size error.
-  void load_output(const std::string& who, const char* c_name, const Eigen::MatrixXd& C,
-                   const char* d_name, const Eigen::MatrixXd& D) {
-    C_ = to_fixed<OutputMatrix>(who + ": " + c_name, C);
+  /// Start-up: C and D from the artefact, named "<who>: <c_name>" in a size error. Returns C,
+  /// checked, in double (for the stacked products of advance()).
+  Eigen::Matrix<double, NY, NX> load_output(const std::string& who, const char* c_name,
+                                            const Eigen::MatrixXd& C, const char* d_name,
+                                            const Eigen::MatrixXd& D) {
+    const auto C_checked = to_fixed<Eigen::Matrix<double, NY, NX>>(who + ": " + c_name, C);
+    C_ = C_checked.template cast<Scalar>();
     D_ = padded_rows<kOutputLanes>(to_fixed<FeedthroughMatrix>(who + ": " + d_name, D));
+    return C_checked;
   }
   /// Start-up: [top; bottom] in Scalar with the rows padded to kStackedRows.
   template <int K>
