@@ -82,9 +82,15 @@ class PiController {
   /// singular (ill-posed loop), or K_I singular (no anti-windup or bumpless start possible).
   static PiController from_parameters(const PiParameters& p);
 
-  /// One sample: y = measured forces (including the command held since the previous sample).
-  /// Returns the (saturated) command to hold until the next sample.
-  EIGEN_ALWAYS_INLINE Vector step(const Vector& y) noexcept {
+  /// One sample: y = measured forces (including the command held since the previous sample),
+  /// any vector expression of N entries (read entry by entry: a tail() of the plant's output is
+  /// not copied first; for 6 floats Eigen's copy stores and reloads across two stores, which
+  /// the store buffer cannot forward). Returns the (saturated) command to hold until the next
+  /// sample.
+  template <typename Y>
+  EIGEN_ALWAYS_INLINE Vector step(const Eigen::MatrixBase<Y>& y) noexcept {
+    static_assert(Y::SizeAtCompileTime == N && Y::ColsAtCompileTime == 1,
+                  "step: y must be a column vector of N entries");
     if (identity_feedthrough_) {
       // The metrology frame's path. f = y - u_measured is formed once, as N scalars, and both
       // products read it (and f + u) entry by entry: no padded copy of y, which would be written
@@ -95,7 +101,7 @@ class PiController {
       const Lanes& u_measured = measured_command();
       Scalar f_entries[N];
 #pragma GCC unroll 16
-      for (int j = 0; j < N; ++j) f_entries[j] = y[j] - u_measured[j];
+      for (int j = 0; j < N; ++j) f_entries[j] = y.coeff(j) - u_measured[j];
       const Eigen::Map<const Vector> f(f_entries);
       const Lanes u = command(plant::runtime::column_product(G_f_, f));
       integrate(plant::runtime::column_product(G_x_, f + u.template head<N>()), u);
@@ -148,7 +154,8 @@ class PiController {
 
   // The command u = sat(G_f f + s). Only a clamped channel moves the integral command: u - v is
   // exactly zero elsewhere. Branch-free: a data-dependent branch per sample costs more when
-  // saturation comes and goes.
+  // saturation comes and goes. (Starting the product's sums from s instead of adding s last
+  // lengthens the chain from one sample's s to the next: BM_PiStep 13.3 -> 16.8 ns.)
   Lanes command(const Lanes& G_f_f) noexcept {
     const Lanes v = G_f_f + s_;
     const Lanes u = v.cwiseMax(u_min_).cwiseMin(u_max_);
@@ -161,7 +168,8 @@ class PiController {
     remember(u);
   }
 
-  static Lanes pad(const Vector& v) noexcept {
+  template <typename V>
+  static Lanes pad(const Eigen::MatrixBase<V>& v) noexcept {
     return plant::runtime::padded_rows<NP>(v);
   }
 

@@ -3,18 +3,20 @@
 //
 //   y_k = Cd x_k + Dd u_k,        x_{k+1} = Ad x_k + Bd u_k
 //
-// with compile-time sizes NX (states), NU (inputs), NY (outputs) and Scalar double or float.
-// A step costs NX (NX + NU) + NY (NX + NU) multiply-adds. The update is computed as
+// with compile-time sizes NX (states), NU (inputs), NY (outputs), NH (held inputs, the last NH of
+// u; state_output.hpp) and Scalar double or float. A step costs (NX + NY)(NX + NU) multiply-adds
+// in advance() and NY (NU - NH) in output(). The update is computed as
 //   x_{k+1} = x_k + ((Ad - I) x_k + Bd u_k)
 // (Ad - I is exact in floating point for the entries near 1): at high sample rates Ad ≈ I + A T
 // and the increment carries the dynamics; rounding Ad - I instead of Ad to the runtime's scalar
 // keeps the poles near z = 1 to full relative precision, which matters for float. The matrices are
 // loaded once at start-up from the discrete artefact (from_matrices, which checks the sizes);
 // output() and advance() never allocate, lock, throw or make a system call. The usual sample is
-//   y = plant.output(u); ...; plant.advance(u);
-// so the output sees the state before the update. advance() also computes C x_{k+1} for the next
-// output (state_output.hpp): one product of x_k and one of u_k with the stacked matrices
-// [Ad - I; C Ad] and [Bd; C Bd].
+//   y = plant.output(u); ...; plant.advance(u);                 (NH = 0)
+//   y = plant.output(w); h = controller(y); plant.advance([w; h]);   (NH held inputs)
+// so the output sees the state before the update. advance() also computes C x_{k+1} (+ D_h h)
+// for the next output (state_output.hpp): one product of x_k and one of u_k with the stacked
+// matrices [Ad - I; C Ad] and [Bd; C Bd + [0 D_h]].
 #include <Eigen/Core>
 
 #include "plant/runtime/column_product.hpp"
@@ -23,9 +25,9 @@
 
 namespace flexloop::plant::runtime {
 
-template <typename Scalar, int NX, int NU, int NY>
-class DensePlant : public StateOutput<Scalar, NX, NU, NY> {
-  using Base = StateOutput<Scalar, NX, NU, NY>;
+template <typename Scalar, int NX, int NU, int NY, int NH = 0>
+class DensePlant : public StateOutput<Scalar, NX, NU, NY, NH> {
+  using Base = StateOutput<Scalar, NX, NU, NY, NH>;
 
  public:
   /// Start-up only. The matrices are in double (the artefact's precision) and are rounded to
@@ -35,31 +37,32 @@ class DensePlant : public StateOutput<Scalar, NX, NU, NY> {
   static DensePlant from_matrices(const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd,
                                   const Eigen::MatrixXd& Cd, const Eigen::MatrixXd& Dd);
 
-  /// x <- x + ((Ad - I) x + Bd u), and C x of the new state.
+  /// x <- x + ((Ad - I) x + Bd u), and C x + D_h h of the new state, h = the held part of u.
   void advance(const typename Base::Input& u) noexcept {
-    // Rows 0 .. NX-1: the increment; rows NX ..: C x_{k+1} (plant/runtime/column_product.hpp).
-    this->take_next(product_sum(from_x_, this->x_, from_u_, u));
+    // Rows 0 .. NX-1: the increment; rows NX ..: C x_{k+1} + D_h h (column_product.hpp).
+    this->take_next(product_sum(from_x_, this->x_, from_u_, u), u);
   }
 
  private:
   DensePlant() = default;
 
   Eigen::Matrix<Scalar, Base::kStackedRows, NX> from_x_;  // [Ad - I; C Ad]
-  Eigen::Matrix<Scalar, Base::kStackedRows, NU> from_u_;  // [Bd; C Bd]
+  Eigen::Matrix<Scalar, Base::kStackedRows, NU> from_u_;  // [Bd; C Bd + [0 D_h]]
 };
 
-template <typename Scalar, int NX, int NU, int NY>
-DensePlant<Scalar, NX, NU, NY> DensePlant<Scalar, NX, NU, NY>::from_matrices(
+template <typename Scalar, int NX, int NU, int NY, int NH>
+DensePlant<Scalar, NX, NU, NY, NH> DensePlant<Scalar, NX, NU, NY, NH>::from_matrices(
     const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd, const Eigen::MatrixXd& Cd,
     const Eigen::MatrixXd& Dd) {
   using Square = Eigen::Matrix<double, NX, NX>;
   const Square A = to_fixed<Square>("DensePlant: Ad", Ad);
   const auto B = to_fixed<Eigen::Matrix<double, NX, NU>>("DensePlant: Bd", Bd);
   DensePlant p;
-  const auto C = p.load_output("DensePlant", "Cd", Cd, "Dd", Dd);
+  const auto out = p.load_output("DensePlant", "Cd", Cd, "Dd", Dd);
   // The products in double, rounded to Scalar once.
-  p.from_x_ = Base::stacked(Square(A - Square::Identity()), Eigen::Matrix<double, NY, NX>(C * A));
-  p.from_u_ = Base::stacked(B, Eigen::Matrix<double, NY, NU>(C * B));
+  p.from_x_ =
+      Base::stacked(Square(A - Square::Identity()), Eigen::Matrix<double, NY, NX>(out.C * A));
+  p.from_u_ = Base::stacked(B, out.next_output_from_input(B));
   return p;
 }
 

@@ -17,7 +17,7 @@
 // Bm and Cm are dense. Same interface as DensePlant; state() is the modal state z, and
 // physical_state() = T z is the state of the dense form (not used in a step). As the dense form,
 // advance() also computes Cm z_{k+1} = (Cm Λ) z_k + (Cm Bm) u_k for the next output
-// (state_output.hpp); Bm and Cm Bm are stacked into one product of u.
+// (state_output.hpp); Bm and Cm Bm (+ [0 D_h] for held inputs) are stacked into one product of u.
 //
 // The numbers come from the offline plant::lti::to_modal_form (plant/lti/modal_form.hpp), which
 // refuses defective plants; from_modal_form checks sizes and the block structure at start-up.
@@ -32,9 +32,9 @@
 
 namespace flexloop::plant::runtime {
 
-template <typename Scalar, int NX, int NU, int NY>
-class ModalPlant : public StateOutput<Scalar, NX, NU, NY> {
-  using Base = StateOutput<Scalar, NX, NU, NY>;
+template <typename Scalar, int NX, int NU, int NY, int NH = 0>
+class ModalPlant : public StateOutput<Scalar, NX, NU, NY, NH> {
+  using Base = StateOutput<Scalar, NX, NU, NY, NH>;
 
  public:
   /// Start-up only: Λ - I, Bm, Cm, D and T of plant::lti::ModalForm, rounded to Scalar.
@@ -51,17 +51,18 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY> {
     return from_modal_form(form.Lambda_minus_I, form.B, form.C, form.D, form.T);
   }
 
-  /// z <- z + ((Λ - I) z + Bm u), and Cm z of the new state.
+  /// z <- z + ((Λ - I) z + Bm u), and Cm z + D_h h of the new state, h = the held part of u.
   void advance(const typename Base::Input& u) noexcept {
     const typename Base::State& z = this->x_;
-    // Rows 0 .. NX-1: Bm u, then the increment; rows NX ..: (Cm Bm) u, then Cm z_{k+1}.
+    // Rows 0 .. NX-1: Bm u, then the increment; rows NX ..: (Cm Bm + [0 D_h]) u, then
+    // Cm z_{k+1} + D_h h.
     typename Base::State dynamics;
 #pragma GCC unroll 64
     for (int i = 0; i < NX; ++i) dynamics[i] = d_[i] * z[i] + o_[i] * z[partner(i)];
     typename Base::Stacked next = column_product(from_u_, u);
     next.template head<NX>() += dynamics;
     next.template segment<NY>(NX) += column_product(Cm_Lambda_, z).template head<NY>();
-    this->take_next(next);
+    this->take_next(next, u);
   }
 
   /// x = T z, the state of the equivalent dense plant (for logging and comparison).
@@ -77,24 +78,24 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY> {
   }
 
   typename Base::State d_ = Base::State::Zero(), o_ = Base::State::Zero();
-  Eigen::Matrix<Scalar, Base::kStackedRows, NU> from_u_;     // [Bm; Cm Bm]
+  Eigen::Matrix<Scalar, Base::kStackedRows, NU> from_u_;     // [Bm; Cm Bm + [0 D_h]]
   Eigen::Matrix<Scalar, Base::kOutputLanes, NX> Cm_Lambda_;  // Cm Λ, rows padded
   Eigen::Matrix<Scalar, NX, NX> T_;
 };
 
-template <typename Scalar, int NX, int NU, int NY>
-ModalPlant<Scalar, NX, NU, NY> ModalPlant<Scalar, NX, NU, NY>::from_modal_form(
+template <typename Scalar, int NX, int NU, int NY, int NH>
+ModalPlant<Scalar, NX, NU, NY, NH> ModalPlant<Scalar, NX, NU, NY, NH>::from_modal_form(
     const Eigen::MatrixXd& Lambda_minus_I, const Eigen::MatrixXd& Bm, const Eigen::MatrixXd& Cm,
     const Eigen::MatrixXd& D, const Eigen::MatrixXd& T) {
   using Square = Eigen::Matrix<double, NX, NX>;
   const Square L = to_fixed<Square>("ModalPlant: Lambda - I", Lambda_minus_I);
   const auto B = to_fixed<Eigen::Matrix<double, NX, NU>>("ModalPlant: Bm", Bm);
   ModalPlant p;
-  const auto C = p.load_output("ModalPlant", "Cm", Cm, "D", D);
+  const auto out = p.load_output("ModalPlant", "Cm", Cm, "D", D);
   // The products in double, rounded to Scalar once.
-  p.from_u_ = Base::stacked(B, Eigen::Matrix<double, NY, NU>(C * B));
+  p.from_u_ = Base::stacked(B, out.next_output_from_input(B));
   p.Cm_Lambda_ = padded_rows<Base::kOutputLanes>(
-      Eigen::Matrix<Scalar, NY, NX>((C * (L + Square::Identity())).template cast<Scalar>()));
+      Eigen::Matrix<Scalar, NY, NX>((out.C * (L + Square::Identity())).template cast<Scalar>()));
   p.T_ = to_fixed<Eigen::Matrix<Scalar, NX, NX>>("ModalPlant: T", T);
   // Walk the diagonal block by block; anything outside the blocks must be exactly zero.
   Square outside = L;

@@ -7,9 +7,11 @@
 //   24/12/12  metrology frame under gravity preload (floor position and velocity as states)
 //    2/2/2    cart example with a piezo between cart and mass (tools/models/cart_piezo.toml)
 //
-// DensePlant and ModalPlant of these sizes, in double and float, are instantiated once in
-// runtime_sizes.cpp (the extern declarations below keep other files from compiling them again).
-// To add a size: add a line to FLEXLOOP_RUNTIME_SIZES.
+// The second half of the inputs are the actuator forces, which the plant holds from one sample to
+// the next (NH = NU / 2 held inputs, plant/runtime/state_output.hpp); the first half are the
+// sampled disturbances. DensePlant and ModalPlant of these sizes, in double and float, are
+// instantiated once in runtime_sizes.cpp (the extern declarations below keep other files from
+// compiling them again). To add a size: add a line to FLEXLOOP_RUNTIME_SIZES.
 #include <stdexcept>
 #include <string>
 
@@ -22,11 +24,11 @@
   X(24, 12, 12)                   \
   X(2, 2, 2)
 
-#define FLEXLOOP_RUNTIME_PLANTS(PREFIX, NX, NU, NY)                               \
-  PREFIX template class flexloop::plant::runtime::DensePlant<double, NX, NU, NY>; \
-  PREFIX template class flexloop::plant::runtime::DensePlant<float, NX, NU, NY>;  \
-  PREFIX template class flexloop::plant::runtime::ModalPlant<double, NX, NU, NY>; \
-  PREFIX template class flexloop::plant::runtime::ModalPlant<float, NX, NU, NY>;
+#define FLEXLOOP_RUNTIME_PLANTS(PREFIX, NX, NU, NY)                                         \
+  PREFIX template class flexloop::plant::runtime::DensePlant<double, NX, NU, NY, (NU) / 2>; \
+  PREFIX template class flexloop::plant::runtime::DensePlant<float, NX, NU, NY, (NU) / 2>;  \
+  PREFIX template class flexloop::plant::runtime::ModalPlant<double, NX, NU, NY, (NU) / 2>; \
+  PREFIX template class flexloop::plant::runtime::ModalPlant<float, NX, NU, NY, (NU) / 2>;
 
 #define FLEXLOOP_EXTERN_RUNTIME_PLANTS(NX, NU, NY) FLEXLOOP_RUNTIME_PLANTS(extern, NX, NU, NY)
 FLEXLOOP_RUNTIME_SIZES(FLEXLOOP_EXTERN_RUNTIME_PLANTS)
@@ -38,6 +40,7 @@ namespace flexloop::plant::runtime {
 template <int NX_, int NU_, int NY_>
 struct RuntimeSize {
   static constexpr int NX = NX_, NU = NU_, NY = NY_;
+  static constexpr int NH = NU / 2;  // held inputs: the actuator forces
 };
 
 /// Start-up: calls f(RuntimeSize<NX, NU, NY>{}) for the compiled size equal to (nx, nu, ny), and

@@ -7,7 +7,8 @@
 // One sample period [k, k+1), in the order of the real-time loop
 // (plant/lti/feedback_interconnection.hpp):
 //   sample():   w_k = floor.step()                                 floor acceleration
-//               [z; s] = plant.output([w_k; f_held])               f_held: actuator force since k-1
+//               [z; s] = plant.output(w_k)   with f_held, the actuator force since k-1, which
+//                                             the plant holds (its last NC inputs are held inputs)
 //               force_k = ForceSensor(s),  accel_k = Accelerometer(z)
 //               (force_k, accel_k) -> Transport delay -> what the controller receives
 //   apply(u_k): f_k = Actuator(u_k)  (ideal: f_k = u_k)
@@ -32,6 +33,7 @@ class SimulatedHardware {
   using Scalar = typename Plant::Output::Scalar;
   static constexpr int NY = Plant::Output::RowsAtCompileTime, NZ = NY - NC;
   static_assert(Plant::Input::RowsAtCompileTime == NW + NC, "inputs: floor, then actuators");
+  static_assert(Plant::kHeldInputs == NC, "the plant holds the actuator forces between samples");
   static_assert(NZ > 0, "outputs: frame accelerations, then force sensors");
   using Disturbance = Eigen::Matrix<Scalar, NW, 1>;
   using Command = Eigen::Matrix<Scalar, NC, 1>;
@@ -53,7 +55,7 @@ class SimulatedHardware {
   /// The sample at instant k: what the sensors read (after the transport delay, if any).
   const Reading& sample() noexcept {
     in_.template head<NW>() = floor_.step();  // the tail holds the actuator force since k-1
-    const auto out = plant_.output(in_);
+    const auto out = plant_.output(in_.template head<NW>());
     z_ = out.template head<NZ>();
     // Straight into the reading: with no effect present this is all a sample does.
     reading_.force = out.template tail<NC>();

@@ -3,6 +3,20 @@
 // state, and the vector and matrix types of the compile-time sizes. The dynamics (advance) are the
 // derived class's. output() never allocates, locks, throws or makes a system call.
 //
+// Held inputs (NH > 0): the last NH inputs are held from one advance() to the next, as actuator
+// forces are in the sampled loop (plant/lti/feedback_interconnection.hpp): at sample k the
+// sensors see the force applied since k-1, and the controller's new command enters only with
+// advance(). The first NS = NU - NH inputs are sampled (floor accelerations, known at the
+// instant). Then
+//
+//   output(w_k) = C x_k + D_s w_k + D_h h,    h = the held inputs of the last advance() (0 at
+//   start)
+//
+// and the plant keeps C x + D_h h with the state, computed in advance() from the same u_k by
+// stacking (C Bd + [0 D_h]) u_k: the command reaches the next output through that one product of
+// its columns, not through a second product with D_h at the next sample (measured in
+// plant/runtime/README.md). With NH = 0 every input is sampled: output(u) = C x + D u.
+//
 // The state part of the output, C x, is kept with the state (cx_) instead of being computed from
 // it in output(): advance() computes it for the next state alongside that state, from the same
 // x_k and u_k, as C x_{k+1} = (C Ad) x_k + (C Bd) u_k (DESIGN.md §6). In a closed loop this takes
@@ -18,30 +32,43 @@
 
 namespace flexloop::plant::runtime {
 
-template <typename Scalar, int NX, int NU, int NY>
+template <typename Scalar, int NX, int NU, int NY, int NH>
 class StateOutput {
   static_assert(NX > 0 && NU > 0 && NY > 0, "sizes are compile-time and positive");
+  static_assert(NH >= 0 && NH < NU, "held inputs: 0 .. NU - 1 (at least one input is sampled)");
 
  public:
+  /// Inputs sampled at each output (the rest, NH, are held from one advance() to the next).
+  static constexpr int kSampledInputs = NU - NH;
+  static constexpr int kHeldInputs = NH;
   using State = Eigen::Matrix<Scalar, NX, 1>;
   using Input = Eigen::Matrix<Scalar, NU, 1>;
+  using Held = Eigen::Matrix<Scalar, NH, 1>;
   using Output = Eigen::Matrix<Scalar, NY, 1>;
-  using OutputMatrix = Eigen::Matrix<Scalar, NY, NX>;
-  using FeedthroughMatrix = Eigen::Matrix<Scalar, NY, NU>;
 
-  /// y = C x + D u, for the current state (C x kept with it). Forced inline: left to itself GCC
-  /// inlined it into one plant form's closed loop and called it from the other's, by turns.
-  EIGEN_ALWAYS_INLINE Output output(const Input& u) const noexcept {
-    return (cx_ + column_product(D_, u)).template head<NY>();
+  /// y = C x + D [w; h] for the current state x and the held inputs h (kept with the state), w the
+  /// sampled inputs (all of u when NH = 0): any vector expression of NU - NH entries, read entry
+  /// by entry (a head() of the input vector is not copied first). Forced inline: left to itself
+  /// GCC inlined it into one plant form's closed loop and called it from the other's, by turns.
+  template <typename W>
+  EIGEN_ALWAYS_INLINE Output output(const Eigen::MatrixBase<W>& w) const noexcept {
+    static_assert(W::SizeAtCompileTime == NU - NH,
+                  "output(w): w is the sampled inputs, NU - NH entries (the held ones are kept)");
+    return (cx_ + column_product(D_sampled_, w)).template head<NY>();
   }
 
   const State& state() const noexcept { return x_; }
+  /// The held inputs: those of the last advance() (zero after reset()).
+  const Held& held() const noexcept { return held_; }
+  /// Sets x; the held inputs stay.
   void set_state(const State& x) noexcept {
     x_ = x;
-    cx_.template head<NY>() = column_product(C_, x);
+    cx_.template head<NY>() = C_ * x;
+    if constexpr (NH > 0) cx_.template head<NY>() += D_held_ * held_;
   }
   void reset() noexcept {
     x_.setZero();
+    held_.setZero();
     cx_.setZero();
   }
 
@@ -58,15 +85,31 @@ class StateOutput {
   static constexpr int kStackedRows = kPaddedRows<Scalar, NX + NY>;
   using Stacked = Eigen::Matrix<Scalar, kStackedRows, 1>;
 
-  /// Start-up: C and D from the artefact, named "<who>: <c_name>" in a size error. Returns C,
+  /// C and D of the artefact, checked, in double (start-up).
+  struct CheckedOutput {
+    Eigen::Matrix<double, NY, NX> C;
+    Eigen::Matrix<double, NY, NU> D;
+    /// The next output's part from the input of advance(): C B u_k, and D_h h_k for the held
+    /// inputs (they stay in the output until the next advance()). B: NX x NU, in the plant's
+    /// coordinates (Bd, or Bm of the modal form).
+    Eigen::Matrix<double, NY, NU> next_output_from_input(
+        const Eigen::Matrix<double, NX, NU>& B) const {
+      Eigen::Matrix<double, NY, NU> m = C * B;
+      if constexpr (NH > 0) m.template rightCols<NH>() += D.template rightCols<NH>();
+      return m;
+    }
+  };
+  /// Start-up: C and D from the artefact, named "<who>: <c_name>" in a size error. Returns them
   /// checked, in double (for the stacked products of advance()).
-  Eigen::Matrix<double, NY, NX> load_output(const std::string& who, const char* c_name,
-                                            const Eigen::MatrixXd& C, const char* d_name,
-                                            const Eigen::MatrixXd& D) {
-    const auto C_checked = to_fixed<Eigen::Matrix<double, NY, NX>>(who + ": " + c_name, C);
-    C_ = C_checked.template cast<Scalar>();
-    D_ = padded_rows<kOutputLanes>(to_fixed<FeedthroughMatrix>(who + ": " + d_name, D));
-    return C_checked;
+  CheckedOutput load_output(const std::string& who, const char* c_name, const Eigen::MatrixXd& C,
+                            const char* d_name, const Eigen::MatrixXd& D) {
+    CheckedOutput checked{to_fixed<Eigen::Matrix<double, NY, NX>>(who + ": " + c_name, C),
+                          to_fixed<Eigen::Matrix<double, NY, NU>>(who + ": " + d_name, D)};
+    C_ = checked.C.template cast<Scalar>();
+    D_held_ = checked.D.template rightCols<NH>().template cast<Scalar>();
+    D_sampled_ = padded_rows<kOutputLanes>(Eigen::Matrix<Scalar, NY, NU - NH>(
+        checked.D.template leftCols<NU - NH>().template cast<Scalar>()));
+    return checked;
   }
   /// Start-up: [top; bottom] in Scalar with the rows padded to kStackedRows.
   template <int K>
@@ -77,16 +120,20 @@ class StateOutput {
     m.template middleRows<NY>(NX) = bottom.template cast<Scalar>();
     return m;
   }
-  /// Within a step: x += the increment of `next`, C x = its next rows (padding lanes stay zero).
-  void take_next(const Stacked& next) noexcept {
+  /// Within a step: x += the increment of `next`, C x + D_h h = its next rows (padding lanes stay
+  /// zero), h = the held inputs of u.
+  void take_next(const Stacked& next, const Input& u) noexcept {
     x_ += next.template head<NX>();
     cx_.template head<NY>() = next.template segment<NY>(NX);
+    if constexpr (NH > 0) held_ = u.template tail<NH>();
   }
 
-  OutputMatrix C_;  // for set_state() only
-  Eigen::Matrix<Scalar, kOutputLanes, NU> D_;
+  Eigen::Matrix<Scalar, NY, NX> C_;       // for set_state() only
+  Eigen::Matrix<Scalar, NY, NH> D_held_;  // for set_state() only
+  Eigen::Matrix<Scalar, kOutputLanes, NU - NH> D_sampled_;
   State x_ = State::Zero();
-  OutputLanes cx_ = OutputLanes::Zero();  // C x_, set by advance() and set_state()
+  Held held_ = Held::Zero();
+  OutputLanes cx_ = OutputLanes::Zero();  // C x_ + D_h held_, set by advance() and set_state()
 };
 
 }  // namespace flexloop::plant::runtime

@@ -46,25 +46,25 @@ std::uint64_t allocations_in_steps(Loop& loop) {
   return after - before;
 }
 
-template <typename Scalar, template <typename, int, int, int> class Plant>
-Plant<Scalar, 12, 12, 12> metrology_plant() {
+template <typename Scalar, template <typename, int, int, int, int> class Plant>
+Plant<Scalar, 12, 12, 12, 6> metrology_plant() {
   const auto& d = test::metrology().s.plant;
-  if constexpr (std::is_same_v<Plant<Scalar, 12, 12, 12>,
-                               plant::runtime::DensePlant<Scalar, 12, 12, 12>>)
-    return Plant<Scalar, 12, 12, 12>::from_matrices(d.sys.A, d.sys.B, d.sys.C, d.sys.D);
+  if constexpr (std::is_same_v<Plant<Scalar, 12, 12, 12, 6>,
+                               plant::runtime::DensePlant<Scalar, 12, 12, 12, 6>>)
+    return Plant<Scalar, 12, 12, 12, 6>::from_matrices(d.sys.A, d.sys.B, d.sys.C, d.sys.D);
   else
-    return Plant<Scalar, 12, 12, 12>::from_modal_form(plant::lti::to_modal_form(d));
+    return Plant<Scalar, 12, 12, 12, 6>::from_modal_form(plant::lti::to_modal_form(d));
 }
 
-template <typename Scalar, template <typename, int, int, int> class Plant>
+template <typename Scalar, template <typename, int, int, int, int> class Plant>
 std::uint64_t metrology_loop_allocations() {
   auto params = test::metrology_pi_parameters();
   // ±2 N: about 2 % of the samples saturate, so the anti-windup path runs too.
   params.u_min = Eigen::VectorXd::Constant(1, -2.0);
   params.u_max = Eigen::VectorXd::Constant(1, 2.0);
   using Pi = controller::runtime::PiController<Scalar, 6>;
-  test::ClosedLoop<Plant<Scalar, 12, 12, 12>, Pi, 6> loop(metrology_plant<Scalar, Plant>(),
-                                                          Pi::from_parameters(params));
+  test::ClosedLoop<Plant<Scalar, 12, 12, 12, 6>, Pi, 6> loop(metrology_plant<Scalar, Plant>(),
+                                                             Pi::from_parameters(params));
   return allocations_in_steps(loop);
 }
 

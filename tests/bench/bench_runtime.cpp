@@ -139,13 +139,13 @@ void BM_ClosedLoopStepNaive(benchmark::State& state) {
 }
 BENCHMARK(BM_ClosedLoopStepNaive);
 
-template <typename Scalar, template <typename, int, int, int> class Plant>
+template <typename Scalar, template <typename, int, int, int, int> class Plant>
 auto make_loop() {
-  using P = Plant<Scalar, 12, 12, 12>;
+  using P = Plant<Scalar, 12, 12, 12, 6>;  // holds the command
   using Pi = controller::runtime::PiController<Scalar, 6>;
   const auto& d = test::metrology().s.plant;
   P plant = [&] {
-    if constexpr (std::is_same_v<P, plant::runtime::DensePlant<Scalar, 12, 12, 12>>)
+    if constexpr (std::is_same_v<P, plant::runtime::DensePlant<Scalar, 12, 12, 12, 6>>)
       return P::from_matrices(d.sys.A, d.sys.B, d.sys.C, d.sys.D);
     else
       return P::from_modal_form(plant::lti::to_modal_form(d));
@@ -153,7 +153,7 @@ auto make_loop() {
   return test::ClosedLoop<P, Pi, 6>(plant, Pi::from_parameters(pi_parameters()));
 }
 
-template <typename Scalar, template <typename, int, int, int> class Plant>
+template <typename Scalar, template <typename, int, int, int, int> class Plant>
 void BM_ClosedLoopStep(benchmark::State& state) {
   auto loop = make_loop<Scalar, Plant>();
   const auto& w = floor_samples<Scalar>();
@@ -204,7 +204,7 @@ void BM_TwoClosedLoopsInterleaved(benchmark::State& state) {
 }
 BENCHMARK(BM_TwoClosedLoopsInterleaved);
 
-template <typename Scalar, template <typename, int, int, int> class Plant>
+template <typename Scalar, template <typename, int, int, int, int> class Plant>
 void BM_Simulate10s(benchmark::State& state) {
   constexpr int kSteps = 100000;  // 10 s at 10 kHz
   const auto initial = make_loop<Scalar, Plant>();

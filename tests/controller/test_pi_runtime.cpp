@@ -202,7 +202,7 @@ TEST_CASE(
     "[controller][pi][metrology]") {
   const auto& m = test::metrology();
   const auto& pd = m.s.plant.sys;
-  using Plant = plant::runtime::DensePlant<double, 12, 12, 12>;
+  using Plant = plant::runtime::DensePlant<double, 12, 12, 12, 6>;  // holds the command
   test::ClosedLoop<Plant, Pi6, 6> loop(Plant::from_matrices(pd.A, pd.B, pd.C, pd.D),
                                        Pi6::from_parameters(test::metrology_pi_parameters()));
   const auto& cl = m.s.closed_loop.sys;
@@ -248,7 +248,7 @@ TEST_CASE(
   int diverged_at = -1;
   for (int k = 0; k < 1000 && diverged_at < 0; ++k) {
     for (int i = 0; i < 6; ++i) in(i) = 1e-3 * n01(rng);
-    const auto y = naive_plant.output(in);
+    const auto y = naive_plant.output(in.head<6>());
     const Vec6 sigma = y.tail<6>();
     in.tail<6>() = -(K_P * sigma + K_I * xi);
     xi += m.s.plant.dt * sigma;

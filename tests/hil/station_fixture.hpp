@@ -15,7 +15,7 @@
 
 namespace flexloop::test {
 
-using HilPlant = plant::runtime::DensePlant<double, 12, 12, 12>;
+using HilPlant = plant::runtime::DensePlant<double, 12, 12, 12, 6>;  // holds the actuator forces
 using HilFloor = plant::runtime::effects::WhiteFloor<double, 6>;
 /// The metrology plant with a white floor and no other effect.
 using HilHardware = plant::runtime::SimulatedHardware<HilPlant, 6, 6, HilFloor>;

@@ -23,7 +23,7 @@ TEST_CASE("hil stations: answers in time reproduce the in-process closed loop ex
   double largest = 0;
   for (int k = 0; k < 3000; ++k) {
     in.head<6>() = kFloorRms * noise.sample();
-    const HilPlant::Output y = plant.output(in);
+    const HilPlant::Output y = plant.output(in.head<6>());
     const ChannelVector u = controller.step(y.tail<6>());
     in.tail<6>() = u;
     plant.advance(in);

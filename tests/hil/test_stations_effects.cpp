@@ -19,7 +19,7 @@ TEST_CASE(
   const auto& d = scene.plant.sys;
   REQUIRE(d.nx() == 24);  // the gravity preload adds the floor's position and velocity
   const auto plant =
-      plant::runtime::DensePlant<double, 24, 12, 12>::from_matrices(d.A, d.B, d.C, d.D);
+      plant::runtime::DensePlant<double, 24, 12, 12, 6>::from_matrices(d.A, d.B, d.C, d.D);
   constexpr long kSteps = 4000;
   sim::with_scene_hardware<6, 6>(scene.scene, plant, d.states, scene.plant.dt, [&](auto hw) {
     const sim::RunResult reference = sim::run_closed_loop(

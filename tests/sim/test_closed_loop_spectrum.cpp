@@ -39,7 +39,7 @@ std::pair<double, double> worst_spectrum_deviation(scene::Scene sc, double f_min
   s.dt = sampled.plant.dt;
   s.steps = 600'000;  // 600 s
   s.log_every = 1;
-  using Plant = plant::runtime::DensePlant<double, NX, 12, 12>;
+  using Plant = plant::runtime::DensePlant<double, NX, 12, 12, 6>;
   const Plant plant = Plant::from_matrices(d.A, d.B, d.C, d.D);
   const auto pi = controller::runtime::PiController<double, 6>::from_parameters(
       sim::pi_parameters_with_hardware(p, s.dt));

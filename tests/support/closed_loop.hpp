@@ -7,7 +7,9 @@
 //   u_k = controller.step(sensor part of y_k)
 //   x_{k+1} = Ad x_k + Bd [w_k; u_k]
 //
-// step(w) returns the whole output y_k. Fixed-size, allocation-free.
+// The plant holds the command itself (its last NU - NW inputs are held inputs,
+// plant/runtime/state_output.hpp): output() takes w_k only. step(w) returns the whole output y_k.
+// Fixed-size, allocation-free.
 #include <Eigen/Core>
 
 namespace flexloop::test {
@@ -20,12 +22,13 @@ class ClosedLoop {
   using Disturbance = Eigen::Matrix<typename Input::Scalar, NW, 1>;
   static constexpr int kNu = Input::RowsAtCompileTime - NW;
   static constexpr int kNy = Controller::Vector::RowsAtCompileTime;
+  static_assert(Plant::kHeldInputs == kNu, "the plant must hold the controller's commands");
 
   ClosedLoop(Plant plant, Controller controller) : plant_(plant), controller_(controller) {}
 
   Output step(const Disturbance& w) noexcept {
-    in_.template head<NW>() = w;  // the tail still holds u_{k-1}
-    const Output y = plant_.output(in_);
+    in_.template head<NW>() = w;
+    const Output y = plant_.output(w);  // with u_{k-1}, held in the plant
     in_.template tail<kNu>() = controller_.step(y.template tail<kNy>());
     plant_.advance(in_);
     return y;

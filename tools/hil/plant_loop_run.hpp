@@ -103,9 +103,8 @@ template <int NX>
 void run_plant_of_size(const LoopScene& scene, const LoopOptions& o, const std::string& url,
                        PlantLoopResult& r) {
   const auto& d = scene.plant.sys;
-  const auto plant =
-      plant::runtime::DensePlant<double, NX, 2 * kChannels, 2 * kChannels>::from_matrices(d.A, d.B,
-                                                                                          d.C, d.D);
+  const auto plant = plant::runtime::DensePlant<double, NX, 2 * kChannels, 2 * kChannels,
+                                                kChannels>::from_matrices(d.A, d.B, d.C, d.D);
   sim::with_scene_hardware<kChannels, kChannels>(
       scene.scene, plant, d.states, scene.plant.dt,
       [&](auto hw) { run_plant_with(std::move(hw), scene, o, url, r); });

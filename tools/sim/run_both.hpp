@@ -36,8 +36,8 @@ BothRuns run_dense_metrology(const scene::ScenePlant& p, const scene::SampledSce
                              const RunSettings& s, const SceneRunOptions& o) {
   const auto& d = sampled.plant.sys;
   return run_both<6, 6, true>(
-      plant::runtime::DensePlant<double, NX, 12, 12>::from_matrices(d.A, d.B, d.C, d.D), d.states,
-      p, s, o);
+      plant::runtime::DensePlant<double, NX, 12, 12, 6>::from_matrices(d.A, d.B, d.C, d.D),
+      d.states, p, s, o);
 }
 
 }  // namespace flexloop::sim::detail

@@ -16,18 +16,18 @@ BothRuns run_bare(const scene::ScenePlant& p, const scene::SampledScene& sampled
   const auto& d = sampled.plant.sys;
   return plant::runtime::with_runtime_size(d.nx(), d.nu(), d.ny(), [&](auto size) -> BothRuns {
     using Size = decltype(size);
-    constexpr int NC = Size::NU / 2, NW = Size::NU - NC;
+    constexpr int NC = Size::NH, NW = Size::NU - NC;
     if constexpr (NC < 1 || Size::NY <= NC) {
       throw InputError(p.scene.file, "[plant]: no compiled loop for these channel counts");
     } else {
       if (o.form == "modal")
         return run_both<NW, NC, false>(
-            plant::runtime::ModalPlant<double, Size::NX, Size::NU, Size::NY>::from_modal_form(
+            plant::runtime::ModalPlant<double, Size::NX, Size::NU, Size::NY, NC>::from_modal_form(
                 plant::lti::to_modal_form(sampled.plant)),
             d.states, p, s, o);
       return run_both<NW, NC, false>(
-          plant::runtime::DensePlant<double, Size::NX, Size::NU, Size::NY>::from_matrices(d.A, d.B,
-                                                                                          d.C, d.D),
+          plant::runtime::DensePlant<double, Size::NX, Size::NU, Size::NY, NC>::from_matrices(
+              d.A, d.B, d.C, d.D),
           d.states, p, s, o);
     }
   });
