@@ -16,6 +16,7 @@
 // whatever SIMD the build enables (scalars without any). For Eigen's default column-major
 // storage. No allocation, lock, exception or system call.
 #include <Eigen/Core>
+#include <complex>
 #include <type_traits>
 
 // GCC warns that a SIMD type used as a template argument loses its attributes (alignment and
@@ -126,6 +127,22 @@ struct Accumulator {
     rest.add(o.rest);
   }
 };
+
+// p with its entries 2i and 2i+1 exchanged: an in-lane permute, done with Eigen's complex packet
+// of the same register (pcplxflip exchanges real and imaginary parts). Real: a packet type of the
+// cascade of at least two entries.
+template <typename Scalar, typename Real, int L = 0>
+EIGEN_ALWAYS_INLINE Real swap_neighbours(const Real& p) {
+  using Complex = typename PacketLevel<std::complex<Scalar>, L>::type;
+  if constexpr (requires { typename ei::unpacket_traits<Complex>::as_real; }) {
+    if constexpr (std::is_same_v<typename ei::unpacket_traits<Complex>::as_real, Real>)
+      return ei::pcplxflip(Complex(p)).v;
+    else
+      return swap_neighbours<Scalar, Real, L + 1>(p);
+  } else {
+    static_assert(!std::is_same_v<Real, Real>, "swap_neighbours: no complex packet of this width");
+  }
+}
 
 // The smallest packet size of the cascade that holds N rows in one packet, else N rounded up to
 // whole widest packets.

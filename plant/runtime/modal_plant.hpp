@@ -5,11 +5,13 @@
 //
 // Λ is real block-diagonal (1x1 blocks for real eigenvalues, 2x2 blocks [[a, b], [-b, a]] for
 // complex pairs), with every 2x2 block starting at an even index (plant::lti::to_modal_form puts
-// the pairs first). The step keeps Λ - I as two vectors, its diagonal d and each entry's partner
-// coefficient o (b in the first row of a pair, -b in the second, 0 for a real eigenvalue), so
+// the pairs first). For the state rows that fill whole SIMD packets (8 of 12 with AVX-512 double)
+// the step keeps Λ - I as two vectors, its diagonal d and each entry's partner coefficient o (b
+// in the first row of a pair, -b in the second, 0 for a real eigenvalue), so
 //   ((Λ - I) z)_i = d_i z_i + o_i z_(i xor 1)
-// costs 2 NX multiply-adds instead of NX², and z_(i xor 1) is z with neighbours swapped inside
-// each SIMD packet (a one-cycle in-lane permute; no unaligned or shifted reads).
+// costs two multiply-adds per packet, and z_(i xor 1) is z with neighbours swapped inside the
+// packet (an in-lane permute). The remaining state rows share one product of z with the next
+// output's Cm Λ z (below), so that every sum of the step stays in whole packets in registers.
 // Why Λ - I and not Λ: at high sample rates the poles sit near 1 and the small increment carries
 // the dynamics; a - 1 keeps full relative precision where a itself would lose it (in float the
 // pole error of a lightly damped mode drops from ~6e-8 to ~6e-8 |a - 1|). The increment is summed
@@ -17,7 +19,8 @@
 // Bm and Cm are dense. Same interface as DensePlant; state() is the modal state z, and
 // physical_state() = T z is the state of the dense form (not used in a step). As the dense form,
 // advance() also computes Cm z_{k+1} = (Cm Λ) z_k + (Cm Bm) u_k for the next output
-// (state_output.hpp); Bm and Cm Bm (+ [0 D_h] for held inputs) are stacked into one product of u.
+// (state_output.hpp): one product of u with the stacked [Bm; Cm Bm + [0 D_h]], one product of z
+// with [the rest of Λ - I; Cm Λ], and the packets of d ∘ z + o ∘ swap(z).
 //
 // The numbers come from the offline plant::lti::to_modal_form (plant/lti/modal_form.hpp), which
 // refuses defective plants; from_modal_form checks sizes and the block structure at start-up.
@@ -53,16 +56,30 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY, NH> {
 
   /// z <- z + ((Λ - I) z + Bm u), and Cm z + D_h h of the new state, h = the held part of u.
   void advance(const typename Base::Input& u) noexcept {
+    namespace ei = Eigen::internal;
     const typename Base::State& z = this->x_;
-    // Rows 0 .. NX-1: Bm u, then the increment; rows NX ..: (Cm Bm + [0 D_h]) u, then
-    // Cm z_{k+1} + D_h h.
-    typename Base::State dynamics;
-#pragma GCC unroll 64
-    for (int i = 0; i < NX; ++i) dynamics[i] = d_[i] * z[i] + o_[i] * z[partner(i)];
-    typename Base::Stacked next = column_product(from_u_, u);
-    next.template head<NX>() += dynamics;
-    next.template segment<NY>(NX) += column_product(Cm_Lambda_, z).template head<NY>();
-    this->take_next(next, u);
+    // Stacked rows 0 .. NX-1: the increment; NX ..: Cm z_{k+1} + D_h h (state_output.hpp).
+    auto next = Stacked::template product<NU>(from_u_.data(), u);
+    const auto rest = Rest::template product<NX>(from_z_.data(), z);
+    if constexpr (kSwapRows == 0) {
+      next.add(rest);
+    } else {
+      constexpr int kFirst = kSwapRows / kPacket;
+#pragma GCC unroll 16
+      for (int p = 0; p < Rest::kCount; ++p)
+        next.packets[kFirst + p] = ei::padd(next.packets[kFirst + p], rest.packets[p]);
+#pragma GCC unroll 16
+      for (int p = 0; p < kFirst; ++p) {
+        const Packet zp = ei::ploadu<Packet>(z.data() + p * kPacket);
+        const Packet swapped = detail::swap_neighbours<Scalar>(zp);
+        next.packets[p] = ei::pmadd(
+            ei::ploadu<Packet>(d_.data() + p * kPacket), zp,
+            ei::pmadd(ei::ploadu<Packet>(o_.data() + p * kPacket), swapped, next.packets[p]));
+      }
+    }
+    typename Base::Stacked sums;
+    next.store(sums.data());
+    this->take_next(sums, u);
   }
 
   /// x = T z, the state of the equivalent dense plant (for logging and comparison).
@@ -72,14 +89,23 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY, NH> {
 
  private:
   ModalPlant() = default;
-  // i's partner in its 2x2 block (pairs start at even indices); a last odd index is its own.
-  static constexpr int partner(int i) {
-    return (i ^ 1) < NX ? (i ^ 1) : i;
-  }
 
-  typename Base::State d_ = Base::State::Zero(), o_ = Base::State::Zero();
-  Eigen::Matrix<Scalar, Base::kStackedRows, NU> from_u_;     // [Bm; Cm Bm + [0 D_h]]
-  Eigen::Matrix<Scalar, Base::kOutputLanes, NX> Cm_Lambda_;  // Cm Λ, rows padded
+  using Packet = typename detail::PacketLevel<Scalar, 0>::type;
+  static constexpr int kPacket = detail::kPacketSize<Scalar, 0>;
+  // The state rows stepped as d ∘ z + o ∘ swap(z): whole widest packets from row 0 (none without
+  // SIMD). The stacked rows from there on (the other state rows, Cm z, padding) are whole packets
+  // too, one product of z.
+  static constexpr int kSwapRows = kPacket >= 2 ? NX / kPacket * kPacket : 0;
+  static constexpr int kRestRows = Base::kStackedRows - kSwapRows;
+  using Stacked = detail::Accumulator<Scalar, Base::kStackedRows>;
+  using Rest = detail::Accumulator<Scalar, kRestRows>;
+  static_assert(kSwapRows == 0 || (Stacked::kRest == 0 && Rest::kRest == 0),
+                "the swapped rows and the rest must be whole packets of the stacked sums");
+
+  static constexpr int kSwapLanes = kSwapRows > 0 ? kSwapRows : 1;
+  Eigen::Matrix<Scalar, kSwapLanes, 1> d_ = decltype(d_)::Zero(), o_ = decltype(o_)::Zero();
+  Eigen::Matrix<Scalar, Base::kStackedRows, NU> from_u_;  // [Bm; Cm Bm + [0 D_h]]
+  Eigen::Matrix<Scalar, kRestRows, NX> from_z_;  // [(Λ - I) rows kSwapRows ..; Cm Λ], rows padded
   Eigen::Matrix<Scalar, NX, NX> T_;
 };
 
@@ -94,13 +120,16 @@ ModalPlant<Scalar, NX, NU, NY, NH> ModalPlant<Scalar, NX, NU, NY, NH>::from_moda
   const auto out = p.load_output("ModalPlant", "Cm", Cm, "D", D);
   // The products in double, rounded to Scalar once.
   p.from_u_ = Base::stacked(B, out.next_output_from_input(B));
-  p.Cm_Lambda_ = padded_rows<Base::kOutputLanes>(
-      Eigen::Matrix<Scalar, NY, NX>((out.C * (L + Square::Identity())).template cast<Scalar>()));
+  p.from_z_ = Base::stacked(L, Eigen::Matrix<double, NY, NX>(out.C * (L + Square::Identity())))
+                  .template bottomRows<kRestRows>();
   p.T_ = to_fixed<Eigen::Matrix<Scalar, NX, NX>>("ModalPlant: T", T);
-  // Walk the diagonal block by block; anything outside the blocks must be exactly zero.
+  // Walk the diagonal block by block; anything outside the blocks must be exactly zero. d and o
+  // of every row; the step uses those of the first kSwapRows (the pairs never straddle row
+  // kSwapRows: they start at even rows, and kSwapRows is even).
+  Eigen::Matrix<double, NX, 1> d = Eigen::Matrix<double, NX, 1>::Zero(), o = d;
   Square outside = L;
   for (int i = 0; i < NX;) {
-    p.d_(i) = static_cast<Scalar>(L(i, i));
+    d(i) = L(i, i);
     outside(i, i) = 0;
     const bool pair = i + 1 < NX && (L(i, i + 1) != 0 || L(i + 1, i) != 0);
     if (!pair) {
@@ -115,15 +144,19 @@ ModalPlant<Scalar, NX, NU, NY, NH> ModalPlant<Scalar, NX, NU, NY, NH>::from_moda
                                   std::to_string(i) +
                                   " starts at an odd index; put the complex pairs first "
                                   "(plant::lti::to_modal_form does)");
-    p.d_(i + 1) = static_cast<Scalar>(L(i + 1, i + 1));
-    p.o_(i) = static_cast<Scalar>(L(i, i + 1));
-    p.o_(i + 1) = static_cast<Scalar>(L(i + 1, i));
+    d(i + 1) = L(i + 1, i + 1);
+    o(i) = L(i, i + 1);
+    o(i + 1) = L(i + 1, i);
     outside.template block<2, 2>(i, i).setZero();
     i += 2;
   }
   if (outside.cwiseAbs().maxCoeff() != 0)
     throw std::invalid_argument(
         "ModalPlant: Lambda - I is not real block-diagonal (1x1 and 2x2 blocks)");
+  if constexpr (kSwapRows > 0) {
+    p.d_ = d.template head<kSwapRows>().template cast<Scalar>();
+    p.o_ = o.template head<kSwapRows>().template cast<Scalar>();
+  }
   return p;
 }
 
