@@ -59,14 +59,14 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY, NH> {
     namespace ei = Eigen::internal;
     const typename Base::State& z = this->x_;
     // Stacked rows 0 .. NX-1: the increment; NX ..: Cm z_{k+1} + D_h h (state_output.hpp).
-    auto next = Stacked::template product<NU>(from_u_.data(), u);
-    const auto rest = Rest::template product<NX>(from_z_.data(), z);
+    auto next = StackedSums::template product<NU>(from_u_.data(), u);
+    const auto rest = RestSums::template product<NX>(from_z_.data(), z);
     if constexpr (kSwapRows == 0) {
       next.add(rest);
     } else {
       constexpr int kFirst = kSwapRows / kPacket;
 #pragma GCC unroll 16
-      for (int p = 0; p < Rest::kCount; ++p)
+      for (int p = 0; p < RestSums::kCount; ++p)
         next.packets[kFirst + p] = ei::padd(next.packets[kFirst + p], rest.packets[p]);
 #pragma GCC unroll 16
       for (int p = 0; p < kFirst; ++p) {
@@ -97,9 +97,10 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY, NH> {
   // too, one product of z.
   static constexpr int kSwapRows = kPacket >= 2 ? NX / kPacket * kPacket : 0;
   static constexpr int kRestRows = Base::kStackedRows - kSwapRows;
-  using Stacked = detail::Accumulator<Scalar, Base::kStackedRows>;
-  using Rest = detail::Accumulator<Scalar, kRestRows>;
-  static_assert(kSwapRows == 0 || (Stacked::kRest == 0 && Rest::kRest == 0),
+  // The sums in registers (column_product.hpp): all stacked rows, and the rows from kSwapRows on.
+  using StackedSums = detail::Accumulator<Scalar, Base::kStackedRows>;
+  using RestSums = detail::Accumulator<Scalar, kRestRows>;
+  static_assert(kSwapRows == 0 || (StackedSums::kRest == 0 && RestSums::kRest == 0),
                 "the swapped rows and the rest must be whole packets of the stacked sums");
 
   static constexpr int kSwapLanes = kSwapRows > 0 ? kSwapRows : 1;
