@@ -9,8 +9,7 @@
 // advance(). The first NS = NU - NH inputs are sampled (floor accelerations, known at the
 // instant). Then
 //
-//   output(w_k) = C x_k + D_s w_k + D_h h,    h = the held inputs of the last advance() (0 at
-//   start)
+//   output(w_k) = C x_k + D_s w_k + D_h h,   h = the held inputs of the last advance() (0 first)
 //
 // and the plant keeps C x + D_h h with the state, computed in advance() from the same u_k by
 // stacking (C Bd + [0 D_h]) u_k: the command reaches the next output through that one product of
@@ -52,7 +51,7 @@ class StateOutput {
   /// GCC inlined it into one plant form's closed loop and called it from the other's, by turns.
   template <typename W>
   EIGEN_ALWAYS_INLINE Output output(const Eigen::MatrixBase<W>& w) const noexcept {
-    static_assert(W::SizeAtCompileTime == NU - NH,
+    static_assert(W::SizeAtCompileTime == kSampledInputs,
                   "output(w): w is the sampled inputs, NU - NH entries (the held ones are kept)");
     return (cx_ + column_product(D_sampled_, w)).template head<NY>();
   }
@@ -107,8 +106,8 @@ class StateOutput {
                           to_fixed<Eigen::Matrix<double, NY, NU>>(who + ": " + d_name, D)};
     C_ = checked.C.template cast<Scalar>();
     D_held_ = checked.D.template rightCols<NH>().template cast<Scalar>();
-    D_sampled_ = padded_rows<kOutputLanes>(Eigen::Matrix<Scalar, NY, NU - NH>(
-        checked.D.template leftCols<NU - NH>().template cast<Scalar>()));
+    D_sampled_ = padded_rows<kOutputLanes>(Eigen::Matrix<Scalar, NY, kSampledInputs>(
+        checked.D.template leftCols<kSampledInputs>().template cast<Scalar>()));
     return checked;
   }
   /// Start-up: [top; bottom] in Scalar with the rows padded to kStackedRows.
@@ -130,7 +129,7 @@ class StateOutput {
 
   Eigen::Matrix<Scalar, NY, NX> C_;       // for set_state() only
   Eigen::Matrix<Scalar, NY, NH> D_held_;  // for set_state() only
-  Eigen::Matrix<Scalar, kOutputLanes, NU - NH> D_sampled_;
+  Eigen::Matrix<Scalar, kOutputLanes, kSampledInputs> D_sampled_;
   State x_ = State::Zero();
   Held held_ = Held::Zero();
   OutputLanes cx_ = OutputLanes::Zero();  // C x_ + D_h held_, set by advance() and set_state()

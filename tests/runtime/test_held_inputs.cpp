@@ -26,7 +26,8 @@ namespace {
 // seeded N(0,1). Also checks that held() is h_k after each advance.
 template <typename Plant>
 double held_disagreement(Plant& plant, test::PlantReference ref, int steps) {
-  constexpr int NU = Plant::Input::RowsAtCompileTime, NH = Plant::kHeldInputs, NS = NU - NH;
+  constexpr int NU = Plant::Input::RowsAtCompileTime, NH = Plant::kHeldInputs,
+                NS = Plant::kSampledInputs;
   using Scalar = typename Plant::Input::Scalar;
   std::mt19937 rng(3);
   std::normal_distribution<double> n01;
