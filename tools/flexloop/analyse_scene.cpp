@@ -9,6 +9,7 @@
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/state_space_json.hpp"
+#include "plant/model/input_error.hpp"
 #include "tools/flexloop/provenance.hpp"
 #include "tools/report/csv_writer.hpp"
 #include "tools/report/plot.hpp"
@@ -107,9 +108,9 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   // Stability, and the leak that would give it (or the margin the present one has).
   const auto min_leak = scene::minimum_stable_leak_hz(p);
   if (p.loop.stable())
-    std::printf("closed loop: stable");
+    std::printf("continuous loop: stable");
   else
-    std::printf("closed loop: UNSTABLE, %d poles in the right half plane (fastest e^(%.3g t))",
+    std::printf("continuous loop: UNSTABLE, %d poles in the right half plane (fastest e^(%.3g t))",
                 p.loop.unstable, p.loop.largest_real_part);
   if (min_leak && *min_leak > 0)
     std::printf(
@@ -121,7 +122,65 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   else
     std::printf(p.loop.stable() ? " (no leak up to omega_d would be)\n"
                                 : "; no leak up to omega_d makes it stable\n");
-  j["closed_loop_stable"] = p.loop.stable();
+  // The loop as it runs: sampled at the scene's rate (controller/design/sampled_loop_stability).
+  nlohmann::json sj = nullptr;
+  bool sampled_stable = false;
+  try {
+    const scene::SampledLoop s = scene::sampled_loop(p);
+    const auto& st = s.stability;
+    sampled_stable = st.stable();
+    const int delay = s.hardware.feedthrough_delay;
+    std::printf(
+        "sampled loop at %g Hz (%s, the PI as it runs, the held command%s): spectral "
+        "radius %.6g",
+        s.rate_hz, lti::to_string(s.method).c_str(),
+        delay > 0
+            ? (", " + std::to_string(delay) + (delay == 1 ? " sample" : " samples") + " of delay")
+                  .c_str()
+            : "",
+        st.spectral_radius);
+    if (st.marginal > 0)
+      std::printf(" (%d pole%s on the unit circle%s; the poles inside it within |z| <= %.6g)",
+                  st.marginal, st.marginal == 1 ? "" : "s",
+                  c.leak_hz == 0 ? ", marginal: the pure integrator's at z = 1" : ", marginal",
+                  st.largest_inner_radius);
+    sj = {{"rate_hz", s.rate_hz},
+          {"method", lti::to_string(s.method)},
+          {"feedthrough_delay_samples", delay},
+          {"spectral_radius", st.spectral_radius},
+          {"largest_inner_radius", st.largest_inner_radius},
+          {"unit_circle_tolerance", st.tolerance},
+          {"unstable_poles", st.unstable},
+          {"marginal_poles", st.marginal},
+          {"stable", st.stable()}};
+    nlohmann::json zp = nlohmann::json::array();
+    for (const auto& z : st.poles) zp.push_back({z.real(), z.imag()});
+    sj["poles"] = zp;
+    if (st.stable()) {
+      std::printf(": stable\n");
+    } else {
+      std::printf(": UNSTABLE, %d pole%s outside the unit circle", st.unstable,
+                  st.unstable == 1 ? "" : "s");
+      const scene::SampledLoopRemedy r = scene::stable_sampled_loop_remedy(p);
+      if (r.rate_hz) std::printf("; stable at rate_hz = %g", *r.rate_hz);
+      if (r.omega_d_hz)
+        std::printf("%s omega_d_hz <= %g at %g Hz", r.rate_hz ? " or with" : "; stable with",
+                    *r.omega_d_hz, s.rate_hz);
+      std::printf("\n");
+      sj["stable_rate_hz"] = r.rate_hz ? nlohmann::json(*r.rate_hz) : nlohmann::json(nullptr);
+      sj["stable_omega_d_hz"] =
+          r.omega_d_hz ? nlohmann::json(*r.omega_d_hz) : nlohmann::json(nullptr);
+    }
+  } catch (const InputError& e) {
+    std::printf("sampled loop: not formed: %s\n", e.what());
+  }
+  const bool stable = p.loop.stable() && sampled_stable;
+  std::printf("closed loop: %s\n",
+              stable ? "stable (continuous, and sampled as it runs)"
+                     : "UNSTABLE as it runs: sim, plant, controller and hil refuse this scene");
+  j["closed_loop_stable"] = stable;
+  j["continuous_loop_stable"] = p.loop.stable();
+  j["sampled_loop"] = sj;
   j["floor_integrator_states"] = floor_states;
   j["minimum_stable_leak_hz"] = min_leak ? nlohmann::json(*min_leak) : nlohmann::json(nullptr);
   j["closed_loop_poles"] = pj;
