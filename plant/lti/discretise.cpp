@@ -1,6 +1,6 @@
 #include "plant/lti/discretise.hpp"
 
-#include <unsupported/Eigen/MatrixFunctions>
+#include "plant/lti/balanced_exponential.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -103,7 +103,7 @@ void zero_order_hold(const StateSpace& c, double dt, StateSpace& d) {
   MatrixXd aug = MatrixXd::Zero(n + m, n + m);
   aug.topLeftCorner(n, n) = c.A * dt;
   aug.topRightCorner(n, m) = c.B * dt;
-  const MatrixXd e = aug.exp();
+  const MatrixXd e = balanced_exponential(aug);
   d.A = e.topLeftCorner(n, n);
   d.B = e.topRightCorner(n, m);
   d.C = c.C;
@@ -117,7 +117,7 @@ void first_order_hold(const StateSpace& c, double dt, StateSpace& d) {
   aug.block(0, 0, n, n) = c.A * dt;
   aug.block(0, n, n, m) = c.B * dt;
   aug.block(n, n + m, m, m).setIdentity();
-  const MatrixXd e = aug.exp();
+  const MatrixXd e = balanced_exponential(aug);
   const MatrixXd phi = e.block(0, 0, n, n);
   const MatrixXd g1 = e.block(0, n, n, m);
   const MatrixXd g2 = e.block(0, n + m, n, m);

@@ -5,6 +5,9 @@
 // Zero-order hold (u constant over [kT, (k+1)T)), exact:
 //   expm([A B; 0 0]·T) = [Ad Bd; 0 I]          Ad = e^{AT},  Bd = ∫0^T e^{As} ds B
 //   Cd = C, Dd = D.  No A^-1 anywhere, so singular A (integrators, rigid-body modes) is fine.
+//   Both holds balance the augmented matrix by exact powers of two before Eigen's exponential
+//   (balanced_exponential.hpp): a stiff plant in SI units has ‖A T‖ ~ ω_max² T, which
+//   scaling and squaring alone turns into lost digits (issue 17).
 //
 // First-order hold (triangle hold: u piecewise linear through the samples u_k), exact:
 //   expm([A B 0; 0 0 I/T; 0 0 0]·T) = [Φ Γ1 Γ2; 0 I I; 0 0 I]
