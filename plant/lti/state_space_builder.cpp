@@ -1,8 +1,11 @@
 #include "plant/lti/state_space_builder.hpp"
 
+#include <algorithm>
 #include <sstream>
+#include <stdexcept>
 
 #include "plant/model/input_error.hpp"
+#include "plant/model/massless_condensation.hpp"
 #include "plant/model/released_model.hpp"
 
 namespace flexloop::plant::lti {
@@ -37,7 +40,7 @@ bool nonzero_col(const Eigen::MatrixXd& A, Eigen::Index j) {
 
 StateSpace build_state_space(const Model& m, const Linearisation& lin,
                              const std::vector<std::string>& inputs,
-                             const std::vector<std::string>& outputs) {
+                             const std::vector<std::string>& outputs, Condensation* condensation) {
   const int nd = m.nd(), nr = m.nr(), nu = static_cast<int>(inputs.size());
   auto qd_index = [&](const std::string& label) {  // index among all q, or -1
     for (int i = 0; i < m.nq(); ++i)
@@ -50,23 +53,51 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
   const Eigen::MatrixXd Mdd = lin.M.topLeftCorner(nd, nd);
   const Eigen::MatrixXd Mdr = lin.M.topRightCorner(nd, nr), CDdr = CD.topRightCorner(nd, nr),
                         KNGdr = KNG.topRightCorner(nd, nr);
-  Eigen::LDLT<Eigen::MatrixXd> mdd(Mdd);
-  {
-    // Eigenvalues only for the check; the eigenvectors just to name the massless coordinates.
-    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Mdd, Eigen::EigenvaluesOnly);
-    const double top = es.eigenvalues().cwiseAbs().maxCoeff();
-    if (!(es.eigenvalues().minCoeff() > 1e-12 * top)) {
-      std::ostringstream os;
-      os << "the mass matrix of the dynamic coordinates is singular: no mass is associated with ";
-      const Eigen::VectorXd v =
-          Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Mdd).eigenvectors().col(0);
-      bool first = true;
-      for (int i = 0; i < nd; ++i)
-        if (std::abs(v(i)) > 0.1) os << (first ? "" : ", ") << m.generalised[i], first = false;
-      os << " (add mass, make them prescribed or dependent)";
-      throw InputError(m.file, os.str());
+  const Eigen::MatrixXd CDdd = CD.topLeftCorner(nd, nd), KNGdd = KNG.topLeftCorner(nd, nd);
+
+  // Massless directions of Mdd, condensed statically (see the header): q_d = R p + H g, with the
+  // state coordinates P (R_P = I). Without massless directions R = I, H = 0 and P = every
+  // dynamic coordinate, and what follows is the plain A21 = -Mdd^-1 Kdd of DESIGN.md §3.
+  model::MasslessCondensation mc;
+  if (nd > 0) {
+    const std::vector<std::string> labels(m.generalised.begin(), m.generalised.begin() + nd);
+    try {
+      mc = model::condense_massless(Mdd, KNGdd, CDdd, {}, {}, labels);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(m.file,
+                       std::string("the mass matrix of the dynamic coordinates: ") + e.what());
     }
   }
+  const int nb = mc.massless_count, na = nd - nb;
+  std::vector<int> P(static_cast<std::size_t>(na));
+  Eigen::MatrixXd R = Eigen::MatrixXd::Identity(nd, na), H = Eigen::MatrixXd::Zero(nd, nd);
+  if (nb == 0) {
+    for (int j = 0; j < na; ++j) P[static_cast<std::size_t>(j)] = j;
+  } else {
+    // State coordinates: a pivoted QR of T^T with the columns weighted by sqrt(Mdd_ii) (unit-free:
+    // sqrt(kg) times the coordinate's unit) picks n_a coordinates that carry mass and whose rows
+    // of T are well conditioned.
+    const Eigen::VectorXd w = Mdd.diagonal().cwiseMax(0.0).cwiseSqrt();
+    const Eigen::ColPivHouseholderQR<Eigen::MatrixXd> qr(mc.T.transpose() * w.asDiagonal());
+    for (int j = 0; j < na; ++j) P[static_cast<std::size_t>(j)] = qr.colsPermutation().indices()(j);
+    std::sort(P.begin(), P.end());
+    Eigen::MatrixXd TP(na, na);
+    for (int j = 0; j < na; ++j) TP.row(j) = mc.T.row(P[static_cast<std::size_t>(j)]);
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(TP.transpose());
+    if (!(lu.rcond() > 1e-12))
+      throw InputError(m.file,
+                       "massless condensation: no set of dynamic coordinates describes "
+                       "the massive directions (rows of T singular)");
+    R = lu.solve(mc.T.transpose()).transpose();
+    for (int j = 0; j < na; ++j)
+      R.row(P[static_cast<std::size_t>(j)]) = Eigen::RowVectorXd::Unit(na, j);
+    const Eigen::MatrixXd Kbb = mc.Z.transpose() * KNGdd * mc.Z;
+    H = mc.Z * Kbb.partialPivLu().solve(mc.Z.transpose());
+  }
+  const Eigen::MatrixXd Mr = R.transpose() * Mdd * R;
+  Eigen::LDLT<Eigen::MatrixXd> mdd(Mr);
+  if (na > 0 && (mdd.info() != Eigen::Success || !mdd.isPositive()))
+    throw InputError(m.file, "the mass matrix of the dynamic coordinates is not positive definite");
 
   // Which prescribed-coordinate signals are inputs.
   std::vector<int> pos_in(nr, -1), vel_in(nr, -1), acc_in(nr, -1);
@@ -133,8 +164,8 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
 
   // Integrator states for prescribed coordinates given by a higher derivative only.
   std::vector<std::string> states;
-  for (int i = 0; i < nd; ++i) states.push_back("pos:" + m.generalised[i]);
-  for (int i = 0; i < nd; ++i) states.push_back("vel:" + m.generalised[i]);
+  for (const int i : P) states.push_back("pos:" + m.generalised[i]);
+  for (const int i : P) states.push_back("vel:" + m.generalised[i]);
   std::vector<int> pos_state(nr, -1), vel_state(nr, -1);
   for (int r = 0; r < nr; ++r) {
     const std::string& label = m.generalised[nd + r];
@@ -167,15 +198,79 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
     r_acc[r] = {Eigen::RowVectorXd::Zero(nz), unit(nu, acc_in[r])};
   }
 
-  // Dynamics: qd'' = Mdd^-1 [Bf u - Mdr qr'' - CD qd' ... - KNG q...].
-  Eigen::MatrixXd rhs_z = Eigen::MatrixXd::Zero(nd, nz), rhs_u = Bf;
-  rhs_z.leftCols(nd) -= KNG.topLeftCorner(nd, nd);
-  rhs_z.middleCols(nd, nd) -= CD.topLeftCorner(nd, nd);
+  // The generalised force of inputs and prescribed coordinates on the dynamic rows,
+  //   g = Bf u - Mdr qr'' - CDdr qr' - KNGdr qr,
+  // and, for the massless part H g (Z^T Mdr = 0: M is positive semi-definite), its static part and
+  // the rates that exist as signals: g' without Bf u', g'' without Bf u'' and CDdr qr'''.
+  Eigen::MatrixXd g_z = Eigen::MatrixXd::Zero(nd, nz), g_u = Bf;
+  Eigen::MatrixXd gs_z = Eigen::MatrixXd::Zero(nd, nz), gs_u = Bf;
+  Eigen::MatrixXd g1_z = Eigen::MatrixXd::Zero(nd, nz), g1_u = Eigen::MatrixXd::Zero(nd, nu);
+  Eigen::MatrixXd g2_z = Eigen::MatrixXd::Zero(nd, nz), g2_u = Eigen::MatrixXd::Zero(nd, nu);
   for (int r = 0; r < nr; ++r) {
-    rhs_z -= Mdr.col(r) * r_acc[r].cz + CDdr.col(r) * r_vel[r].cz + KNGdr.col(r) * r_pos[r].cz;
-    rhs_u -= Mdr.col(r) * r_acc[r].du + CDdr.col(r) * r_vel[r].du + KNGdr.col(r) * r_pos[r].du;
+    g_z -= Mdr.col(r) * r_acc[r].cz + CDdr.col(r) * r_vel[r].cz + KNGdr.col(r) * r_pos[r].cz;
+    g_u -= Mdr.col(r) * r_acc[r].du + CDdr.col(r) * r_vel[r].du + KNGdr.col(r) * r_pos[r].du;
+    if (nb == 0) continue;
+    gs_z -= CDdr.col(r) * r_vel[r].cz + KNGdr.col(r) * r_pos[r].cz;
+    gs_u -= CDdr.col(r) * r_vel[r].du + KNGdr.col(r) * r_pos[r].du;
+    g1_z -= CDdr.col(r) * r_acc[r].cz + KNGdr.col(r) * r_vel[r].cz;
+    g1_u -= CDdr.col(r) * r_acc[r].du + KNGdr.col(r) * r_vel[r].du;
+    g2_z -= KNGdr.col(r) * r_acc[r].cz;
+    g2_u -= KNGdr.col(r) * r_acc[r].du;
   }
-  const Eigen::MatrixXd acc_z = mdd.solve(rhs_z), acc_u = mdd.solve(rhs_u);
+
+  // q_d and q_d' as signals: q = R p + H g, q' = R p' + H g'.
+  Eigen::MatrixXd q0_z = Eigen::MatrixXd::Zero(nd, nz), q0_u = Eigen::MatrixXd::Zero(nd, nu);
+  Eigen::MatrixXd q1_z = Eigen::MatrixXd::Zero(nd, nz), q1_u = Eigen::MatrixXd::Zero(nd, nu);
+  q0_z.leftCols(na) = R;
+  q1_z.middleCols(na, na) = R;
+  if (nb > 0) {
+    q0_z += H * gs_z, q0_u += H * gs_u;
+    q1_z += H * g1_z, q1_u += H * g1_u;
+  }
+
+  // Dynamics of p: R^T Mdd R p'' = R^T (g - Cdd q' - Kdd q).
+  const Eigen::MatrixXd acc_z = mdd.solve(R.transpose() * (g_z - CDdd * q1_z - KNGdd * q0_z));
+  const Eigen::MatrixXd acc_u = mdd.solve(R.transpose() * (g_u - CDdd * q1_u - KNGdd * q0_u));
+  // q_d'' = R p'' + H g''.
+  Eigen::MatrixXd q2_z = R * acc_z, q2_u = R * acc_u;
+  if (nb > 0) q2_z += H * g2_z, q2_u += H * g2_u;
+
+  if (condensation) {
+    Condensation& c = *condensation;
+    c = Condensation{};
+    c.massless_count = nb;
+    if (nb > 0) {
+      std::vector<bool> is_state(static_cast<std::size_t>(nd), false);
+      for (const int i : P) {
+        is_state[static_cast<std::size_t>(i)] = true;
+        c.state_coordinates.push_back(m.generalised[i]);
+      }
+      for (int i = 0; i < nd; ++i)
+        if (!is_state[static_cast<std::size_t>(i)]) c.condensed.push_back(m.generalised[i]);
+      c.damping_coupling = mc.damping_coupling;
+      // Inputs whose rates the massless part would need but no signal carries.
+      auto couples = [&](const Eigen::VectorXd& col) {
+        const double n = col.norm();
+        return n > 0.0 && (mc.Z.transpose() * col).norm() > 1e-9 * n;
+      };
+      auto drop = [&](int j) {
+        if (j >= 0 && std::find(c.rate_terms_dropped.begin(), c.rate_terms_dropped.end(),
+                                inputs[j]) == c.rate_terms_dropped.end())
+          c.rate_terms_dropped.push_back(inputs[j]);
+      };
+      for (int j = 0; j < nu; ++j)
+        if (couples(Bf.col(j))) drop(j);
+      for (int r = 0; r < nr; ++r) {
+        const bool has_vel = vel_in[r] >= 0 || vel_state[r] >= 0, has_acc = acc_in[r] >= 0;
+        const bool k_couples = couples(KNGdr.col(r)), c_couples = couples(CDdr.col(r));
+        if ((k_couples && (!has_vel || !has_acc)) || c_couples) {
+          drop(pos_in[r]);
+          drop(vel_in[r]);
+          drop(acc_in[r]);
+        }
+      }
+    }
+  }
 
   StateSpace ss;
   ss.states = states;
@@ -183,9 +278,9 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
   ss.outputs = outputs;
   ss.A = Eigen::MatrixXd::Zero(nz, nz);
   ss.B = Eigen::MatrixXd::Zero(nz, nu);
-  ss.A.block(0, nd, nd, nd).setIdentity();
-  ss.A.middleRows(nd, nd) = acc_z;
-  ss.B.middleRows(nd, nd) = acc_u;
+  ss.A.block(0, na, na, na).setIdentity();
+  ss.A.middleRows(na, na) = acc_z;
+  ss.B.middleRows(na, na) = acc_u;
   for (int r = 0; r < nr; ++r) {
     if (pos_state[r] >= 0)
       ss.A.row(pos_state[r]) = r_vel[r].cz, ss.B.row(pos_state[r]) = r_vel[r].du;
@@ -196,9 +291,9 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
   // Generalised-coordinate signals: q (position), q' (velocity), q'' (acceleration).
   auto q_signal = [&](int order, int i) -> Signal {
     if (i < nd) {
-      if (order == 0) return {unit(nz, i), Eigen::RowVectorXd::Zero(nu)};
-      if (order == 1) return {unit(nz, nd + i), Eigen::RowVectorXd::Zero(nu)};
-      return {acc_z.row(i), acc_u.row(i)};
+      if (order == 0) return {q0_z.row(i), q0_u.row(i)};
+      if (order == 1) return {q1_z.row(i), q1_u.row(i)};
+      return {q2_z.row(i), q2_u.row(i)};
     }
     const int r = i - nd;
     return order == 0 ? r_pos[r] : order == 1 ? r_vel[r] : r_acc[r];

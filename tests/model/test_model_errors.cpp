@@ -1,8 +1,9 @@
 // A bad model file gets "file:line: what is wrong": unknown node, zero-length element,
 // duplicate ids, unknown keys, singular kinematics (naming coordinates and deformations),
-// a singular mass matrix (naming the coordinates), wrong coordinate counts.
+// a massless mechanism (naming the coordinates), wrong coordinate counts.
 #include <catch2/catch.hpp>
 #include <string>
+#include <vector>
 
 #include "plant/lti/state_space_builder.hpp"
 #include "plant/model/input_error.hpp"
@@ -104,8 +105,11 @@ dynamic = ["x.2"]
   CHECK_THAT(msg, Catch::Contains("singular") && Catch::Contains("y.2") && Catch::Contains("e1.s"));
 }
 
-TEST_CASE("model errors: a massless dynamic coordinate is named") {
-  const auto msg = error_of(R"([model]
+TEST_CASE("model errors: a massless dynamic coordinate is condensed, a massless mechanism named") {
+  // Node 2 has no mass: e1.a is a massless dynamic coordinate. With stiffness it follows
+  // statically (condensed out of the state); released (no stiffness) it is a mechanism, refused.
+  const auto text = [](const std::string& element_a) {
+    return R"([model]
 dimension = 2
 [[node]]
 id = "1"
@@ -121,7 +125,8 @@ mass = 1.0
 id = "a"
 type = "truss"
 nodes = ["1", "2"]
-stiffness = 1.0
+)" + element_a +
+           R"(
 [[element]]
 id = "b"
 type = "truss"
@@ -130,8 +135,18 @@ stiffness = 1.0
 [coordinates]
 fixed = ["x.1", "y.1", "y.2", "y.3"]
 dynamic = ["e1.a", "e1.b"]
-)");
-  CHECK_THAT(msg, Catch::Contains("mass matrix") && Catch::Contains("e1.a"));
+)";
+  };
+  const auto m = model::parse_model(text("stiffness = 1.0"), "massless.toml");
+  const auto lin = model::linearise(m);
+  lti::Condensation c;
+  const auto ss = lti::build_state_space(m, lin, {}, {"pos:e1.a", "pos:e1.b"}, &c);
+  CHECK(c.massless_count == 1);
+  CHECK(ss.states == std::vector<std::string>{"pos:e1.b", "vel:e1.b"});
+  CHECK(c.condensed == std::vector<std::string>{"e1.a"});
+  const std::string msg = error_of(text("mode = \"released\""));
+  CHECK_THAT(msg, Catch::Contains("massless mechanism") && Catch::Contains("e1.a") &&
+                      Catch::Contains("mass matrix"));
 }
 
 TEST_CASE("model file: [configuration] sets the operating point, and names bad labels") {

@@ -30,6 +30,14 @@ nlohmann::json matrix_json(const Eigen::MatrixXd& M) {
   return rows;
 }
 
+// "a, b, c" for up to six names, then "... (n in all)".
+std::string name_list(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size() && i < 6; ++i) out += (i ? ", " : "") + names[i];
+  if (names.size() > 6) out += ", ... (" + std::to_string(names.size()) + " in all)";
+  return out.empty() ? "none" : out;
+}
+
 void run(const LineariseArgs& a) {
   const LinearisedModel r = linearise_model_file(a.model, a.inputs, a.outputs);
   const auto& m = r.model;
@@ -42,6 +50,13 @@ void run(const LineariseArgs& a) {
   j["natural_frequencies_hz"] = std::vector<double>(f.data(), f.data() + f.size());
   j["generalised_coordinates"] = m.generalised;
   j["dynamic_count"] = nd;
+  const lti::Condensation& c = r.condensation;
+  if (c.massless_count > 0)
+    j["condensation"] = {{"massless_directions", c.massless_count},
+                         {"state_coordinates", c.state_coordinates},
+                         {"condensed_coordinates", c.condensed},
+                         {"damping_coupling", c.damping_coupling},
+                         {"rate_terms_dropped", c.rate_terms_dropped}};
   j["matrices"] = {{"M", matrix_json(lin.M)}, {"C", matrix_json(lin.C)}, {"D", matrix_json(lin.D)},
                    {"K", matrix_json(lin.K)}, {"N", matrix_json(lin.N)}, {"G", matrix_json(lin.G)}};
   lti::write_json_atomically(a.output, j);
@@ -52,6 +67,21 @@ void run(const LineariseArgs& a) {
       m.nx(), m.ne(), nd, m.nr());
   std::printf("state      %ld states, %ld inputs, %ld outputs\n", static_cast<long>(ss.nx()),
               static_cast<long>(ss.nu()), static_cast<long>(ss.ny()));
+  if (c.massless_count > 0) {
+    std::printf(
+        "condensed  %d massless directions statically; states pos/vel of %s; following %s\n",
+        c.massless_count, name_list(c.state_coordinates).c_str(), name_list(c.condensed).c_str());
+    if (c.damping_coupling > 1e-9)  // above rounding
+      std::printf(
+          "           damping on massless directions neglected (|Z^T C| / |C| = %.3g): their "
+          "relaxation is taken as instantaneous\n",
+          c.damping_coupling);
+    if (!c.rate_terms_dropped.empty())
+      std::printf(
+          "           rates of %s act on massless directions: velocity/acceleration outputs and "
+          "damping leave them out\n",
+          name_list(c.rate_terms_dropped).c_str());
+  }
   std::printf("frequencies (Hz):");
   for (Eigen::Index i = 0; i < f.size(); ++i) std::printf(" %.4g", f(i));
   if (r.massless_condensed > 0)

@@ -10,7 +10,7 @@ namespace flexloop::cli {
 LinearisedModel linearise_model_file(const std::string& path, std::vector<std::string> inputs,
                                      std::vector<std::string> outputs) {
   namespace model = plant::model;
-  LinearisedModel r{model::load_model(path), {}, {}, {}, {}, 0};
+  LinearisedModel r{model::load_model(path), {}, {}, {}, {}, 0, {}};
   const model::Model& m = r.model;
   if (inputs.empty()) {
     for (int i = m.nd(); i < m.nq(); ++i) inputs.push_back("acc:" + m.generalised[i]);
@@ -22,7 +22,7 @@ LinearisedModel linearise_model_file(const std::string& path, std::vector<std::s
   if (outputs.empty())
     for (int i = 0; i < m.nd(); ++i) outputs.push_back("pos:" + m.generalised[i]);
   r.lin = model::linearise(m, model::model_operating_point(m));
-  r.ss = plant::lti::build_state_space(m, r.lin, inputs, outputs);
+  r.ss = plant::lti::build_state_space(m, r.lin, inputs, outputs, &r.condensation);
   // Frequencies of the linearised dynamics about the operating point (Kbar + Nbar + Gbar; at a
   // moving point the velocity terms C + D are carried as damping).
   const int nd = m.nd();
