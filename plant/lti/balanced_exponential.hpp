@@ -14,7 +14,8 @@
 //   e^M = D e^{D⁻¹ M D} D⁻¹,
 // and for such A a norm of order ω_max T instead of ω_max² T. The factors are powers of two, so
 // scaling and unscaling round nothing (barring underflow, which the exponent limit keeps away
-// from realistic data). The exponential itself stays Eigen's.
+// from realistic data). The exponential itself stays Eigen's. discretise.cpp balances before its
+// eigenvalue computations too (spectral radius of Ad, stability guard), for the same reason.
 #include <Eigen/Dense>
 
 namespace flexloop::plant::lti {

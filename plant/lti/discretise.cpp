@@ -45,9 +45,13 @@ std::string describe_eigenvalue(std::complex<double> s) {
   return text + ")";
 }
 
+// Of the balanced matrix (balanced_exponential.hpp), which has the same eigenvalues: unbalanced,
+// a stiff A or Ad (entries from ω_max² down to 1) gets them wrong far beyond round-off, e.g. a
+// spectral radius of 1.0001 for an undamped 20-element cantilever at 1 kHz.
 Eigen::VectorXcd eigenvalues(const MatrixXd& m) {
   if (m.rows() == 0) return {};
-  Eigen::EigenSolver<MatrixXd> es(m, /*computeEigenvectors=*/false);
+  Eigen::EigenSolver<MatrixXd> es(m.allFinite() ? balance(m).balanced : m,
+                                  /*computeEigenvectors=*/false);
   if (es.info() != Eigen::Success)
     throw std::runtime_error("eigenvalue computation did not converge");
   return es.eigenvalues();

@@ -83,7 +83,8 @@ DiscreteStateSpace discretise(const StateSpace& c, const DiscretisationOptions& 
 /// relative to.
 double induced_norm_1(const Eigen::MatrixXd& m);
 
-/// max |λ| over the eigenvalues of a square matrix; 0 for an empty one.
+/// max |λ| over the eigenvalues of a square matrix; 0 for an empty one. Computed on the balanced
+/// matrix (balanced_exponential.hpp), so a stiff Ad's radius is right to round-off.
 double spectral_radius(const Eigen::MatrixXd& m);
 
 /// Where the method puts a continuous eigenvalue s: e^{sT} (zoh, foh), (1+αs)/(1-αs) (tustin, α as

@@ -253,6 +253,27 @@ TEST_CASE("stiff exponential: 20-element steel cantilever from linearise at 1 kH
               Bound::kAsDataAllow);
 }
 
+TEST_CASE("stiff exponential: undamped stiff plants keep every discrete pole on |z| = 1") {
+  // No damping: e^{λT} with λ = ±jω lies on the unit circle, so the spectral radius is exactly 1.
+  // Measured on the unbalanced eigensolver: 1 + 2.8e-7 (cantilever), 1 + 9.3e-5 (inertia / 1000).
+  struct Case {
+    const char* name;
+    StateSpace c;
+  };
+  const Case cases[] = {{"cantilever rho I l", cantilever20(1.0)},
+                        {"cantilever rho I l / 1000", cantilever20(1e-3)},
+                        {"chain 1e2 x rate", chain_with_mode(1e2, 0)},
+                        {"chain 1e3 x rate", chain_with_mode(1e3, 0)},
+                        {"chain 1e4 x rate", chain_with_mode(1e4, 0)}};
+  for (const auto& [name, c] : cases)
+    for (const auto method :
+         {DiscretisationMethod::kZeroOrderHold, DiscretisationMethod::kFirstOrderHold}) {
+      const double rho = discretise(c, {.method = method, .dt = kT}).spectral_radius;
+      WARN(name << " " << to_string(method) << ": spectral radius - 1 = " << rho - 1);
+      CHECK(std::abs(rho - 1) <= 1e-9);
+    }
+}
+
 TEST_CASE("balancing is an exact similarity by powers of two and shrinks a stiff matrix") {
   const StateSpace c = chain_with_mode(1e3, 0.002);
   MatrixXd aug = MatrixXd::Zero(c.nx() + c.nu(), c.nx() + c.nu());
