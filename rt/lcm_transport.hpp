@@ -156,12 +156,12 @@ class LcmPublisher {
   LcmPublisher(LcmTransport& transport, std::string channel)
       : lcm_(transport.lcm()),
         channel_(std::move(channel)),
-        buffer_(static_cast<std::size_t>(Msg{}.getEncodedSize())) {}
+        buffer_(static_cast<std::size_t>(max_encoded_size<Msg>())) {}
 
   /// Encodes and sends; false (and counted) when encoding or sending failed.
   bool publish(const Msg& msg) noexcept {
     const int n = msg.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
-    if (n != static_cast<int>(buffer_.size()) ||
+    if (n < 0 ||
         lcm_publish(lcm_, channel_.c_str(), buffer_.data(), static_cast<unsigned>(n)) != 0) {
       ++failures_;
       return false;

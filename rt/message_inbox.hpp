@@ -6,8 +6,10 @@
 // one before take() are counted as superseded (a burst, or a reader slower than the writer).
 //
 // offer() is what the LCM subscription calls (rt/lcm_transport.hpp), and what tests call with
-// hand-made buffers. Everything is noexcept and allocation-free (the generated decode of these
-// fixed-size messages allocates nothing); not thread-safe: one thread offers and takes.
+// hand-made buffers. Everything after construction is noexcept and allocation-free: the channel
+// counts are checked in the buffer before the generated decode sizes its vectors from them, and
+// the vectors have room for kMaxMessageChannels from the start; not thread-safe: one thread
+// offers and takes.
 #include <cstdint>
 #include <optional>
 
@@ -18,14 +20,24 @@ namespace flexloop::rt {
 template <class Msg>
 class MessageInbox {
  public:
-  explicit MessageInbox(OrderGate gate = OrderGate{}) noexcept : gate_(gate) {}
+  /// counts: what every accepted message must carry (message_validation.hpp; 0: any).
+  explicit MessageInbox(OrderGate gate = OrderGate{}, ChannelCounts counts = {})
+      : gate_(gate), counts_(counts), min_size_(Msg{}.getEncodedSize()) {
+    reserve_channels(scratch_);
+    reserve_channels(newest_);
+    (void)Msg::getHash();  // the generated code computes it once, on the first call
+  }
 
   /// Decodes `size` bytes received at `received_ns` (CLOCK_MONOTONIC); keeps the message as
   /// newest when it is valid. Returns the drop reason, or nullopt when accepted.
   std::optional<DropReason> offer(const void* data, int size, std::int64_t received_ns) noexcept {
-    // A short, foreign (fingerprint) or over-long buffer is a decode failure.
-    if (data == nullptr || size < 0 || scratch_.decode(data, 0, size) != size)
+    // A short (shorter than a message with no channels), foreign (fingerprint) or over-long
+    // buffer is a decode failure. The type and length, then the counts (message_validation.hpp),
+    // then the decode.
+    if (!has_fingerprint<Msg>(data, size) || size < min_size_)
       return drop(DropReason::kDecodeFailure);
+    if (!check_counts(&scratch_, data, size, counts_)) return drop(DropReason::kChannelCount);
+    if (scratch_.decode(data, 0, size) != size) return drop(DropReason::kDecodeFailure);
     if (!all_finite(scratch_)) return drop(DropReason::kNonFinite);
     const OrderKey key = order_key(scratch_);
     if (const auto why = gate_.check(key, received_ns)) return drop(*why);
@@ -64,6 +76,8 @@ class MessageInbox {
   }
 
   OrderGate gate_;
+  ChannelCounts counts_;
+  int min_size_;  // the encoded size of a message with no channels
   Msg scratch_{};
   Msg newest_{};
   std::int64_t newest_received_ns_ = 0;

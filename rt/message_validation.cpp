@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <iterator>
+#include <vector>
 
 #include "rt/enum_names.hpp"
 
@@ -9,20 +10,31 @@ namespace flexloop::rt {
 
 namespace {
 
-template <std::size_t N>
-bool finite(const double (&v)[N]) noexcept {
+bool finite(const std::vector<double>& v) noexcept {
   for (double x : v)
     if (!std::isfinite(x)) return false;
   return true;
 }
 
+// LCM encodes integers big-endian after the 8-byte fingerprint; the int16 count at `offset`.
+bool count_at(const void* data, int size, int offset, int expected) noexcept {
+  if (data == nullptr || size < offset + 2) return false;
+  const auto* b = static_cast<const unsigned char*>(data) + offset;
+  const int n = static_cast<std::int16_t>(static_cast<std::uint16_t>((b[0] << 8) | b[1]));
+  return n >= 1 && n <= kMaxMessageChannels && (expected == 0 || n == expected);
+}
+
+// Byte offsets of the counts: fingerprint, then the int64 fields before them
+// (tests/msgs/test_message_codec.cpp checks them against the generated encoder).
+constexpr int kSensorCountsOffset = 8 + 3 * 8;  // t_ns, seq, plant_epoch
+constexpr int kCommandCountOffset = 8 + 5 * 8;  // t_ns, seq, answers_seq, plant_epoch, compute
+
 }  // namespace
 
-constexpr EnumName<DropReason> kDropReasonNames[] = {{DropReason::kDecodeFailure, "decode_failure"},
-                                                     {DropReason::kNonFinite, "non_finite"},
-                                                     {DropReason::kStale, "stale"},
-                                                     {DropReason::kDuplicate, "duplicate"},
-                                                     {DropReason::kOutOfOrder, "out_of_order"}};
+constexpr EnumName<DropReason> kDropReasonNames[] = {
+    {DropReason::kDecodeFailure, "decode_failure"}, {DropReason::kChannelCount, "channel_count"},
+    {DropReason::kNonFinite, "non_finite"},         {DropReason::kStale, "stale"},
+    {DropReason::kDuplicate, "duplicate"},          {DropReason::kOutOfOrder, "out_of_order"}};
 static_assert(std::size(kDropReasonNames) == kDropReasonCount);
 
 const char* to_string(DropReason reason) noexcept {
@@ -35,12 +47,55 @@ std::int64_t DropCounts::total() const noexcept {
   return n;
 }
 
+bool check_counts(const flexloop_msgs::sensor_sample_t*, const void* data, int size,
+                  ChannelCounts expected) noexcept {
+  return count_at(data, size, kSensorCountsOffset, expected.first) &&
+         count_at(data, size, kSensorCountsOffset + 2, expected.second);
+}
+
+bool check_counts(const flexloop_msgs::actuator_command_t*, const void* data, int size,
+                  ChannelCounts expected) noexcept {
+  return count_at(data, size, kCommandCountOffset, expected.first);
+}
+
+bool check_counts(const flexloop_msgs::loop_stats_t*, const void*, int, ChannelCounts) noexcept {
+  return true;
+}
+
+int max_encoded_size(const flexloop_msgs::sensor_sample_t*) {
+  flexloop_msgs::sensor_sample_t m{};
+  m.n_sensors = m.n_performance = kMaxMessageChannels;
+  m.sensors.assign(kMaxMessageChannels, 0.0);
+  m.performance.assign(kMaxMessageChannels, 0.0);
+  return m.getEncodedSize();
+}
+
+int max_encoded_size(const flexloop_msgs::actuator_command_t*) {
+  flexloop_msgs::actuator_command_t m{};
+  m.n_commands = kMaxMessageChannels;
+  m.commands.assign(kMaxMessageChannels, 0.0);
+  return m.getEncodedSize();
+}
+
+int max_encoded_size(const flexloop_msgs::loop_stats_t*) {
+  return flexloop_msgs::loop_stats_t{}.getEncodedSize();
+}
+
+void reserve_channels(flexloop_msgs::sensor_sample_t& m) {
+  m.sensors.reserve(kMaxMessageChannels);
+  m.performance.reserve(kMaxMessageChannels);
+}
+
+void reserve_channels(flexloop_msgs::actuator_command_t& m) {
+  m.commands.reserve(kMaxMessageChannels);
+}
+
 bool all_finite(const flexloop_msgs::sensor_sample_t& m) noexcept {
-  return finite(m.force_n) && finite(m.accel_mps2);
+  return finite(m.sensors) && finite(m.performance);
 }
 
 bool all_finite(const flexloop_msgs::actuator_command_t& m) noexcept {
-  return finite(m.force_n);
+  return finite(m.commands);
 }
 
 bool all_finite(const flexloop_msgs::loop_stats_t& m) noexcept {

@@ -1,8 +1,13 @@
 #pragma once
 // Which received messages may be applied (DESIGN.md §7, §9): a message that fails to decode,
-// carries NaN or Inf in any floating-point field, is stale, or repeats or reorders the sequence,
-// is dropped and counted per reason, never applied. Every function here is noexcept and
-// allocation-free, for use inside the loop.
+// carries other channel counts than the loop's, carries NaN or Inf in any floating-point field,
+// is stale, or repeats or reorders the sequence, is dropped and counted per reason, never
+// applied. Every function here is noexcept and allocation-free, for use inside the loop.
+//
+// Channel counts are read from the buffer before it is decoded (check_counts): the generated
+// decode would size its vectors from them, so a count outside 1 .. kMaxMessageChannels (or other
+// than the loop's) never reaches it, and vectors reserved for kMaxMessageChannels
+// (reserve_channels) are never reallocated.
 //
 // Ordering uses an OrderKey (epoch, seq, t_ns) per message type:
 //   sensor_sample_t     (plant_epoch, seq, t_ns)
@@ -26,10 +31,22 @@
 
 namespace flexloop::rt {
 
-enum class DropReason { kDecodeFailure, kNonFinite, kStale, kDuplicate, kOutOfOrder };
-inline constexpr int kDropReasonCount = 5;
+enum class DropReason {
+  kDecodeFailure,
+  kChannelCount,
+  kNonFinite,
+  kStale,
+  kDuplicate,
+  kOutOfOrder
+};
+inline constexpr int kDropReasonCount = 6;
 
-/// "decode_failure", "non_finite", "stale", "duplicate", "out_of_order" (JSON keys).
+/// The most channels of one kind a message carries (one sample of 64 sensors and 64
+/// performance channels still fits one UDP datagram: 1064 bytes).
+inline constexpr int kMaxMessageChannels = 64;
+
+/// "decode_failure", "channel_count", "non_finite", "stale", "duplicate", "out_of_order" (JSON
+/// keys).
 const char* to_string(DropReason reason) noexcept;
 
 /// Dropped-message counts per reason.
@@ -45,6 +62,47 @@ class DropCounts {
  private:
   std::array<std::int64_t, kDropReasonCount> counts_{};
 };
+
+/// The channel counts a receiver expects: sensor_sample_t (sensors, performance),
+/// actuator_command_t (commands, unused); 0 takes any count 1 .. kMaxMessageChannels.
+struct ChannelCounts {
+  int first = 0, second = 0;
+};
+
+/// True when the counts in an encoded buffer (read without decoding it) are the expected ones;
+/// false for a buffer too short to hold them.
+bool check_counts(const flexloop_msgs::sensor_sample_t*, const void* data, int size,
+                  ChannelCounts expected) noexcept;
+bool check_counts(const flexloop_msgs::actuator_command_t*, const void* data, int size,
+                  ChannelCounts expected) noexcept;
+bool check_counts(const flexloop_msgs::loop_stats_t*, const void* data, int size,
+                  ChannelCounts expected) noexcept;
+
+/// True when `data` starts with Msg's 8-byte fingerprint (LCM's type check, read without decoding).
+template <class Msg>
+bool has_fingerprint(const void* data, int size) noexcept {
+  if (data == nullptr || size < 8) return false;
+  const auto* b = static_cast<const unsigned char*>(data);
+  std::uint64_t h = 0;
+  for (int i = 0; i < 8; ++i) h = (h << 8) | b[i];
+  return static_cast<std::int64_t>(h) == Msg::getHash();
+}
+
+/// The encoded size of the largest message of this type (kMaxMessageChannels in every channel
+/// vector): what a publisher's buffer must hold.
+int max_encoded_size(const flexloop_msgs::sensor_sample_t*);
+int max_encoded_size(const flexloop_msgs::actuator_command_t*);
+int max_encoded_size(const flexloop_msgs::loop_stats_t*);
+template <class Msg>
+int max_encoded_size() {
+  return max_encoded_size(static_cast<const Msg*>(nullptr));
+}
+
+/// Start-up: room for kMaxMessageChannels in every channel vector, so that decoding and copying
+/// never allocate.
+void reserve_channels(flexloop_msgs::sensor_sample_t& m);
+void reserve_channels(flexloop_msgs::actuator_command_t& m);
+inline void reserve_channels(flexloop_msgs::loop_stats_t&) {}
 
 /// True when every floating-point field is finite.
 bool all_finite(const flexloop_msgs::sensor_sample_t& m) noexcept;

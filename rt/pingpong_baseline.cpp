@@ -18,6 +18,9 @@ namespace {
 using flexloop_msgs::actuator_command_t;
 using flexloop_msgs::sensor_sample_t;
 
+// Channels of each kind in the ping-pong's messages: the size of the metrology frame's loop.
+constexpr int kBaselineChannels = 6;
+
 constexpr const char* kPongFailed = "LCM ping-pong: the pong process failed: ";
 
 struct Channels {
@@ -56,6 +59,9 @@ int run_pong(const PingPongOptions& o, int report_fd) {
   send_block(report_fd, set_up_loop_process(lcm, o.pong_realtime).text);
 
   actuator_command_t cmd{};
+  // The loop's message sizes (the metrology frame's 6 channels of each kind).
+  cmd.n_commands = kBaselineChannels;
+  cmd.commands.assign(kBaselineChannels, 0.0);
   const std::int64_t give_up =
       monotonic_now_ns() + o.connect_timeout_ns + o.duration_ns + 5 * kNsPerSecond;
   const auto wake = [&] { return pings.has_fresh() || stop.has_fresh(); };
@@ -108,6 +114,9 @@ void run_ping(const PingPongOptions& o, PingPongResult& r) {
   r.ping_setup = set_up_loop_process(lcm, o.ping_realtime).text;
 
   sensor_sample_t msg{};
+  msg.n_sensors = msg.n_performance = kBaselineChannels;
+  msg.sensors.assign(kBaselineChannels, 0.0);
+  msg.performance.assign(kBaselineChannels, 0.0);
   msg.plant_epoch = epoch;
   const auto send = [&] {
     msg.seq += 1;

@@ -47,27 +47,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "controller/runtime/pi_parameters.hpp"
+#include "controller/runtime/pi_step_gains.hpp"
 #include "plant/runtime/column_product.hpp"
 #include "plant/runtime/fixed_size_matrix.hpp"
 
 namespace flexloop::controller::runtime {
-
-/// Start-up parameters, as the offline design gives them (controller/design: PiGains).
-struct PiParameters {
-  Eigen::MatrixXd K_P, K_I;  ///< N x N, full (coupled) gains
-  double dt = 0;             ///< sample time [s], > 0
-  double leak_rad_s = 0;     ///< w_l >= 0; 0: pure integrator
-  /// Actuator limits [N]: empty (none), one value for every channel, or N values.
-  Eigen::VectorXd u_min, u_max;
-  /// D22, the sensors' feedthrough from the command: empty means the identity.
-  Eigen::MatrixXd feedthrough;
-  /// Samples between a command and the measurement that first contains it, beyond the one
-  /// sample of the loop itself (sensor delay + transport delay); 0 .. kMaxFeedthroughDelay.
-  int feedthrough_delay = 0;
-};
-
-/// The longest sensor + transport delay the feedthrough removal can follow.
-inline constexpr int kMaxFeedthroughDelay = 32;
 
 template <typename Scalar, int N>
 class PiController {
@@ -113,6 +98,10 @@ class PiController {
     subtract_feedthrough(f, -u);
     integrate(plant::runtime::column_product(G_x_, f.template head<N>()), u);
     return u.template head<N>();
+  }
+
+  static constexpr Eigen::Index channels() noexcept {
+    return N;
   }
 
   /// Bumpless start: the next step(y_now) returns u_now. See the header comment.
@@ -202,72 +191,23 @@ class PiController {
   Lanes s_ = Lanes::Zero();  // s = G_x x
 };
 
-namespace detail {
-
-/// Limits of PiParameters as N values: none -> ±inf, one -> broadcast.
-template <int N>
-Eigen::Matrix<double, N, 1> pi_limit(const Eigen::VectorXd& v, double none, const char* name) {
-  if (v.size() == 0) return Eigen::Matrix<double, N, 1>::Constant(none);
-  if (v.size() == 1) return Eigen::Matrix<double, N, 1>::Constant(v(0));
-  if (v.size() != N)
-    throw std::invalid_argument(std::string("PiController: ") + name + " has " +
-                                std::to_string(v.size()) + " values, expected 1 or " +
-                                std::to_string(N));
-  return v;
-}
-
-}  // namespace detail
-
 template <typename Scalar, int N>
 PiController<Scalar, N> PiController<Scalar, N>::from_parameters(const PiParameters& p) {
-  using plant::runtime::to_fixed;
   using M = Eigen::Matrix<double, N, N>;
-  const M K_P = to_fixed<M>("PiController: K_P", p.K_P);
-  const M K_I = to_fixed<M>("PiController: K_I", p.K_I);
-  const M D22 = p.feedthrough.size() == 0 ? M::Identity()
-                                          : to_fixed<M>("PiController: feedthrough", p.feedthrough);
-  if (!(std::isfinite(p.dt) && p.dt > 0))
-    throw std::invalid_argument("PiController: dt must be finite and > 0, got " +
-                                std::to_string(p.dt));
-  if (!(std::isfinite(p.leak_rad_s) && p.leak_rad_s >= 0))
-    throw std::invalid_argument("PiController: leak_rad_s must be finite and >= 0, got " +
-                                std::to_string(p.leak_rad_s));
-  const double inf = std::numeric_limits<double>::infinity();
-  const Eigen::Matrix<double, N, 1> lo = detail::pi_limit<N>(p.u_min, -inf, "u_min");
-  const Eigen::Matrix<double, N, 1> hi = detail::pi_limit<N>(p.u_max, inf, "u_max");
-  if (lo.hasNaN() || hi.hasNaN() || (lo.array() > hi.array()).any())
-    throw std::invalid_argument("PiController: u_min must be <= u_max in every channel");
-
-  const Eigen::FullPivLU<M> loop(M::Identity() + K_P * D22);
-  if (!loop.isInvertible())
-    throw std::invalid_argument(
-        "PiController: I + K_P D22 is singular: the loop through the sensors' feedthrough is "
-        "ill-posed");
-  const Eigen::FullPivLU<M> integral(K_I);
-  if (!integral.isInvertible())
-    throw std::invalid_argument(
-        "PiController: K_I is singular; anti-windup and bumpless start need it invertible");
-
+  const PiStepGains g = pi_step_gains(p, N, "PiController");
   PiController c;
-  const M G_f = -loop.solve(K_P), G_x = -loop.solve(K_I);
   using plant::runtime::padded_rows;
-  c.G_f_ = padded_rows<NP>(G_f.template cast<Scalar>());
-  c.G_x_ = padded_rows<NP>(G_x.template cast<Scalar>());
-  c.G_x_inv_ = (-integral.solve(M::Identity() + K_P * D22)).template cast<Scalar>();
-  c.D22_ = padded_rows<NP>(D22.template cast<Scalar>());
-  c.identity_feedthrough_ = D22 == M::Identity();
-  if (p.feedthrough_delay < 0 || p.feedthrough_delay > kMaxFeedthroughDelay)
-    throw std::invalid_argument("PiController: feedthrough_delay must be 0 .. " +
-                                std::to_string(kMaxFeedthroughDelay) + ", got " +
-                                std::to_string(p.feedthrough_delay));
-  c.delay_ = p.feedthrough_delay;
+  c.G_f_ = padded_rows<NP>(M(g.G_f).template cast<Scalar>());
+  c.G_x_ = padded_rows<NP>(M(g.G_x).template cast<Scalar>());
+  c.G_x_inv_ = M(g.G_x_inv).template cast<Scalar>();
+  c.D22_ = padded_rows<NP>(M(g.D22).template cast<Scalar>());
+  c.identity_feedthrough_ = g.identity_feedthrough;
+  c.delay_ = g.delay;
   c.history_.fill(Lanes::Zero());
-  const double a = std::exp(-p.leak_rad_s * p.dt);
-  c.a_ = static_cast<Scalar>(a);
-  c.b_ = static_cast<Scalar>(p.leak_rad_s > 0 ? -std::expm1(-p.leak_rad_s * p.dt) / p.leak_rad_s
-                                              : p.dt);
-  c.u_min_ = pad(lo.template cast<Scalar>());
-  c.u_max_ = pad(hi.template cast<Scalar>());
+  c.a_ = static_cast<Scalar>(g.a);
+  c.b_ = static_cast<Scalar>(g.b);
+  c.u_min_ = pad(Eigen::Matrix<double, N, 1>(g.u_min).template cast<Scalar>());
+  c.u_max_ = pad(Eigen::Matrix<double, N, 1>(g.u_max).template cast<Scalar>());
   return c;
 }
 

@@ -1,6 +1,6 @@
 #include "plant/lti/state_space_json.hpp"
 
-#include "plant/lti/atomic_file.hpp"
+#include "common/json_document.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -18,16 +18,6 @@ namespace flexloop::plant::lti {
 
 using nlohmann::json;
 
-json matrix_to_json(const Eigen::MatrixXd& m) {
-  json rows = json::array();
-  for (Eigen::Index r = 0; r < m.rows(); ++r) {
-    json row = json::array();
-    for (Eigen::Index c = 0; c < m.cols(); ++c) row.push_back(m(r, c));
-    rows.push_back(std::move(row));
-  }
-  return rows;
-}
-
 namespace {
 
 void put_labels(json& j, const StateSpace& s) {
@@ -36,96 +26,13 @@ void put_labels(json& j, const StateSpace& s) {
   j["outputs"] = s.outputs;
 }
 
-std::string type_of(const json& v) {
-  if (v.is_string()) return "string " + v.dump();
-  return v.type_name();
-}
-
-// Reads one document and says where it is wrong.
-class Reader {
- public:
-  Reader(const json& j, std::string source) : j_(j), source_(std::move(source)) {
-    if (!j_.is_object())
-      throw InputError(source_, "expected a JSON object at the top level, found " + type_of(j_));
-  }
-
-  const json& get(const std::string& key) const {
-    const auto it = j_.find(key);
-    if (it == j_.end()) throw InputError(place(key), "is missing");
-    return *it;
-  }
-
-  bool has(const std::string& key) const { return j_.contains(key); }
-
-  double number(const std::string& key) const { return number_at(get(key), place(key)); }
-
-  std::string string(const std::string& key) const {
-    const json& v = get(key);
-    if (!v.is_string()) throw InputError(place(key), "expected a string, found " + type_of(v));
-    return v.get<std::string>();
-  }
-
-  std::vector<std::string> labels(const std::string& key) const {
-    const json& v = get(key);
-    if (!v.is_array())
-      throw InputError(place(key), "expected a list of names, found " + type_of(v));
-    std::vector<std::string> out;
-    std::set<std::string> seen;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const std::string where = place(key) + " entry " + std::to_string(i + 1);
-      if (!v[i].is_string()) throw InputError(where, "expected a name, found " + type_of(v[i]));
-      auto name = v[i].get<std::string>();
-      if (name.empty()) throw InputError(where, "is empty");
-      // Duplicate names would make signal look-up by label ambiguous.
-      if (!seen.insert(name).second) throw InputError(where, "duplicates the name '" + name + "'");
-      out.push_back(std::move(name));
-    }
-    return out;
-  }
-
-  // rows x cols, each row a list of numbers; what_row / what_col name one row / column.
-  Eigen::MatrixXd matrix(const std::string& key, std::size_t rows, std::size_t cols,
-                         const char* what_row, const char* what_col) const {
-    const json& v = get(key);
-    if (!v.is_array()) throw InputError(place(key), "expected a list of rows, found " + type_of(v));
-    if (v.size() != rows)
-      throw InputError(place(key), "has " + std::to_string(v.size()) + " rows, expected " +
-                                       std::to_string(rows) + " (one per " + what_row + ")");
-    Eigen::MatrixXd m(rows, cols);
-    for (std::size_t r = 0; r < rows; ++r) {
-      const std::string row_place = place(key) + " row " + std::to_string(r + 1);
-      const json& row = v[r];
-      if (!row.is_array())
-        throw InputError(row_place, "expected a list of numbers, found " + type_of(row));
-      if (row.size() != cols)
-        throw InputError(row_place, "has " + std::to_string(row.size()) + " entries, expected " +
-                                        std::to_string(cols) + " (one per " + what_col + ")");
-      for (std::size_t c = 0; c < cols; ++c)
-        m(r, c) = number_at(row[c], row_place + " column " + std::to_string(c + 1));
-    }
-    return m;
-  }
-
-  std::string place(const std::string& key) const { return source_ + ": key '" + key + "'"; }
-  const std::string& source() const { return source_; }
-
- private:
-  static double number_at(const json& v, const std::string& where) {
-    if (!v.is_number()) throw InputError(where, "expected a number, found " + type_of(v));
-    const double x = v.get<double>();
-    if (!std::isfinite(x)) throw InputError(where, "is not finite");
-    return x;
-  }
-
-  const json& j_;
-  std::string source_;
-};
+using Reader = JsonReader;
 
 json read_provenance(const Reader& r, const json& j) {
   if (!r.has("provenance")) return nullptr;
   const json& p = j.at("provenance");
   if (!p.is_object())
-    throw InputError(r.place("provenance"), "expected an object, found " + type_of(p));
+    throw InputError(r.place("provenance"), "expected an object, found " + json_type_of(p));
   return p;
 }
 
@@ -143,71 +50,9 @@ StateSpace read_system(const Reader& r, const char* a, const char* b, const char
   try {
     s.validate();  // the sizes are right by construction; this keeps the two checks in step
   } catch (const std::invalid_argument& e) {
-    throw InputError(r.source(), e.what());
+    throw InputError(r.place(), e.what());
   }
   return s;
-}
-
-json parse_file(const std::filesystem::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(file.string(), std::string("cannot open: ") + std::strerror(errno));
-  try {
-    return json::parse(in);
-  } catch (const json::exception& e) {  // parse errors, and numbers that overflow a double
-    throw InputError(file.string(), std::string("not valid JSON: ") + e.what());
-  }
-}
-
-// One matrix row per line, each label list on one line, known keys in a fixed order, then the rest.
-std::string layout(const json& j) {
-  static const char* const kOrder[] = {"method", "dt",     "prewarp_hz", "spectral_radius",
-                                       "states", "inputs", "outputs",    "A",
-                                       "B",      "C",      "D",          "Ad",
-                                       "Bd",     "Cd",     "Dd",         "provenance"};
-  auto is_matrix = [](const json& v) {
-    if (!v.is_array() || v.empty()) return false;
-    for (const auto& row : v)
-      if (!row.is_array()) return false;
-    return true;
-  };
-  auto is_flat = [](const json& v) {
-    if (!v.is_array()) return false;
-    for (const auto& e : v)
-      if (e.is_structured()) return false;
-    return true;
-  };
-  auto value_text = [&](const json& v) {
-    if (is_flat(v)) {  // labels: one line
-      std::string text = "[";
-      for (std::size_t i = 0; i < v.size(); ++i) text += (i ? ", " : "") + v[i].dump();
-      return text + "]";
-    }
-    if (!is_matrix(v)) {
-      std::string text = v.dump(2);
-      std::string indented;
-      for (char ch : text) {
-        indented += ch;
-        if (ch == '\n') indented += "  ";
-      }
-      return indented;
-    }
-    std::string text = "[";
-    for (std::size_t r = 0; r < v.size(); ++r) {
-      text += r ? ",\n    [" : "\n    [";
-      for (std::size_t c = 0; c < v[r].size(); ++c) text += (c ? ", " : "") + v[r][c].dump();
-      text += "]";
-    }
-    return text + "\n  ]";
-  };
-  std::vector<std::string> keys;
-  for (const char* k : kOrder)
-    if (j.contains(k)) keys.emplace_back(k);
-  for (const auto& [k, v] : j.items())
-    if (std::find(keys.begin(), keys.end(), k) == keys.end()) keys.push_back(k);
-  std::string out = "{";
-  for (std::size_t i = 0; i < keys.size(); ++i)
-    out += (i ? ",\n  " : "\n  ") + json(keys[i]).dump() + ": " + value_text(j.at(keys[i]));
-  return out + "\n}\n";
 }
 
 }  // namespace
@@ -276,11 +121,11 @@ DiscreteArtefact discrete_from_json(const json& j, const std::string& source) {
 }
 
 ContinuousArtefact read_continuous(const std::filesystem::path& file) {
-  return continuous_from_json(parse_file(file), file.string());
+  return continuous_from_json(parse_json_file(file), file.string());
 }
 
 DiscreteArtefact read_discrete(const std::filesystem::path& file) {
-  return discrete_from_json(parse_file(file), file.string());
+  return discrete_from_json(parse_json_file(file), file.string());
 }
 
 void write_continuous(const std::filesystem::path& file, const StateSpace& sys,
@@ -294,7 +139,11 @@ void write_discrete(const std::filesystem::path& file, const DiscreteStateSpace&
 }
 
 void write_json_atomically(const std::filesystem::path& file, const json& j) {
-  write_text_atomically(file, j.is_object() ? layout(j) : j.dump(2) + "\n");
+  // Known keys in a fixed order, then the rest.
+  flexloop::write_json_atomically(
+      file, j,
+      {"method", "dt", "prewarp_hz", "spectral_radius", "states", "inputs", "outputs", "A", "B",
+       "C", "D", "Ad", "Bd", "Cd", "Dd", "provenance"});
 }
 
 }  // namespace flexloop::plant::lti

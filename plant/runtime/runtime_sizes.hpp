@@ -11,7 +11,9 @@
 // the next (NH = NU / 2 held inputs, plant/runtime/state_output.hpp); the first half are the
 // sampled disturbances. DensePlant and ModalPlant of these sizes, in double and float, are
 // instantiated once in runtime_sizes.cpp (the extern declarations below keep other files from
-// compiling them again). To add a size: add a line to FLEXLOOP_RUNTIME_SIZES.
+// compiling them again). These are fast paths: every other size runs on the general path, sized
+// at start-up (general_plant.hpp), with no rebuild. To add a fast path: add a line to
+// FLEXLOOP_RUNTIME_SIZES.
 #include <stdexcept>
 #include <string>
 
@@ -42,6 +44,17 @@ struct RuntimeSize {
   static constexpr int NX = NX_, NU = NU_, NY = NY_;
   static constexpr int NH = NU / 2;  // held inputs: the actuator forces
 };
+
+/// Start-up: f(RuntimeSize<NX, NU, NY>{}) for the compiled size equal to (nx, nu, ny), otherwise()
+/// when there is none (both must return the same type).
+template <typename F, typename Otherwise>
+decltype(auto) with_runtime_size(long nx, long nu, long ny, F&& f, Otherwise&& otherwise) {
+#define FLEXLOOP_DISPATCH_SIZE(NX, NU, NY) \
+  if (nx == NX && nu == NU && ny == NY) return f(RuntimeSize<NX, NU, NY>{});
+  FLEXLOOP_RUNTIME_SIZES(FLEXLOOP_DISPATCH_SIZE)
+#undef FLEXLOOP_DISPATCH_SIZE
+  return otherwise();
+}
 
 /// Start-up: calls f(RuntimeSize<NX, NU, NY>{}) for the compiled size equal to (nx, nu, ny), and
 /// returns what it returns (every call of f must return the same type).

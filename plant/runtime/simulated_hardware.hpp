@@ -9,14 +9,18 @@
 //   sample():   w_k = floor.step()                                 floor acceleration
 //               [z; s] = plant.output(w_k)   with f_held, the actuator force since k-1, which
 //                                             the plant holds (its last NC inputs are held inputs)
-//               force_k = ForceSensor(s),  accel_k = Accelerometer(z)
-//               (force_k, accel_k) -> Transport delay -> what the controller receives
+//               sensors_k = SensorChain(s),  performance_k = PerformanceChain(z)
+//               (sensors_k, performance_k) -> Transport delay -> what the controller receives
 //   apply(u_k): f_k = Actuator(u_k)  (ideal: f_k = u_k)
 //               plant.advance([w_k; f_k]),  f_held = f_k
 // The performance output z (true frame acceleration, before the sensors) is kept for scoring.
 #include <Eigen/Core>
+#include <stdexcept>
+#include <string>
 #include <type_traits>
 #include <utility>
+
+#include "plant/runtime/channel_limits.hpp"
 
 namespace flexloop::plant::runtime {
 
@@ -26,78 +30,123 @@ struct NoEffect {};
 template <class T>
 inline constexpr bool kPresent = !std::is_same_v<T, NoEffect>;
 
+/// NW disturbances (the floor), NC actuators, NS sensors; the plant's outputs are the performance
+/// signals (NZ = outputs - NS) then the sensors. Compiled counts, or Eigen::Dynamic for counts set
+/// at start-up (the general path: the constructor's `sensors` then says NS).
 template <class Plant, int NW, int NC, class Floor, class Actuator = NoEffect,
-          class ForceSensor = NoEffect, class Accelerometer = NoEffect, class Transport = NoEffect>
+          class SensorChain = NoEffect, class PerformanceChain = NoEffect,
+          class Transport = NoEffect, int NS = NC>
 class SimulatedHardware {
  public:
   using Scalar = typename Plant::Output::Scalar;
-  static constexpr int NY = Plant::Output::RowsAtCompileTime, NZ = NY - NC;
-  static_assert(Plant::Input::RowsAtCompileTime == NW + NC, "inputs: floor, then actuators");
-  static_assert(Plant::kHeldInputs == NC, "the plant holds the actuator forces between samples");
-  static_assert(NZ > 0, "outputs: frame accelerations, then force sensors");
-  using Disturbance = Eigen::Matrix<Scalar, NW, 1>;
-  using Command = Eigen::Matrix<Scalar, NC, 1>;
-  using Performance = Eigen::Matrix<Scalar, NZ, 1>;
+  static constexpr int NY = Plant::Output::RowsAtCompileTime;
+  static constexpr int NZ = NY == Eigen::Dynamic || NS == Eigen::Dynamic ? Eigen::Dynamic : NY - NS;
+  static_assert(NY == Eigen::Dynamic || NZ > 0, "outputs: performance signals, then sensors");
+  using Disturbance = ChannelsOf<Scalar, NW>;
+  using Command = ChannelsOf<Scalar, NC>;
+  using Sensors = ChannelsOf<Scalar, NS>;
+  using Performance = ChannelsOf<Scalar, NZ>;
   struct Reading {
-    Command force;      ///< force sensors [N]
-    Performance accel;  ///< accelerometers [m/s^2]
+    Sensors sensors;          ///< what the sensors read (e.g. strut forces [N])
+    Performance performance;  ///< what the performance sensors read (e.g. accelerations [m/s^2])
   };
 
-  SimulatedHardware(Plant plant, Floor floor, Actuator actuator = {}, ForceSensor force = {},
-                    Accelerometer accel = {}, Transport transport = {})
+  /// @throws std::invalid_argument when the plant's held inputs are not the NC actuators, or the
+  /// counts do not close (inputs = disturbances + actuators, outputs = performance + sensors).
+  SimulatedHardware(Plant plant, Floor floor, Actuator actuator = {}, SensorChain sensor = {},
+                    PerformanceChain performance = {}, Transport transport = {},
+                    Eigen::Index sensors = NS)
       : plant_(std::move(plant)),
         floor_(std::move(floor)),
         actuator_(std::move(actuator)),
-        force_sensor_(std::move(force)),
-        accelerometer_(std::move(accel)),
-        transport_(std::move(transport)) {}
+        sensor_chain_(std::move(sensor)),
+        performance_chain_(std::move(performance)),
+        transport_(std::move(transport)) {
+    const Eigen::Index nu = plant_.inputs(), nc = plant_.held_inputs(), nw = nu - nc,
+                       ny = plant_.outputs(), nz = ny - sensors;
+    const auto require = [](bool ok, const std::string& what) {
+      if (!ok) throw std::invalid_argument("simulated hardware: " + what);
+    };
+    require(NC == Eigen::Dynamic || nc == NC, "the plant holds " + std::to_string(nc) +
+                                                  " inputs, expected the " + std::to_string(NC) +
+                                                  " actuators");
+    require(NW == Eigen::Dynamic || nw == NW,
+            "the plant samples " + std::to_string(nw) + " inputs, expected " + std::to_string(NW));
+    require(nc >= 1 && nc <= kMaxChannels && nw >= 1 && nw <= kMaxChannels && sensors >= 1 &&
+                sensors <= kMaxChannels && nz >= 1 && nz <= kMaxChannels,
+            std::to_string(nw) + " disturbances, " + std::to_string(nc) + " actuators, " +
+                std::to_string(nz) + " performance outputs and " + std::to_string(sensors) +
+                " sensors; each count must be 1 .. " + std::to_string(kMaxChannels));
+    in_ = Plant::Input::Zero(nu);
+    z_ = Performance::Zero(nz);
+    reading_.sensors = Sensors::Zero(sensors);
+    reading_.performance = Performance::Zero(nz);
+  }
 
   /// The sample at instant k: what the sensors read (after the transport delay, if any).
   const Reading& sample() noexcept {
-    in_.template head<NW>() = floor_.step();  // the tail holds the actuator force since k-1
-    const auto out = plant_.output(in_.template head<NW>());
-    z_ = out.template head<NZ>();
+    const Eigen::Index nw = floor_channels(), nz = z_.size(), ns = reading_.sensors.size();
+    in_.template head<NW>(nw) = floor_.step();  // the tail holds the actuator force since k-1
+    const auto& out = plant_.output(in_.template head<NW>(nw));
+    z_ = out.template head<NZ>(nz);
     // Straight into the reading: with no effect present this is all a sample does.
-    reading_.force = out.template tail<NC>();
-    reading_.accel = z_;
-    if constexpr (kPresent<ForceSensor>) reading_.force = force_sensor_.step(reading_.force);
-    if constexpr (kPresent<Accelerometer>) reading_.accel = accelerometer_.step(reading_.accel);
+    // segment<N>(start, n), not tail<N>(n): Eigen 3.4's tail<Dynamic>(n) does not compile.
+    reading_.sensors = out.template segment<NS>(out.size() - ns, ns);
+    reading_.performance = z_;
+    if constexpr (kPresent<SensorChain>) reading_.sensors = sensor_chain_.step(reading_.sensors);
+    if constexpr (kPresent<PerformanceChain>)
+      reading_.performance = performance_chain_.step(reading_.performance);
     if constexpr (kPresent<Transport>) {
-      Eigen::Matrix<Scalar, NC + NZ, 1> packed;
-      packed << reading_.force, reading_.accel;
-      packed = transport_.step(packed);
-      reading_.force = packed.template head<NC>();
-      reading_.accel = packed.template tail<NZ>();
+      reading_.sensors = transport_.sensors.step(reading_.sensors);
+      reading_.performance = transport_.performance.step(reading_.performance);
     }
     return reading_;
   }
 
   /// The controller's command for [k, k+1): through the actuator, then the plant advances.
-  void apply(const Command& u) noexcept {
+  template <typename U>
+  void apply(const Eigen::MatrixBase<U>& u) noexcept {
+    const Eigen::Index nw = floor_channels(), nc = in_.size() - nw;
     if constexpr (kPresent<Actuator>)
-      in_.template tail<NC>() = actuator_.step(u);
+      in_.template segment<NC>(nw, nc) = actuator_.step(u);
     else
-      in_.template tail<NC>() = u;
+      in_.template segment<NC>(nw, nc) = u;
     plant_.advance(in_);
   }
 
-  const Performance& frame_acceleration() const noexcept { return z_; }
-  Disturbance floor_acceleration() const noexcept { return in_.template head<NW>(); }
+  /// The true performance outputs of the last sample (before the performance sensors).
+  const Performance& performance() const noexcept { return z_; }
+  /// The disturbances of the last sample (the floor accelerations).
+  auto floor_acceleration() const noexcept { return in_.template head<NW>(floor_channels()); }
   /// The force the actuators hold over the current period.
-  Command actuator_force() const noexcept { return in_.template tail<NC>(); }
+  auto actuator_force() const noexcept {
+    return in_.template segment<NC>(floor_channels(), in_.size() - floor_channels());
+  }
   const Actuator& actuator() const noexcept { return actuator_; }
   const Plant& plant() const noexcept { return plant_; }
 
+  Eigen::Index disturbances() const noexcept { return floor_channels(); }
+  Eigen::Index actuators() const noexcept { return in_.size() - floor_channels(); }
+  Eigen::Index performance_outputs() const noexcept { return z_.size(); }
+  Eigen::Index sensors() const noexcept { return reading_.sensors.size(); }
+
  private:
+  Eigen::Index floor_channels() const noexcept {
+    if constexpr (NW == Eigen::Dynamic)
+      return in_.size() - plant_.held_inputs();
+    else
+      return NW;
+  }
+
   Plant plant_;
   Floor floor_;
   [[no_unique_address]] Actuator actuator_;
-  [[no_unique_address]] ForceSensor force_sensor_;
-  [[no_unique_address]] Accelerometer accelerometer_;
+  [[no_unique_address]] SensorChain sensor_chain_;
+  [[no_unique_address]] PerformanceChain performance_chain_;
   [[no_unique_address]] Transport transport_;
-  typename Plant::Input in_ = Plant::Input::Zero();  // [floor; actuator force held]
-  Performance z_ = Performance::Zero();
-  Reading reading_{Command::Zero(), Performance::Zero()};
+  typename Plant::Input in_;  // [floor; actuator force held]
+  Performance z_;
+  Reading reading_;
 };
 
 }  // namespace flexloop::plant::runtime

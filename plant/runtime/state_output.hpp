@@ -56,6 +56,12 @@ class StateOutput {
     return (cx_ + column_product(D_sampled_, w)).template head<NY>();
   }
 
+  static constexpr Eigen::Index states() noexcept { return NX; }
+  static constexpr Eigen::Index inputs() noexcept { return NU; }
+  static constexpr Eigen::Index outputs() noexcept { return NY; }
+  static constexpr Eigen::Index held_inputs() noexcept { return NH; }
+  static constexpr Eigen::Index sampled_inputs() noexcept { return kSampledInputs; }
+
   const State& state() const noexcept { return x_; }
   /// The held inputs: those of the last advance() (zero after reset()).
   const Held& held() const noexcept { return held_; }

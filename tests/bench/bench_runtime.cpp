@@ -29,21 +29,17 @@
 #include "controller/runtime/pi_controller_sizes.hpp"
 #include "plant/lti/modal_form.hpp"
 #include "plant/runtime/runtime_sizes.hpp"
+#include "tests/bench/bench_inputs.hpp"
 #include "tests/support/closed_loop.hpp"
 #include "tests/support/metrology.hpp"
 
 using namespace flexloop;
+using bench::floor_samples;
+using bench::kSamples;
+using bench::thread_cpu_ns;
 
 namespace {
 
-// CPU time of this thread [ns] (outside the timed loops only).
-double thread_cpu_ns() {
-  timespec t{};
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return 1e9 * static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_nsec);
-}
-
-constexpr int kSamples = 4096;
 constexpr double kLimit = 2.0;  // N: actuator limit; ~2 % of the samples saturate
 
 controller::runtime::PiParameters pi_parameters() {
@@ -51,19 +47,6 @@ controller::runtime::PiParameters pi_parameters() {
   p.u_min = Eigen::VectorXd::Constant(1, -kLimit);
   p.u_max = Eigen::VectorXd::Constant(1, kLimit);
   return p;
-}
-
-template <typename Scalar>
-const std::vector<Eigen::Matrix<Scalar, 6, 1>>& floor_samples() {
-  static const auto w = [] {
-    std::mt19937 rng(1);
-    std::normal_distribution<double> n01;
-    std::vector<Eigen::Matrix<Scalar, 6, 1>> v(kSamples);
-    for (auto& s : v)
-      for (int i = 0; i < 6; ++i) s(i) = static_cast<Scalar>(1e-3 * n01(rng));
-    return v;
-  }();
-  return w;
 }
 
 // The step written the obvious way with dynamic sizes; same numbers, same law (the PI in its

@@ -55,7 +55,7 @@ void run(benchmark::State& state, Hardware hw) {
   Pi pi = make_pi();
   for (auto _ : state) {
     const auto& r = hw.sample();
-    const auto u = pi.step(r.force);
+    const auto u = pi.step(r.sensors);
     hw.apply(u);
     benchmark::DoNotOptimize(u);
   }

@@ -80,7 +80,22 @@ out=$("$flexloop" sim "$tmp/tustin.toml" --duration 0.5 2>&1); rc=$?
 [[ $rc -eq 2 && "$out" == *"tustin.toml: [discretisation]:"* && "$out" == *"zoh"* ]] ||
   fail "preloaded scene with tustin: exit $rc ($out)"
 
+# An unstable sampled loop (one strut, omega_d = 100 Hz sampled at 200 Hz; the continuous loop is
+# stable) is refused before any run at its rate_hz line, with the spectral radius and a rate and
+# an omega_d that would work; analyse reports it.
+strut="$root/tests/fixtures/one_strut_200hz.toml"
+line=$(grep -n '^rate_hz' "$strut" | cut -d: -f1)
+out=$("$flexloop" sim "$strut" --duration 0.5 --log "$tmp/strut/log.csv" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"one_strut_200hz.toml:$line: [discretisation]: the sampled loop is unstable"* &&
+   "$out" == *"spectral radius"* && "$out" == *"stable: rate_hz = "* && "$out" == *"omega_d_hz <= "* ]] ||
+  fail "unstable sampled loop: exit $rc ($out)"
+[[ ! -e "$tmp/strut/log.csv" ]] || fail "unstable sampled loop left a log"
+out=$("$flexloop" analyse "$strut" --points 20 --out-dir "$tmp/strut_analyse" 2>&1) || fail "analyse one strut: $out"
+[[ "$out" == *"sampled loop at 200 Hz"*"spectral radius"*"UNSTABLE"* && "$out" == *"closed loop: UNSTABLE as it runs"* ]] ||
+  fail "analyse one strut does not report the sampled loop: $out"
+grep -q '"spectral_radius"' "$tmp/strut_analyse/analysis.json" || fail "analysis.json lacks the sampled loop's spectral radius"
+
 for cmd in version linearise analyse discretise fit-metrology sim hil plant controller baseline; do
   "$flexloop" $cmd --help | grep -q "Example" || fail "$cmd --help has no example"
 done
-echo "cli contract: 17 checks passed"
+echo "cli contract: 19 checks passed"

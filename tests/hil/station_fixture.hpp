@@ -10,8 +10,9 @@
 #include "plant/runtime/simulated_hardware.hpp"
 #include "tests/support/metrology.hpp"
 #include "tools/hil/controller_station.hpp"
-#include "tools/hil/loop_scene.hpp"
+#include "tools/hil/loop_controller.hpp"
 #include "tools/hil/plant_station.hpp"
+#include "tools/scene/loop_input.hpp"
 
 namespace flexloop::test {
 
@@ -20,13 +21,14 @@ using HilFloor = plant::runtime::effects::WhiteFloor<double, 6>;
 /// The metrology plant with a white floor and no other effect.
 using HilHardware = plant::runtime::SimulatedHardware<HilPlant, 6, 6, HilFloor>;
 
-inline const hil::LoopScene& hil_scene() {
-  static const hil::LoopScene s = hil::load_loop_scene(metrology_scene_path(), 1000);
+inline const artefact::LoopArtefact& hil_scene() {
+  static const artefact::LoopArtefact s =
+      scene::load_loop(metrology_scene_path(), {.rate_hz = 1000, .form = "", .duration_s = 0});
   return s;
 }
 
 inline HilPlant hil_plant() {
-  const auto& d = hil_scene().plant.sys;
+  const auto& d = hil_scene().plant;
   return HilPlant::from_matrices(d.A, d.B, d.C, d.D);
 }
 
@@ -50,7 +52,7 @@ auto deliver(rt::MessageInbox<Msg>& inbox, const Msg& m, std::int64_t received_n
 
 struct StationPair {
   hil::PlantStation<HilHardware> plant;
-  hil::ControllerStation controller;
+  hil::ControllerStation<controller::runtime::PiController<double, hil::kChannels>> controller;
   std::int64_t k = 0;  // next cycle
 
   explicit StationPair(int safe_after = 5, std::int64_t epoch = 7)

@@ -63,7 +63,7 @@ TEST_CASE("hil plant: an answer carrying NaN or Inf is dropped, counted, not app
        {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
     check_plant_drops(rt::DropReason::kNonFinite,
                       [bad](StationPair& p, flexloop_msgs::actuator_command_t c, std::int64_t t) {
-                        c.force_n[2] = bad;
+                        c.commands[2] = bad;
                         return deliver(p.plant.commands(), c, t);
                       });
   }
@@ -103,10 +103,10 @@ TEST_CASE("hil controller: bad sensor messages are dropped, counted and never an
   s.seq += 1;
   s.t_ns = now;
   auto nan = s;
-  nan.force_n[0] = std::numeric_limits<double>::quiet_NaN();
+  nan.sensors[0] = std::numeric_limits<double>::quiet_NaN();
   CHECK(deliver(inbox, nan, now) == rt::DropReason::kNonFinite);
   auto inf = s;
-  inf.accel_mps2[5] = -std::numeric_limits<double>::infinity();
+  inf.performance[5] = -std::numeric_limits<double>::infinity();
   CHECK(deliver(inbox, inf, now) == rt::DropReason::kNonFinite);
   auto old = s;
   old.seq -= 3;

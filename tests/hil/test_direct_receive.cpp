@@ -16,6 +16,7 @@
 #include "rt/loopback_guard.hpp"
 #include "rt/monotonic_time.hpp"
 #include "rt/realtime_setup.hpp"
+#include "tests/support/messages.hpp"
 #include "tools/hil/private_network.hpp"
 
 using namespace flexloop;
@@ -71,13 +72,13 @@ TEST_CASE(
   REQUIRE(sendto(raw, junk, sizeof junk, 0, reinterpret_cast<const sockaddr*>(&to), sizeof to) > 0);
   close(raw);
 
-  sensor_sample_t m{};
+  sensor_sample_t m = test::sized_sample();
   m.plant_epoch = 5;
   for (int k = 1; k <= 200; ++k) {
     m.seq = k;
     m.t_ns = rt::monotonic_now_ns();
-    m.force_n[k % 6] = 0.25 * k;
-    m.accel_mps2[(k + 1) % 6] = -1e-3 * k;
+    m.sensors[k % 6] = 0.25 * k;
+    m.performance[(k + 1) % 6] = -1e-3 * k;
     REQUIRE(pub.publish(m));
     if (k % 10 == 0) REQUIRE(other.publish(m));
     const std::int64_t until = rt::monotonic_now_ns() + 200'000'000;
@@ -91,8 +92,8 @@ TEST_CASE(
     REQUIRE(c != nullptr);
     CHECK(d->seq == k);
     CHECK(c->seq == k);
-    CHECK(std::memcmp(d->force_n, m.force_n, sizeof m.force_n) == 0);
-    CHECK(std::memcmp(d->accel_mps2, m.accel_mps2, sizeof m.accel_mps2) == 0);
+    CHECK(d->sensors == m.sensors);
+    CHECK(d->performance == m.performance);
   }
   direct.handle_pending();
   CHECK(direct_inbox.accepted() == 200);

@@ -30,8 +30,8 @@ TEST_CASE("hil stations: answers in time reproduce the in-process closed loop ex
 
     REQUIRE(pair.cycle() == (k == 0 ? CommandSource::kNone : CommandSource::kAnswer));
     const auto& s = pair.plant.last_sample();
-    REQUIRE(ChannelVector(Eigen::Map<const ChannelVector>(s.force_n)) == y.tail<6>());
-    REQUIRE(ChannelVector(Eigen::Map<const ChannelVector>(s.accel_mps2)) == y.head<6>());
+    REQUIRE(ChannelVector(Eigen::Map<const ChannelVector>(s.sensors.data())) == y.tail<6>());
+    REQUIRE(ChannelVector(Eigen::Map<const ChannelVector>(s.performance.data())) == y.head<6>());
     largest = std::max(largest, u.cwiseAbs().maxCoeff());
   }
   CHECK(largest > 0);  // the controller did act
@@ -93,7 +93,7 @@ TEST_CASE("hil stations: without the bumpless restart the first answer after the
 
 TEST_CASE("hil stations: a restarted plant (new epoch) makes the controller resynchronise") {
   StationPair first(5, 11);
-  hil::ControllerStation& controller = first.controller;
+  auto& controller = first.controller;
   for (int k = 0; k < 200; ++k) first.cycle();
   REQUIRE(controller.controller().state().cwiseAbs().maxCoeff() > 0);
 
@@ -110,7 +110,8 @@ TEST_CASE("hil stations: a restarted plant (new epoch) makes the controller resy
   CHECK(cmd.plant_epoch == 12);
   CHECK(cmd.answers_seq == 1);
   // Fresh start: with a plant at rest and no floor, the answer is zero and so is the state.
-  CHECK(ChannelVector(Eigen::Map<const ChannelVector>(cmd.force_n)) == ChannelVector::Zero());
+  CHECK(ChannelVector(Eigen::Map<const ChannelVector>(cmd.commands.data())) ==
+        ChannelVector::Zero());
   CHECK(controller.controller().state() == ChannelVector::Zero());
   // The restarted plant accepts it (its own epoch, in time).
   auto answer = cmd;

@@ -6,7 +6,7 @@
 
 #include "tests/hil/station_fixture.hpp"
 #include "tools/sim/closed_loop_run.hpp"
-#include "tools/sim/scene_hardware.hpp"
+#include "tools/sim/loop_hardware.hpp"
 
 using namespace flexloop;
 using namespace flexloop::test;
@@ -14,17 +14,17 @@ using namespace flexloop::test;
 TEST_CASE(
     "hil stations with every effect of the all-effects scene reproduce the in-process "
     "simulation exactly") {
-  const hil::LoopScene scene =
-      hil::load_loop_scene("tools/scenes/metrology_frame_all_effects.toml", 0);
-  const auto& d = scene.plant.sys;
-  REQUIRE(d.nx() == 24);  // the gravity preload adds the floor's position and velocity
+  const artefact::LoopArtefact scene =
+      scene::load_loop("tools/scenes/metrology_frame_all_effects.toml");
+  const auto& d = scene.plant;
+  REQUIRE(d.A.rows() == 24);  // the gravity preload adds the floor's position and velocity
   const auto plant =
       plant::runtime::DensePlant<double, 24, 12, 12, 6>::from_matrices(d.A, d.B, d.C, d.D);
   constexpr long kSteps = 4000;
-  sim::with_scene_hardware<6, 6>(scene.scene, plant, d.states, scene.plant.dt, [&](auto hw) {
-    const sim::RunResult reference = sim::run_closed_loop(
-        hw, hil::make_loop_controller(scene),
-        {.steps = kSteps, .dt = scene.plant.dt, .log_every = 0, .chunks = 1}, {});
+  sim::with_hardware<6, 6>(scene, plant, [&](auto hw) {
+    const sim::RunResult reference =
+        sim::run_closed_loop(hw, hil::make_loop_controller(scene),
+                             {.steps = kSteps, .dt = scene.dt(), .log_every = 0, .chunks = 1}, {});
     hil::PlantStation<decltype(hw)> station(hw,
                                             {.safe_after = 5, .epoch = 3, .period_ns = kPeriod});
     hil::ControllerStation controller(hil::make_loop_controller(scene), 5);
@@ -33,11 +33,11 @@ TEST_CASE(
       const std::int64_t due = k * kPeriod;
       station.settle(due);
       const auto& s = station.sample(due);
-      sum_z2 += station.hardware().frame_acceleration().cwiseAbs2();
+      sum_z2 += station.hardware().performance().cwiseAbs2();
       REQUIRE_FALSE(deliver(controller.samples(), s, due + kTransit).has_value());
       auto& cmd = controller.answer(*controller.samples().take());
       cmd.t_ns = due + kAnswerAfter;
-      sum_u2 += Eigen::Map<const hil::ChannelVector>(cmd.force_n).cwiseAbs2();
+      sum_u2 += Eigen::Map<const hil::ChannelVector>(cmd.commands.data()).cwiseAbs2();
       REQUIRE_FALSE(deliver(station.commands(), cmd, due + kAnswerAfter + kTransit).has_value());
     }
     const hil::ChannelVector rms_z = (sum_z2 / kSteps).cwiseSqrt();

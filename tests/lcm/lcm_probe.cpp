@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "rt/loopback_guard.hpp"
+#include "tests/support/messages.hpp"
 
 namespace {
 
@@ -30,7 +31,7 @@ struct Listener {
   void on_sample(const lcm::ReceiveBuffer*, const std::string&,
                  const flexloop_msgs::sensor_sample_t* m) {
     for (int i = 0; i < 6; ++i)
-      if (m->force_n[i] != expected_force(m->seq, i)) ++wrong;
+      if (m->n_sensors != 6 || m->sensors[i] != expected_force(m->seq, i)) ++wrong;
     ++received;
   }
 };
@@ -51,11 +52,11 @@ int listen(int n, int timeout_ms) {
 int publish(int n) {
   lcm::LCM lcm(flexloop::rt::kPrivateLoopbackLcmUrl);
   if (!lcm.good()) return std::fprintf(stderr, "lcm_probe: LCM init failed\n"), 1;
-  flexloop_msgs::sensor_sample_t m{};
+  flexloop_msgs::sensor_sample_t m = flexloop::test::sized_sample();
   std::vector<std::uint8_t> buf(static_cast<std::size_t>(m.getEncodedSize()));
   for (int k = 0; k < n; ++k) {
     m.seq = k;
-    for (int i = 0; i < 6; ++i) m.force_n[i] = expected_force(k, i);
+    for (int i = 0; i < 6; ++i) m.sensors[i] = expected_force(k, i);
     m.encode(buf.data(), 0, static_cast<int>(buf.size()));
     if (lcm.publish(kChannel, buf.data(), static_cast<unsigned>(buf.size())) != 0) return 1;
     std::this_thread::sleep_for(

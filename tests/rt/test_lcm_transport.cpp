@@ -6,6 +6,7 @@
 #include <string>
 
 #include "rt/lcm_transport.hpp"
+#include "tests/support/messages.hpp"
 
 using namespace flexloop::rt;
 using flexloop_msgs::sensor_sample_t;
@@ -23,10 +24,10 @@ TEST_CASE("published samples reach the inbox through handle_pending") {
   MessageInbox<sensor_sample_t> inbox;
   lcm.subscribe(kChannel, inbox);
   LcmPublisher<sensor_sample_t> pub(lcm, kChannel);
-  sensor_sample_t m{};
+  sensor_sample_t m = flexloop::test::sized_sample();
   for (int k = 1; k <= 3; ++k) {
     m.seq = k;
-    m.force_n[2] = 0.5 * k;
+    m.sensors[2] = 0.5 * k;
     REQUIRE(pub.publish(m));
   }
   CHECK(lcm.handle_pending() == 3);
@@ -35,7 +36,7 @@ TEST_CASE("published samples reach the inbox through handle_pending") {
   const sensor_sample_t* got = inbox.take();
   REQUIRE(got != nullptr);
   CHECK(got->seq == 3);
-  CHECK(got->force_n[2] == 1.5);
+  CHECK(got->sensors[2] == 1.5);
   CHECK(pub.published() == 3);
   CHECK(pub.failures() == 0);
   CHECK(lcm.handle_pending() == 0);
@@ -64,7 +65,7 @@ TEST_CASE("handle_until stops as soon as the predicate holds, before its deadlin
   for (const ReceiveMode mode :
        {ReceiveMode::kBlocking, ReceiveMode::kPolling, ReceiveMode::kHybrid}) {
     INFO("receive mode " << to_string(mode));
-    sensor_sample_t m{};
+    sensor_sample_t m = flexloop::test::sized_sample();
     m.seq = inbox.accepted() + 1;
     REQUIRE(pub.publish(m));
     const std::int64_t far = monotonic_now_ns() + 10 * kNsPerSecond;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "rt/message_inbox.hpp"
+#include "tests/support/messages.hpp"
 
 using flexloop::rt::DropReason;
 using flexloop::rt::EpochPolicy;
@@ -32,24 +33,24 @@ std::optional<DropReason> offer(MessageInbox<Msg>& inbox, const Msg& m, std::int
 }
 
 sensor_sample_t sample(std::int64_t epoch, std::int64_t seq, std::int64_t t_ns) {
-  sensor_sample_t s{};
+  sensor_sample_t s = flexloop::test::sized_sample();
   s.plant_epoch = epoch;
   s.seq = seq;
   s.t_ns = t_ns;
   for (int i = 0; i < 6; ++i) {
-    s.force_n[i] = static_cast<double>(seq) + i;
-    s.accel_mps2[i] = -0.5 * i;
+    s.sensors[i] = static_cast<double>(seq) + i;
+    s.performance[i] = -0.5 * i;
   }
   return s;
 }
 
 actuator_command_t command(std::int64_t epoch, std::int64_t answers, std::int64_t t_ns) {
-  actuator_command_t c{};
+  actuator_command_t c = flexloop::test::sized_command();
   c.plant_epoch = epoch;
   c.answers_seq = answers;
   c.seq = answers;
   c.t_ns = t_ns;
-  for (int i = 0; i < 6; ++i) c.force_n[i] = 0.25 * i;
+  for (int i = 0; i < 6; ++i) c.commands[i] = 0.25 * i;
   return c;
 }
 
@@ -63,8 +64,8 @@ TEST_CASE("a valid sensor sample is accepted, decoded bit for bit and taken once
   const sensor_sample_t* got = inbox.take();
   REQUIRE(got != nullptr);
   CHECK(got->seq == 1);
-  CHECK(got->force_n[5] == s.force_n[5]);
-  CHECK(got->accel_mps2[3] == s.accel_mps2[3]);
+  CHECK(got->sensors[5] == s.sensors[5]);
+  CHECK(got->performance[3] == s.performance[3]);
   CHECK(inbox.newest_received_ns() == 1500);
   CHECK(inbox.take() == nullptr);
   CHECK(inbox.accepted() == 1);
@@ -88,20 +89,47 @@ TEST_CASE("truncated, over-long and foreign buffers are decode failures, never a
   CHECK(inbox.newest().seq == 1);
 }
 
+TEST_CASE("other channel counts than the loop's, or forged counts, are dropped before decoding") {
+  // The plant expects 6 commands; the controller 6 sensors and any performance count.
+  MessageInbox<actuator_command_t> commands(OrderGate(EpochPolicy::kFixed, 1), {6, 0});
+  auto five = flexloop::test::sized_command(5);
+  five.plant_epoch = 1;
+  CHECK(offer(commands, five) == DropReason::kChannelCount);
+  MessageInbox<sensor_sample_t> samples(OrderGate{}, {6, 0});
+  auto s = flexloop::test::sized_sample(6, 9);
+  s.seq = 1;
+  CHECK_FALSE(offer(samples, s).has_value());
+  s = flexloop::test::sized_sample(7, 6);
+  s.seq = 2;
+  CHECK(offer(samples, s) == DropReason::kChannelCount);
+  // A count forged to -1 or 30000 in an otherwise valid buffer: the decode would size a vector
+  // from it (and throw or allocate inside the loop); it never gets that far.
+  auto buf = encode(flexloop::test::sized_sample(6, 6));
+  for (const std::uint16_t forged :
+       {std::uint16_t{0xffff}, std::uint16_t{30000}, std::uint16_t{0}}) {
+    buf[32] = static_cast<std::uint8_t>(forged >> 8);
+    buf[33] = static_cast<std::uint8_t>(forged & 0xff);
+    CHECK(samples.offer(buf.data(), static_cast<int>(buf.size()), 0) == DropReason::kChannelCount);
+  }
+  CHECK(samples.drops()[DropReason::kChannelCount] == 4);
+  CHECK(commands.drops()[DropReason::kChannelCount] == 1);
+  CHECK(samples.accepted() == 1);
+}
+
 TEST_CASE("NaN or Inf in any float field is dropped as non-finite") {
   MessageInbox<sensor_sample_t> sensors;
   auto s = sample(1, 1, 10);
-  s.accel_mps2[4] = std::numeric_limits<double>::quiet_NaN();
+  s.performance[4] = std::numeric_limits<double>::quiet_NaN();
   CHECK(offer(sensors, s) == DropReason::kNonFinite);
   s = sample(1, 2, 20);
-  s.force_n[0] = -std::numeric_limits<double>::infinity();
+  s.sensors[0] = -std::numeric_limits<double>::infinity();
   CHECK(offer(sensors, s) == DropReason::kNonFinite);
   CHECK(sensors.drops()[DropReason::kNonFinite] == 2);
   CHECK(sensors.accepted() == 0);
 
   MessageInbox<actuator_command_t> commands(OrderGate(EpochPolicy::kFixed, 1));
   auto c = command(1, 1, 10);
-  c.force_n[3] = std::numeric_limits<double>::infinity();
+  c.commands[3] = std::numeric_limits<double>::infinity();
   CHECK(offer(commands, c) == DropReason::kNonFinite);
 
   MessageInbox<loop_stats_t> stats;
@@ -173,4 +201,5 @@ TEST_CASE("drop reasons have stable names") {
   CHECK(std::string(to_string(DropReason::kStale)) == "stale");
   CHECK(std::string(to_string(DropReason::kDuplicate)) == "duplicate");
   CHECK(std::string(to_string(DropReason::kOutOfOrder)) == "out_of_order");
+  CHECK(std::string(to_string(DropReason::kChannelCount)) == "channel_count");
 }

@@ -12,9 +12,10 @@
 #include "plant/lti/vibration_criterion.hpp"
 #include "plant/lti/welch.hpp"
 #include "plant/runtime/runtime_sizes.hpp"
+#include "tools/scene/loop_artefact_builder.hpp"
 #include "tools/scene/scene_plant.hpp"
 #include "tools/sim/closed_loop_run.hpp"
-#include "tools/sim/scene_hardware.hpp"
+#include "tools/sim/loop_hardware.hpp"
 
 using namespace flexloop;
 
@@ -41,10 +42,10 @@ std::pair<double, double> worst_spectrum_deviation(scene::Scene sc, double f_min
   s.log_every = 1;
   using Plant = plant::runtime::DensePlant<double, NX, 12, 12, 6>;
   const Plant plant = Plant::from_matrices(d.A, d.B, d.C, d.D);
-  const auto pi = controller::runtime::PiController<double, 6>::from_parameters(
-      sim::pi_parameters_with_hardware(p, s.dt));
+  const auto loop = scene::build_loop_artefact(p, sampled, "dense");
+  const auto pi = controller::runtime::PiController<double, 6>::from_parameters(loop.pi);
   const sim::RunResult r = sim::with_bare_hardware<6, 6>(
-      sc, plant, d.states, s.dt, [&](auto hw) { return sim::run_closed_loop(hw, pi, s, {}); });
+      loop, plant, [&](auto hw) { return sim::run_closed_loop(hw, pi, s, {}); });
 
   const double fs = 1.0 / s.dt;
   const auto input_psd = [&](const std::vector<double>& f) {

@@ -37,7 +37,7 @@ bool in_private_network(const hil::HilOptions& o) {
 
 hil::HilOptions options(double rate_hz, rt::WaitMode wait) {
   hil::HilOptions o;
-  o.loop.scene_path = test::metrology_scene_path();
+  o.loop.loop_path = test::metrology_scene_path();
   o.loop.rate_hz = rate_hz;
   o.loop.duration_s = 10;
   o.loop.wait = wait;

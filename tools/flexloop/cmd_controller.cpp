@@ -1,4 +1,5 @@
-// `flexloop controller SCENE [--rate HZ] [--wait sleep|hybrid|spin] [--cpu N] [--safe-after N]
+// `flexloop controller SCENE|LOOP.json [--rate HZ] [--wait sleep|hybrid|spin] [--cpu N]
+// [--safe-after N]
 //  [--duration S]`: the controller process of the real-time loop (tools/hil/controller_loop.hpp).
 // Answers every FLEXLOOP_SENSOR sample with a FLEXLOOP_COMMAND until SIGINT / SIGTERM, then
 // prints its counts. Give it the plant's --rate (the PI controller is sampled at it). Refuses to
@@ -10,6 +11,7 @@
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/hil/controller_loop.hpp"
 #include "tools/hil/latency_json.hpp"
+#include "tools/scene/loop_input.hpp"
 
 namespace flexloop::cli {
 
@@ -17,7 +19,8 @@ namespace {
 
 void run(const LoopArgs& a) {
   const hil::LoopOptions o = apply_loop_options(a);
-  const hil::ControllerLoopResult r = hil::run_controller_loop(o);
+  const hil::ControllerLoopResult r = hil::run_controller_loop(
+      o, scene::load_loop(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
   hil::print_summary("compute (ns)", *r.compute);
   hil::print_summary("receive -> send (ns)", *r.response);
   std::printf(

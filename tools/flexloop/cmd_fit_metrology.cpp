@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "plant/lti/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 #include "tools/flexloop/metrology_frame_fit.hpp"
 #include "tools/flexloop/subcommands.hpp"
 
@@ -58,7 +58,7 @@ void run(const FitArgs& a) {
       fit_metrology_frame(a.geometry, a.mass_kg, a.damping_ratio, kSeedFrequenciesHz,
                           [](const std::string& line) { std::printf("%s\n", line.c_str()); });
   const std::string text = describe(fit, a);
-  plant::lti::write_text_atomically(a.output, metrology_frame_toml(fit.fitted, text));
+  write_text_atomically(a.output, metrology_frame_toml(fit.fitted, text));
   std::printf("%s", text.c_str());
   std::printf("closed-form start: k = %.6g N/m, I_xx = %.6g, I_zz = %.6g kg m^2, h = %.6g m\n",
               fit.start.strut_stiffness_n_per_m, fit.start.inertia_xx_kgm2,

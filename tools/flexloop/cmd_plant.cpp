@@ -1,4 +1,4 @@
-// `flexloop plant SCENE [--rate HZ] [--duration S] [--wait sleep|hybrid|spin] [--cpu N]
+// `flexloop plant SCENE|LOOP.json [--rate HZ] [--duration S] [--wait sleep|hybrid|spin] [--cpu N]
 //  [--safe-after N] [--json OUT.json]`: the plant process of the real-time loop
 // (tools/hil/plant_loop.hpp). Owns the clock, publishes FLEXLOOP_SENSOR every period and
 // FLEXLOOP_STATS every second, applies the answers from FLEXLOOP_COMMAND, prints the figures at
@@ -11,6 +11,7 @@
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/hil/latency_json.hpp"
 #include "tools/hil/plant_loop.hpp"
+#include "tools/scene/loop_input.hpp"
 
 namespace flexloop::cli {
 
@@ -22,7 +23,8 @@ struct PlantArgs : LoopArgs {
 
 void run(const PlantArgs& a) {
   const hil::LoopOptions o = apply_loop_options(a);
-  const hil::PlantLoopResult r = hil::run_plant_loop(o);
+  const hil::PlantLoopResult r = hil::run_plant_loop(
+      o, scene::load_loop(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
   const hil::LoopAccounts& acc = r.accounts;
   hil::print_summary("round trip (ns)", *acc.round_trip);
   hil::print_summary("wakeup lateness (ns)", *acc.wakeup_lateness);

@@ -1,8 +1,9 @@
-// `flexloop sim SCENE [--duration S] [--controller on|off] [--form dense|modal] --log OUT.csv
-//  [--log-every N] [--plots DIR]`: the scene's discrete plant and PI controller in one process,
-// faster than real time (tools/sim/closed_loop_run.hpp has the loop), once with the controller
-// off and once on, driven by the same seeded floor; prints the RMS frame acceleration per
-// channel for both and writes the log of the requested run.
+// `flexloop sim SCENE|LOOP.json [--duration S] [--controller on|off] [--form dense|modal]
+//  [--log OUT.csv] [--log-every N] [--plots DIR]`: the loop artefact's discrete plant, hardware
+// and controller in one process, faster than real time (tools/sim/closed_loop_run.hpp has the
+// loop), once with the controller off and once on, driven by the same seeded floor; prints the
+// RMS of every performance output for both and writes the log of the requested run. A scene is
+// first built into its artefact (tools/flexloop/loop_input.hpp), as `flexloop build` does.
 #include <unistd.h>
 #include <cmath>
 #include <cstdio>
@@ -17,7 +18,7 @@
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/report/csv_writer.hpp"
 #include "tools/report/plot.hpp"
-#include "tools/scene/scene_plant.hpp"
+#include "tools/scene/loop_input.hpp"
 #include "tools/sim/closed_loop_run.hpp"
 #include "tools/sim/scene_runs.hpp"
 
@@ -26,7 +27,7 @@ namespace flexloop::cli {
 namespace {
 
 struct SimArgs {
-  std::string scene, log, plots, controller, form = "dense";
+  std::string scene, log, plots, controller, form, path = "auto";
   double duration_s = 0;
   long log_every = 1;
 };
@@ -49,7 +50,7 @@ sim::ProgressFactory progress_lines(long steps) {
   };
 }
 
-std::string describe_effects(const scene::EffectsSettings& e) {
+std::string describe_effects(const artefact::EffectsSettings& e) {
   std::string d;
   auto add = [&d](const std::string& s) { d += (d.empty() ? "" : "; ") + s; };
   auto num = [](double v) { return report::format_number(v); };
@@ -69,20 +70,28 @@ std::string describe_effects(const scene::EffectsSettings& e) {
   return d.empty() ? "none (bare plant)" : d;
 }
 
-std::vector<std::string> log_header(const scene::ScenePlant& p) {
+// Columns named by role and channel, with the channel's unit.
+std::vector<std::string> log_header(const artefact::LoopArtefact& a) {
   std::vector<std::string> h{"t_s"};
-  for (const auto& n : p.scene.disturbances) h.push_back("floor " + n);
-  for (const auto& n : p.scene.performance) h.push_back("frame " + n);
-  for (const auto& n : p.scene.performance) h.push_back("accelerometer " + n);
-  for (const auto& n : p.scene.sensors) h.push_back("force sensor " + n);
-  for (const auto& n : p.scene.actuators) h.push_back("command " + n);
+  const auto add = [&h](const char* role, const std::vector<artefact::Channel>& channels) {
+    for (const auto& c : channels)
+      h.push_back(std::string(role) + " " + c.name + " [" + c.unit + "]");
+  };
+  add("disturbance", a.channels.disturbances);
+  add("performance", a.channels.performance);
+  add("performance sensor", a.channels.performance);
+  add("sensor", a.channels.sensors);
+  add("command", a.channels.actuators);
   return h;
 }
 
-void plot_runs(const scene::ScenePlant& p, const BothRuns& r, double rate_hz, long log_every,
+void plot_runs(const artefact::LoopArtefact& a, const BothRuns& r, long log_every,
                const std::string& dir) {
   std::filesystem::create_directories(dir);
-  const Eigen::Index nw = p.partition.disturbances, nz = p.partition.performance;
+  const Eigen::Index nw = a.disturbances(), nz = a.performance();
+  const auto& disturbance = a.channels.disturbances[0];
+  const auto& performance = a.channels.performance;
+  const double rate_hz = a.rate_hz;
   // Time series of the first frame channel and the floor: the last 2000 logged samples.
   const Eigen::Index rows = r.on.log.rows(), keep = std::min<Eigen::Index>(rows, 2000);
   const Eigen::Index first = rows - keep;
@@ -93,83 +102,96 @@ void plot_runs(const scene::ScenePlant& p, const BothRuns& r, double rate_hz, lo
   };
   const auto t = column(r.on.log, 0);
   std::vector<report::Series> ts{
-      {"floor " + p.scene.disturbances[0], t, column(r.on.log, 1), "lines lw 1 lc 3"},
-      {"frame " + p.scene.performance[0] + ", controller off", t, column(r.off.log, 1 + nw),
-       "lines lw 1 lc 1"},
-      {"frame " + p.scene.performance[0] + ", controller on", t, column(r.on.log, 1 + nw),
-       "lines lw 2 lc 2"}};
-  report::plot_lines({p.scene.name + ": floor and frame acceleration", "time [s]",
-                      "acceleration [m/s^2]", false, false, 1200, 500},
-                     ts, dir + "/time_series.png");
+      {"disturbance " + disturbance.name, t, column(r.on.log, 1), "lines lw 1 lc 3"},
+      {performance[0].name + ", controller off", t, column(r.off.log, 1 + nw), "lines lw 1 lc 1"}};
+  if (r.controlled)
+    ts.push_back(
+        {performance[0].name + ", controller on", t, column(r.on.log, 1 + nw), "lines lw 2 lc 2"});
+  report::plot_lines(
+      {a.name + ": disturbance and performance output", "time [s]",
+       "[" + performance[0].unit + "], [" + disturbance.unit + "]", false, false, 1200, 500},
+      ts, dir + "/time_series.png");
   // Welch spectra of every frame channel, off (solid) and on (dashed).
   const double fs = rate_hz / static_cast<double>(log_every);  // the log's sample rate
   const Eigen::Index L = std::min<Eigen::Index>(r.on.log.rows() / 8, 8192);
   std::vector<report::Series> sp;
   for (Eigen::Index i = 0; i < nz && L >= 16; ++i)
     for (const auto* run : {&r.off, &r.on}) {
+      if (run == &r.on && !r.controlled) continue;
       const auto s = plant::lti::welch_psd(run->log.col(1 + nw + i), fs, {L, 0.5});
       std::vector<double> f, v;
       for (Eigen::Index k = 1; k < s.psd.size(); ++k)
         f.push_back(s.frequency_hz(k)), v.push_back(std::sqrt(s.psd(k)));
       sp.push_back(
-          {p.scene.performance[static_cast<std::size_t>(i)] + (run == &r.off ? " off" : " on"), f,
-           v,
+          {performance[static_cast<std::size_t>(i)].name + (run == &r.off ? " off" : " on"), f, v,
            std::string(run == &r.off ? "lines lw 1 dt 1" : "lines lw 2 dt 2") + " lc " +
                std::to_string(i + 1)});
     }
   report::plot_lines(
-      {p.scene.name + ": frame acceleration spectra (solid off, dashed on)", "frequency [Hz]",
-       "amplitude spectral density [m/s^2/sqrt(Hz)]", true, true, 1200, 700},
+      {a.name + ": performance spectra (solid off, dashed on)", "frequency [Hz]",
+       "amplitude spectral density [" + performance[0].unit + "/sqrt(Hz)]", true, true, 1200, 700},
       sp, dir + "/spectra.png");
 }
 
-void run(const SimArgs& a) {
-  scene::Scene sc = scene::load_scene(a.scene);
-  if (a.duration_s > 0) sc.run.duration_s = a.duration_s;
-  const bool on = a.controller.empty() ? sc.controller.enabled : a.controller == "on";
-  const auto p = scene::build_scene_plant(sc);
-  scene::require_stable_loop(p);  // both runs are simulated, the controlled one too
-  const auto sampled = scene::sample_scene(p);
+void run(const SimArgs& args) {
+  const artefact::LoopArtefact a = scene::load_loop(
+      args.scene, {.rate_hz = 0, .form = args.form, .duration_s = args.duration_s});
+  const bool controlled = a.controller != artefact::ControllerKind::kNone;
+  const bool on = controlled && (args.controller.empty() || args.controller == "on");
   sim::RunSettings s;
-  s.dt = sampled.plant.dt;
-  s.steps = std::lround(sc.run.duration_s / s.dt);
-  s.log_every = a.log_every;
-  const bool plots = !a.plots.empty(), log = !a.log.empty();
+  s.dt = a.dt();
+  s.steps = std::lround(a.duration_s / s.dt);
+  s.log_every = args.log_every;
+  const bool plots = !args.plots.empty(), log = !args.log.empty();
   const std::string floor =
-      sc.floor.spectrum == "white"
-          ? "white " + report::format_number(sc.floor.rms_mps2) + " m/s^2 RMS per channel"
-          : sc.floor.spectrum + " (IEST-RP-CC012, flat velocity 1-80 Hz)";
-  std::printf("scene %s: %s plant, %ld states, %.0f Hz (%s), %.3g s = %ld steps\n", sc.name.c_str(),
-              a.form.c_str(), static_cast<long>(sampled.plant.sys.nx()), sc.discretisation.rate_hz,
-              plant::lti::to_string(sc.discretisation.method).c_str(), sc.run.duration_s, s.steps);
+      a.floor.spectrum == "white"
+          ? "white " + report::format_number(a.floor.rms_mps2) + " m/s^2 RMS per channel"
+          : a.floor.spectrum + " (IEST-RP-CC012, flat velocity 1-80 Hz)";
+  std::printf("scene %s: %s plant, %ld states, %.0f Hz (%s), %.3g s = %ld steps\n", a.name.c_str(),
+              a.plant.form.c_str(), static_cast<long>(a.plant.states.size()), a.rate_hz,
+              a.method.c_str(), a.duration_s, s.steps);
+  std::printf(
+      "channels: %ld disturbances, %ld actuators, %ld performance outputs, %ld sensors; "
+      "controller: %s\n",
+      static_cast<long>(a.disturbances()), static_cast<long>(a.actuators()),
+      static_cast<long>(a.performance()), static_cast<long>(a.sensors()),
+      artefact::to_string(a.controller).c_str());
   std::printf("floor: %s, seed %llu\neffects: %s\n", floor.c_str(),
-              static_cast<unsigned long long>(sc.floor.seed), describe_effects(sc.effects).c_str());
-  const BothRuns r = sim::run_scene(
-      p, sampled, s,
-      {a.form, plots || (log && !on), plots || (log && on), progress_lines(s.steps)});
+              static_cast<unsigned long long>(a.floor.seed), describe_effects(a.effects).c_str());
+  const BothRuns r = sim::run_artefact(a, s,
+                                       {args.path == "general", plots || (log && !on),
+                                        plots || (log && on), progress_lines(s.steps)});
 
-  std::printf("RMS frame acceleration [m/s^2]   controller off   controller on   change\n");
-  for (Eigen::Index i = 0; i < r.on.rms_performance.size(); ++i)
-    std::printf("  %-28s %14.4e %15.4e %+7.1f dB\n",
-                p.scene.performance[static_cast<std::size_t>(i)].c_str(), r.off.rms_performance(i),
-                r.on.rms_performance(i),
-                20 * std::log10(r.on.rms_performance(i) / r.off.rms_performance(i)));
-  std::printf("RMS actuator force with the controller on: %.4g N (largest channel)\n",
-              r.on.rms_command.maxCoeff());
-  for (const auto* run : {&r.off, &r.on})
+  std::printf("RMS of the performance outputs   controller off   controller on   change\n");
+  for (Eigen::Index i = 0; i < r.off.rms_performance.size(); ++i) {
+    const auto& c = a.channels.performance[static_cast<std::size_t>(i)];
+    const std::string label = c.name + " [" + c.unit + "]";
+    if (r.controlled)
+      std::printf("  %-28s %14.4e %15.4e %+7.1f dB\n", label.c_str(), r.off.rms_performance(i),
+                  r.on.rms_performance(i),
+                  20 * std::log10(r.on.rms_performance(i) / r.off.rms_performance(i)));
+    else
+      std::printf("  %-28s %14.4e %15s\n", label.c_str(), r.off.rms_performance(i), "-");
+  }
+  if (r.controlled)
+    std::printf("RMS actuator command with the controller on: %.4g %s (largest channel)\n",
+                r.on.rms_command.maxCoeff(), a.channels.actuators[0].unit.c_str());
+  for (const auto* run : {&r.off, &r.on}) {
+    if (run == &r.on && !r.controlled) continue;
     std::printf("%s: loop %.3f s wall for %.3g s simulated: %.0fx real time\n",
                 run == &r.off ? "controller off" : "controller on ", run->loop_seconds,
-                sc.run.duration_s, sc.run.duration_s / run->loop_seconds);
+                a.duration_s, a.duration_s / run->loop_seconds);
+  }
   if (log) {
-    if (const auto dir = std::filesystem::path(a.log).parent_path(); !dir.empty())
+    if (const auto dir = std::filesystem::path(args.log).parent_path(); !dir.empty())
       std::filesystem::create_directories(dir);
-    report::write_csv(a.log, log_header(p), on ? r.on.log : r.off.log);
-    std::printf("wrote %s (controller %s, every %ld-th sample)\n", a.log.c_str(), on ? "on" : "off",
-                a.log_every);
+    report::write_csv(args.log, log_header(a), on ? r.on.log : r.off.log);
+    std::printf("wrote %s (controller %s, every %ld-th sample)\n", args.log.c_str(),
+                on ? "on" : "off", args.log_every);
   }
   if (plots) {
-    plot_runs(p, r, sc.discretisation.rate_hz, a.log_every, a.plots);
-    std::printf("wrote %s/{time_series.png, spectra.png}\n", a.plots.c_str());
+    plot_runs(a, r, args.log_every, args.plots);
+    std::printf("wrote %s/{time_series.png, spectra.png}\n", args.plots.c_str());
   }
 }
 
@@ -179,20 +201,29 @@ void register_sim(CLI::App& app) {
   auto args = std::make_shared<SimArgs>();
   auto* cmd = app.add_subcommand(
       "sim",
-      "Run a scene's discrete plant and PI controller in one process, faster than real time");
-  cmd->add_option("scene", args->scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+      "Run a loop (a scene, or an artefact of flexloop build) in one process, faster than real "
+      "time");
+  cmd->add_option("loop", args->scene, "Scene file (TOML) or loop artefact (JSON)")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--duration", args->duration_s, "Simulated time [s] (default: the scene's)")
       ->check(CLI::PositiveNumber);
   cmd->add_option("--controller", args->controller,
                   "Log the run with the controller on or off (default: the scene's); the "
                   "summary shows both")
       ->check(CLI::IsMember({"on", "off"}));
-  cmd->add_option("--form", args->form, "Plant form: dense or modal (real block-diagonal)")
-      ->capture_default_str()
+  cmd->add_option("--form", args->form,
+                  "Plant form of a scene: dense or modal (real block-diagonal); an artefact "
+                  "has its own")
       ->check(CLI::IsMember({"dense", "modal"}));
+  cmd->add_option("--runtime-path", args->path,
+                  "auto: a compiled fast path where the plant's sizes have one, else the general "
+                  "path sized at start-up; general: the general path always (for comparisons)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "general"}));
   cmd->add_option("--log", args->log,
-                  "CSV log: t_s, floor accelerations, frame accelerations, sensor forces, "
-                  "commands (SI units), one row per logged sample");
+                  "CSV log: t_s, disturbances, performance outputs (true and as sensed), "
+                  "sensors, commands (SI units), one row per logged sample");
   cmd->add_option("--log-every", args->log_every, "Log every N-th sample")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

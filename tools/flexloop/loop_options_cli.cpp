@@ -35,7 +35,9 @@ void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock
 void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu) {
   hil::LoopOptions& o = a.options;
   o.realtime.cpu = default_cpu;
-  cmd->add_option("scene", o.scene_path, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("loop", o.loop_path, "Scene file (TOML) or loop artefact (JSON, flexloop build)")
+      ->required()
+      ->check(CLI::ExistingFile);
   cmd->add_option("--rate", o.rate_hz, "Loop rate [Hz] (default: the scene's discretisation rate)")
       ->check(CLI::Range(1.0, 1e6));
   add_wait_options(cmd, a.wait, a.spin_margin_us);

@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
   flexloop::cli::register_linearise(app);
   flexloop::cli::register_analyse(app);
   flexloop::cli::register_discretise(app);
+  flexloop::cli::register_build(app);
   flexloop::cli::register_baseline(app);
   flexloop::cli::register_fit_metrology(app);
   flexloop::cli::register_sim(app);

@@ -8,6 +8,7 @@ namespace flexloop::cli {
 
 void register_version(CLI::App& app);
 void register_discretise(CLI::App& app);
+void register_build(CLI::App& app);
 void register_linearise(CLI::App& app);
 void register_analyse(CLI::App& app);
 void register_baseline(CLI::App& app);

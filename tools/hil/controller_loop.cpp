@@ -6,28 +6,26 @@
 #include "rt/monotonic_time.hpp"
 #include "tools/hil/controller_station.hpp"
 #include "tools/hil/latency_json.hpp"
-#include "tools/hil/loop_scene.hpp"
+#include "tools/hil/loop_controller.hpp"
 #include "tools/hil/private_network.hpp"
 #include "tools/hil/stop_signal.hpp"
 
 namespace flexloop::hil {
 
-ControllerLoopResult run_controller_loop(const LoopOptions& o, const std::function<void()>& ready) {
-  require_private_network("flexloop controller", o.link);
-  return run_controller_loop(o, load_loop_scene(o.scene_path, o.rate_hz), ready);
-}
+namespace {
 
-ControllerLoopResult run_controller_loop(const LoopOptions& o, const LoopScene& scene,
-                                         const std::function<void()>& ready) {
-  require_private_network("flexloop controller", o.link);
+template <class Controller>
+ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o,
+                              const artefact::LoopArtefact& loop,
+                              const std::function<void()>& ready) {
   const std::string url = loop_lcm_url(o.url, o.link);
-  const auto period_ns = static_cast<std::int64_t>(1e9 / scene.rate_hz + 0.5);
+  const auto period_ns = static_cast<std::int64_t>(1e9 / loop.rate_hz + 0.5);
   const std::int64_t spin_margin_ns = rt::effective_spin_margin_ns(
       {.period_ns = period_ns, .wait_mode = o.wait, .spin_margin_ns = o.spin_margin_ns});
   install_stop_handlers();
 
   ControllerLoopResult r;
-  auto station = std::make_unique<ControllerStation>(make_loop_controller(scene), o.safe_after);
+  auto station = std::make_unique<ControllerStation<Controller>>(controller, o.safe_after);
   rt::LcmTransport lcm(url, o.receive_path);
   lcm.subscribe(o.channels.sensor, station->samples());
   rt::LcmPublisher<flexloop_msgs::actuator_command_t> command(lcm, o.channels.command);
@@ -36,9 +34,10 @@ ControllerLoopResult run_controller_loop(const LoopOptions& o, const LoopScene& 
   r.fifo = setup.fifo;
   r.setup = setup.text + (dma.active() ? "  ok    " : "  WARN  ") + dma.message() + "\n";
   if (!o.quiet)
-    std::printf("controller: %s, PI at %.6g Hz, wait %s, safe after %d misses, LCM %s\n%s",
-                scene.scene.name.c_str(), scene.rate_hz, rt::to_string(o.wait), o.safe_after,
-                url.c_str(), r.setup.c_str());
+    std::printf(
+        "controller: %s, PI on %ld channels at %.6g Hz, wait %s, safe after %d misses, LCM %s\n%s",
+        loop.name.c_str(), static_cast<long>(controller.channels()), loop.rate_hz,
+        rt::to_string(o.wait), o.safe_after, url.c_str(), r.setup.c_str());
   std::fflush(stdout);
   if (ready) ready();
 
@@ -72,6 +71,15 @@ ControllerLoopResult run_controller_loop(const LoopOptions& o, const LoopScene& 
   r.drops = station->samples().drops();
   r.publish_failures = command.failures();
   return r;
+}
+
+}  // namespace
+
+ControllerLoopResult run_controller_loop(const LoopOptions& o, const artefact::LoopArtefact& loop,
+                                         const std::function<void()>& ready) {
+  require_private_network("flexloop controller", o.link);
+  return with_loop_controller(
+      loop, [&](const auto& controller) { return run_with(controller, o, loop, ready); });
 }
 
 nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopOptions& o) {

@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "artefact/loop_artefact.hpp"
 #include "rt/latency_histogram.hpp"
 #include "rt/message_validation.hpp"
 #include "tools/hil/loop_options.hpp"
-#include "tools/hil/loop_scene.hpp"
 
 namespace flexloop::hil {
 
@@ -34,13 +34,12 @@ struct ControllerLoopResult {
   bool fifo = false;
 };
 
-/// Runs until stopped. `ready` (optional) is called once LCM is subscribed and the process is
-/// set up, before the first message is awaited. Errors before the loop: std::runtime_error /
-/// flexloop::InputError.
+/// Runs the artefact's controller until stopped (options.loop_path and rate_hz unused). `ready`
+/// (optional) is called once LCM is subscribed and the process is set up, before the first
+/// message is awaited. Errors before the loop: std::runtime_error / flexloop::InputError (also
+/// for an artefact without a controller).
 ControllerLoopResult run_controller_loop(const LoopOptions& options,
-                                         const std::function<void()>& ready = {});
-/// The same with the scene already loaded and sampled (options.scene_path and rate_hz unused).
-ControllerLoopResult run_controller_loop(const LoopOptions& options, const LoopScene& scene,
+                                         const artefact::LoopArtefact& loop,
                                          const std::function<void()>& ready = {});
 
 nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopOptions& o);

@@ -1,7 +1,8 @@
 #pragma once
 // The controller process's work for one sensor message, without sockets (so that tests can drive
-// it message by message): the PI force-feedback step (controller/runtime/pi_controller.hpp) on
-// the six strut forces, and the actuator message that answers the sample.
+// it message by message): the PI force-feedback step on the sample's sensor channels (the
+// compiled PiController for the metrology frame's 6 channels, GeneralPiController for any other
+// count), and the actuator message that answers the sample.
 //
 // Resynchronisation, decided from the sample's (plant_epoch, seq) alone:
 //   - first sample, or a new plant_epoch (the plant restarted, its state and held command are
@@ -17,19 +18,24 @@
 #include <flexloop_msgs/actuator_command_t.hpp>
 #include <flexloop_msgs/sensor_sample_t.hpp>
 
-#include "controller/runtime/pi_controller.hpp"
 #include "rt/message_inbox.hpp"
-#include "tools/hil/plant_station.hpp"
 
 namespace flexloop::hil {
 
+template <class Controller>
 class ControllerStation {
  public:
-  using Controller = controller::runtime::PiController<double, kChannels>;
+  using Vector = typename Controller::Vector;
 
-  /// safe_after: the plant's --safe-after (< 1 is taken as 1).
+  /// safe_after: the plant's --safe-after (< 1 is taken as 1). Samples must carry one sensor
+  /// channel per controller channel (force feedback: one sensor per actuator).
   ControllerStation(const Controller& controller, int safe_after)
-      : controller_(controller), safe_after_(safe_after < 1 ? 1 : safe_after) {}
+      : controller_(controller),
+        safe_after_(safe_after < 1 ? 1 : safe_after),
+        samples_(rt::OrderGate{}, {static_cast<int>(controller.channels()), 0}) {
+    cmd_.n_commands = static_cast<std::int16_t>(controller.channels());
+    cmd_.commands.assign(static_cast<std::size_t>(cmd_.n_commands), 0.0);
+  }
 
   rt::MessageInbox<flexloop_msgs::sensor_sample_t>& samples() noexcept { return samples_; }
   const rt::MessageInbox<flexloop_msgs::sensor_sample_t>& samples() const noexcept {
@@ -38,18 +44,19 @@ class ControllerStation {
 
   /// The answer to `s` (t_ns and controller_compute_ns are left to the caller, who times it).
   flexloop_msgs::actuator_command_t& answer(const flexloop_msgs::sensor_sample_t& s) noexcept {
-    const Eigen::Map<const ChannelVector> y(s.force_n);
+    const Eigen::Map<const Vector> y(s.sensors.data(), s.n_sensors);
     if (!started_ || s.plant_epoch != epoch_) {
       if (started_) ++resyncs_;
       controller_.reset();
       epoch_ = s.plant_epoch;
       started_ = true;
     } else if (s.seq - last_seq_ > safe_after_) {
-      controller_.start(y, ChannelVector::Zero());
+      controller_.start(y, Vector::Zero(cmd_.n_commands));
       ++resumes_;
     }
     last_seq_ = s.seq;
-    Eigen::Map<ChannelVector>(cmd_.force_n) = controller_.step(y);
+    // Maps of the controller's own vector type: its size is then known to the compiler too.
+    Eigen::Map<Vector>(cmd_.commands.data(), cmd_.n_commands) = controller_.step(y);
     cmd_.seq += 1;
     cmd_.answers_seq = s.seq;
     cmd_.plant_epoch = s.plant_epoch;

@@ -12,9 +12,9 @@
 #include "tools/hil/child_process.hpp"
 #include "tools/hil/controller_loop.hpp"
 #include "tools/hil/lcm_logger.hpp"
-#include "tools/hil/loop_scene.hpp"
 #include "tools/hil/plant_loop.hpp"
 #include "tools/hil/private_network.hpp"
+#include "tools/scene/loop_input.hpp"
 
 namespace flexloop::hil {
 
@@ -60,7 +60,9 @@ void prepare_hil_network(const HilOptions& o) {
 
 nlohmann::json run_hil(const HilOptions& o) {
   prepare_hil_network(o);
-  const LoopScene scene = load_loop_scene(o.loop.scene_path, o.loop.rate_hz);
+  // The offline pipeline runs once, here; both processes start from its artefact.
+  const artefact::LoopArtefact loop =
+      scene::load_loop(o.loop.loop_path, {.rate_hz = o.loop.rate_hz, .form = "", .duration_s = 0});
   const std::string url = loop_lcm_url(o.loop.url, o.loop.link);
   LoopOptions plant_options = o.loop;
   plant_options.url = url;
@@ -71,20 +73,20 @@ nlohmann::json run_hil(const HilOptions& o) {
 
   const rt::CpuDmaLatencyHold dma;  // for the baselines (each loop process holds its own)
   nlohmann::json report;
-  report["baseline"] = run_baselines(o, scene.rate_hz);
+  report["baseline"] = run_baselines(o, loop.rate_hz);
 
   std::unique_ptr<LcmLogger> logger;
   if (!o.lcm_log.empty()) logger = std::make_unique<LcmLogger>(url, o.lcm_log);
 
   ChildProcess controller([&](const std::function<void()>& ready) {
-    return controller_result_json(run_controller_loop(controller_options, scene, ready),
+    return controller_result_json(run_controller_loop(controller_options, loop, ready),
                                   controller_options)
         .dump();
   });
   controller.wait_ready(10 * rt::kNsPerSecond);
-  const double duration_s = o.loop.duration_s > 0 ? o.loop.duration_s : scene.scene.run.duration_s;
+  const double duration_s = o.loop.duration_s > 0 ? o.loop.duration_s : loop.duration_s;
   ChildProcess plant([&](const std::function<void()>&) {
-    return plant_result_json(run_plant_loop(plant_options, scene), plant_options, true).dump();
+    return plant_result_json(run_plant_loop(plant_options, loop), plant_options, true).dump();
   });
   const auto grace = static_cast<std::int64_t>((duration_s + 30) * 1e9);
   nlohmann::json plant_json;
@@ -101,7 +103,7 @@ nlohmann::json run_hil(const HilOptions& o) {
 
   report.update(plant_json);
   report["controller"] = controller_json;
-  report["scene"] = o.loop.scene_path;
+  report["scene"] = o.loop.loop_path;
   report["duration_s"] = duration_s;
   report["controller_cpu"] = o.controller_cpu;
   report["lcm_url"] = url;

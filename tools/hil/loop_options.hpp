@@ -18,8 +18,8 @@ struct LoopChannels {
 };
 
 struct LoopOptions {
-  std::string scene_path;
-  double rate_hz = 0;     ///< <= 0: the scene's [discretisation] rate
+  std::string loop_path;  ///< a scene (TOML) or a loop artefact (JSON)
+  double rate_hz = 0;     ///< <= 0: the scene's [discretisation] rate (scenes only)
   double duration_s = 0;  ///< plant: <= 0: the scene's [run] duration; controller: 0 = until
                           ///< SIGINT/SIGTERM
   /// Hybrid by default: sleep until the spin margin before a deadline or an expected message,

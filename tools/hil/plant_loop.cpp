@@ -2,37 +2,30 @@
 
 #include <string>
 
-#include "plant/model/input_error.hpp"
 #include "tools/hil/latency_json.hpp"
-#include "tools/hil/loop_scene.hpp"
 #include "tools/hil/plant_loop_run.hpp"
 #include "tools/hil/private_network.hpp"
 #include "tools/hil/stop_signal.hpp"
 
 namespace flexloop::hil {
 
-PlantLoopResult run_plant_loop(const LoopOptions& o) {
-  require_private_network("flexloop plant", o.link);
-  return run_plant_loop(o, load_loop_scene(o.scene_path, o.rate_hz));
-}
-
-PlantLoopResult run_plant_loop(const LoopOptions& o, const LoopScene& scene) {
+PlantLoopResult run_plant_loop(const LoopOptions& o, const artefact::LoopArtefact& loop) {
   require_private_network("flexloop plant", o.link);
   const std::string url = loop_lcm_url(o.url, o.link);
   install_stop_handlers();
   PlantLoopResult r;
   // One translation unit per compiled plant size, each with every effect combination.
-  const auto& d = scene.plant.sys;
-  if (d.nx() == 12 && d.nu() == 2 * kChannels && d.ny() == 2 * kChannels)
-    detail::run_plant_metrology(scene, o, url, r);
-  else if (d.nx() == 24 && d.nu() == 2 * kChannels && d.ny() == 2 * kChannels)
-    detail::run_plant_preloaded(scene, o, url, r);
+  // The metrology frame (12 states, and 24 under gravity preload; 6 channels of each kind) on
+  // its compiled fast path; every other plant on the general path, sized at start-up.
+  const Eigen::Index nx = loop.plant.A.rows();
+  const bool metrology_io = loop.disturbances() == kChannels && loop.actuators() == kChannels &&
+                            loop.performance() == kChannels && loop.sensors() == kChannels;
+  if (metrology_io && nx == 12)
+    detail::run_plant_metrology(loop, o, url, r);
+  else if (metrology_io && nx == 24)
+    detail::run_plant_preloaded(loop, o, url, r);
   else
-    throw InputError(scene.scene.file,
-                     "[plant]: the real-time loop is compiled for the metrology frame (12 states, "
-                     "6 + 6 inputs and outputs) and its gravity-preload variant (24 states); this "
-                     "plant has " +
-                         std::to_string(d.nx()) + " states");
+    detail::run_plant_general(loop, o, url, r);
   return r;
 }
 

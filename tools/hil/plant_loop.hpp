@@ -15,10 +15,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "artefact/loop_artefact.hpp"
 #include "rt/message_validation.hpp"
 #include "tools/hil/loop_accounts.hpp"
 #include "tools/hil/loop_options.hpp"
-#include "tools/hil/loop_scene.hpp"
 
 namespace flexloop::hil {
 
@@ -40,11 +40,10 @@ struct PlantLoopResult {
   bool fifo = false;
 };
 
-/// Runs the plant loop. std::runtime_error / flexloop::InputError before the loop starts (bad
-/// scene, not in a private network, LCM unavailable).
-PlantLoopResult run_plant_loop(const LoopOptions& options);
-/// The same with the scene already loaded and sampled (options.scene_path and rate_hz unused).
-PlantLoopResult run_plant_loop(const LoopOptions& options, const LoopScene& scene);
+/// Runs the plant loop of the artefact (options.loop_path and rate_hz unused).
+/// std::runtime_error / flexloop::InputError before the loop starts (not in a private network,
+/// LCM unavailable, hardware the artefact's sizes refuse).
+PlantLoopResult run_plant_loop(const LoopOptions& options, const artefact::LoopArtefact& loop);
 
 /// The figures as JSON (keys of the hil report); with_bins adds the non-empty histogram bins of
 /// round trip and wake-up lateness under "histograms" (for drawing them in another process).

@@ -3,9 +3,9 @@
 
 namespace flexloop::hil::detail {
 
-void run_plant_metrology(const LoopScene& scene, const LoopOptions& o, const std::string& url,
-                         PlantLoopResult& r) {
-  run_plant_of_size<12>(scene, o, url, r);
+void run_plant_metrology(const artefact::LoopArtefact& loop, const LoopOptions& o,
+                         const std::string& url, PlantLoopResult& r) {
+  run_plant_of_size<12>(loop, o, url, r);
 }
 
 }  // namespace flexloop::hil::detail

@@ -4,9 +4,9 @@
 
 namespace flexloop::hil::detail {
 
-void run_plant_preloaded(const LoopScene& scene, const LoopOptions& o, const std::string& url,
-                         PlantLoopResult& r) {
-  run_plant_of_size<24>(scene, o, url, r);
+void run_plant_preloaded(const artefact::LoopArtefact& loop, const LoopOptions& o,
+                         const std::string& url, PlantLoopResult& r) {
+  run_plant_of_size<24>(loop, o, url, r);
 }
 
 }  // namespace flexloop::hil::detail

@@ -1,6 +1,6 @@
 #pragma once
 // The plant loop's body (tools/hil/plant_loop.hpp) for one composed hardware type, and its
-// instantiation per compiled plant size with the scene's effects (tools/sim/scene_hardware.hpp).
+// instantiation per compiled plant size with the artefact's effects (tools/sim/loop_hardware.hpp).
 // Each size lives in its own translation unit (plant_loop_metrology.cpp, plant_loop_preloaded.cpp)
 // so that the effect combinations compile in parallel.
 #include <unistd.h>
@@ -13,24 +13,23 @@
 #include "plant/runtime/runtime_sizes.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
-#include "tools/hil/loop_scene.hpp"
 #include "tools/hil/plant_loop.hpp"
 #include "tools/hil/plant_station.hpp"
 #include "tools/hil/stop_signal.hpp"
-#include "tools/sim/scene_hardware.hpp"
+#include "tools/sim/loop_hardware.hpp"
 
 namespace flexloop::hil::detail {
 
 template <class Hardware>
-void run_plant_with(Hardware hw, const LoopScene& scene, const LoopOptions& o,
+void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopOptions& o,
                     const std::string& url, PlantLoopResult& r) {
   const rt::PeriodicClockOptions clock_options{
-      .period_ns = static_cast<std::int64_t>(1e9 / scene.rate_hz + 0.5),
+      .period_ns = static_cast<std::int64_t>(1e9 / loop.rate_hz + 0.5),
       .wait_mode = o.wait,
       .spin_margin_ns = o.spin_margin_ns};
   rt::PeriodicClock clock(clock_options);
-  const double duration_s = o.duration_s > 0 ? o.duration_s : scene.scene.run.duration_s;
-  const auto periods = static_cast<std::int64_t>(duration_s * scene.rate_hz + 0.5);
+  const double duration_s = o.duration_s > 0 ? o.duration_s : loop.duration_s;
+  const auto periods = static_cast<std::int64_t>(duration_s * loop.rate_hz + 0.5);
   // A new epoch per run: the controller sees a restart, old answers are stale.
   const std::int64_t epoch = rt::monotonic_now_ns() ^ (static_cast<std::int64_t>(getpid()) << 40);
   auto station = std::make_unique<PlantStation<Hardware>>(
@@ -40,18 +39,17 @@ void run_plant_with(Hardware hw, const LoopScene& scene, const LoopOptions& o,
   rt::LcmTransport lcm(url, o.receive_path);
   lcm.subscribe(o.channels.command, station->commands());
   rt::LcmPublisher<flexloop_msgs::sensor_sample_t> sensor(lcm, o.channels.sensor);
-  StatsPublisher stats(lcm, o.channels.stats, scene.rate_hz);
+  StatsPublisher stats(lcm, o.channels.stats, loop.rate_hz);
   const rt::CpuDmaLatencyHold dma;
-  r.rate_hz = scene.rate_hz;
+  r.rate_hz = loop.rate_hz;
   r.spin_margin_ns = rt::effective_spin_margin_ns(clock_options);
   const rt::LoopProcessSetup setup = rt::set_up_loop_process(lcm, o.realtime);
   r.fifo = setup.fifo;
   r.setup = setup.text + (dma.active() ? "  ok    " : "  WARN  ") + dma.message() + "\n";
   if (!o.quiet)
     std::printf("plant: %s, %.6g Hz for %.6g s (%lld periods), wait %s, LCM %s\n%s",
-                scene.scene.name.c_str(), scene.rate_hz, duration_s,
-                static_cast<long long>(periods), rt::to_string(o.wait), url.c_str(),
-                r.setup.c_str());
+                loop.name.c_str(), loop.rate_hz, duration_s, static_cast<long long>(periods),
+                rt::to_string(o.wait), url.c_str(), r.setup.c_str());
   std::fflush(stdout);
 
   LoopAccounts& a = r.accounts;
@@ -98,21 +96,22 @@ void run_plant_with(Hardware hw, const LoopScene& scene, const LoopOptions& o,
   r.publish_failures = sensor.failures();
 }
 
-/// The loop on the dense plant of NX states with the scene's hardware effects.
+/// The loop on the dense plant of NX states with the artefact's hardware effects.
 template <int NX>
-void run_plant_of_size(const LoopScene& scene, const LoopOptions& o, const std::string& url,
-                       PlantLoopResult& r) {
-  const auto& d = scene.plant.sys;
+void run_plant_of_size(const artefact::LoopArtefact& loop, const LoopOptions& o,
+                       const std::string& url, PlantLoopResult& r) {
+  const auto& d = loop.plant;
   const auto plant = plant::runtime::DensePlant<double, NX, 2 * kChannels, 2 * kChannels,
                                                 kChannels>::from_matrices(d.A, d.B, d.C, d.D);
-  sim::with_scene_hardware<kChannels, kChannels>(
-      scene.scene, plant, d.states, scene.plant.dt,
-      [&](auto hw) { run_plant_with(std::move(hw), scene, o, url, r); });
+  sim::with_hardware<kChannels, kChannels>(
+      loop, plant, [&](auto hw) { run_plant_with(std::move(hw), loop, o, url, r); });
 }
 
-void run_plant_metrology(const LoopScene&, const LoopOptions&, const std::string&,
+void run_plant_metrology(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
                          PlantLoopResult&);  // 12 states
-void run_plant_preloaded(const LoopScene&, const LoopOptions&, const std::string&,
+void run_plant_preloaded(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
                          PlantLoopResult&);  // 24 states (gravity preload)
+void run_plant_general(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
+                       PlantLoopResult&);  // any size, sized at start-up
 
 }  // namespace flexloop::hil::detail

@@ -1,10 +1,10 @@
 #pragma once
 // The plant process's work in one period, without clocks or sockets (so that tests can drive it
 // sample by sample): the simulated hardware of the scene (plant/runtime/simulated_hardware.hpp:
-// the fixed-size discrete plant with inputs [w (6 floor accelerations); u (6 actuator forces)]
-// and outputs [z (6 frame accelerations); y (6 strut forces)], the scene's floor, and whichever
-// actuator, sensor and transport effects the scene asks for -- composed at compile time, so an
-// absent effect costs nothing here either).
+// the discrete plant with inputs [w (disturbances); u (actuator commands)] and outputs
+// [z (performance); y (sensors)], compiled sizes or sized at start-up, the scene's floor, and
+// whichever actuator, sensor and transport effects the scene asks for -- composed at compile
+// time, so an absent effect costs nothing here either).
 //
 // Cycle k (k = 0, 1, ...), as the real-time loop calls it:
 //   settle(due_k)  decide the command u that is held over the last period and apply it
@@ -38,7 +38,7 @@
 
 namespace flexloop::hil {
 
-/// Channels of the messages: 6 floor/frame accelerations, 6 actuator/sensor forces.
+/// The metrology frame's channels of each kind (its compiled fast path).
 inline constexpr int kChannels = 6;
 using ChannelVector = Eigen::Matrix<double, kChannels, 1>;
 
@@ -53,19 +53,24 @@ enum class CommandSource { kNone, kAnswer, kHeld, kSafe };
 
 template <class Hardware>
 class PlantStation {
-  static_assert(std::is_same_v<typename Hardware::Command, ChannelVector>,
-                "6 actuator channels in double");
-  static_assert(std::is_same_v<typename Hardware::Performance, ChannelVector>,
-                "6 frame accelerations in double");
+  static_assert(std::is_same_v<typename Hardware::Scalar, double>, "messages carry doubles");
 
  public:
-  /// Set-up; safe_after < 1 is taken as 1.
+  using Command = typename Hardware::Command;
+
+  /// Set-up; safe_after < 1 is taken as 1. Commands must carry one value per actuator.
   PlantStation(Hardware hardware, const PlantStationSettings& s)
       : hw_(std::move(hardware)),
         settings_(s),
-        commands_(rt::OrderGate(rt::EpochPolicy::kFixed, s.epoch, s.period_ns)) {
+        commands_(rt::OrderGate(rt::EpochPolicy::kFixed, s.epoch, s.period_ns),
+                  {static_cast<int>(hw_.actuators()), 0}),
+        u_(Command::Zero(hw_.actuators())) {
     if (settings_.safe_after < 1) settings_.safe_after = 1;
     msg_.plant_epoch = s.epoch;
+    msg_.n_sensors = static_cast<std::int16_t>(hw_.sensors());
+    msg_.n_performance = static_cast<std::int16_t>(hw_.performance_outputs());
+    msg_.sensors.assign(static_cast<std::size_t>(msg_.n_sensors), 0.0);
+    msg_.performance.assign(static_cast<std::size_t>(msg_.n_performance), 0.0);
   }
 
   rt::MessageInbox<flexloop_msgs::actuator_command_t>& commands() noexcept { return commands_; }
@@ -88,7 +93,7 @@ class PlantStation {
     if (a != nullptr && a->answers_seq == msg_.seq && commands_.newest_received_ns() <= due_ns) {
       consecutive_misses_ = 0;
       last_answer_ = a;
-      u_ = Eigen::Map<const ChannelVector>(a->force_n);
+      u_ = Eigen::Map<const Command>(a->commands.data(), u_.size());
     } else {
       if (a != nullptr) ++late_answers_;
       ++deadline_misses_;
@@ -107,8 +112,10 @@ class PlantStation {
   /// Takes sample k at t_ns: the message to publish.
   const flexloop_msgs::sensor_sample_t& sample(std::int64_t t_ns) noexcept {
     const auto& reading = hw_.sample();
-    Eigen::Map<ChannelVector>(msg_.accel_mps2) = reading.accel;
-    Eigen::Map<ChannelVector>(msg_.force_n) = reading.force;
+    // Maps of the hardware's own vector types: their sizes are then known to the compiler too.
+    Eigen::Map<typename Hardware::Performance>(msg_.performance.data(), msg_.n_performance) =
+        reading.performance;
+    Eigen::Map<typename Hardware::Sensors>(msg_.sensors.data(), msg_.n_sensors) = reading.sensors;
     msg_.seq += 1;
     msg_.t_ns = t_ns;
     return msg_;
@@ -119,7 +126,7 @@ class PlantStation {
   /// The answer applied by the last settle(), or nullptr.
   const flexloop_msgs::actuator_command_t* last_answer() const noexcept { return last_answer_; }
   /// The command the actuators hold now (what they make of it: hardware().actuator_force()).
-  const ChannelVector& command() const noexcept { return u_; }
+  const Command& command() const noexcept { return u_; }
   const Hardware& hardware() const noexcept { return hw_; }
 
   std::int64_t samples() const noexcept { return msg_.seq; }
@@ -133,7 +140,7 @@ class PlantStation {
   Hardware hw_;
   PlantStationSettings settings_;
   rt::MessageInbox<flexloop_msgs::actuator_command_t> commands_;
-  ChannelVector u_ = ChannelVector::Zero();
+  Command u_;
   flexloop_msgs::sensor_sample_t msg_{};
   const flexloop_msgs::actuator_command_t* last_answer_ = nullptr;
   std::int64_t deadline_misses_ = 0;

@@ -1,6 +1,6 @@
 #include "tools/report/csv_writer.hpp"
 
-#include "plant/lti/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 
 #include <cerrno>
 #include <charconv>
@@ -55,7 +55,7 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
     }
     text += '\n';
   }
-  plant::lti::write_text_atomically(path, text);
+  write_text_atomically(path, text);
 }
 
 void write_csv_columns(const std::string& path, const std::vector<std::string>& header,

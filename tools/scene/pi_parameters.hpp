@@ -2,7 +2,7 @@
 // Start-up parameters of the runtime PI controller (controller/runtime/pi_controller.hpp) from a
 // scene's design: the designed gains and leak at the loop's sample time, and the scene's
 // [controller] force limit (for the anti-windup) when it sets one. Loops that simulate hardware
-// effects add what those imply (tools/sim/scene_hardware.hpp).
+// effects add what those imply (loop_artefact_builder.hpp: pi_parameters_with_hardware).
 #include <cmath>
 
 #include "controller/runtime/pi_controller.hpp"

@@ -87,9 +87,10 @@ Scene parse_scene(const std::string& text, const std::string& file) {
   if (const auto* t = table(top, root, "controller", false)) {
     TomlReader cr(*t, file, "[controller]");
     cr.allow_only({"enabled", "type", "omega_d_hz", "zeta", "leak_hz", "force_limit_n"});
-    if (cr.string("type", std::string("pi_force_feedback")) != "pi_force_feedback")
-      cr.fail("'type' must be \"pi_force_feedback\" (the only controller so far)", cr.get("type"));
     auto& c = s.controller;
+    c.type = cr.string("type", c.type);
+    if (c.type != "pi_force_feedback" && c.type != "none")
+      cr.fail("'type' must be \"pi_force_feedback\" or \"none\"", cr.get("type"));
     c.enabled = cr.boolean("enabled", c.enabled);
     c.omega_d_hz = positive(cr, "omega_d_hz", c.omega_d_hz);
     c.zeta = positive(cr, "zeta", c.zeta);

@@ -9,11 +9,15 @@
 #include <string>
 #include <vector>
 
+#include "artefact/hardware_settings.hpp"
 #include "plant/lti/discretise.hpp"
 
 namespace flexloop::scene {
 
 struct ControllerSettings {
+  /// "pi_force_feedback", or "none": the plant runs alone (an external controller process, or an
+  /// open-loop study); nothing of the PI applies then.
+  std::string type = "pi_force_feedback";
   bool enabled = true;
   double omega_d_hz = 10.0;  ///< closed-loop mode frequency of the PI force feedback
   double zeta = 0.5;         ///< closed-loop damping ratio
@@ -28,38 +32,10 @@ struct DiscretisationSettings {
   double prewarp_hz = 0.0;
 };
 
-/// Stationary random floor acceleration on every disturbance input.
-struct FloorSettings {
-  std::string spectrum = "white";  ///< "white" (band-limited by the sample rate) or "VC-A".."VC-E"
-  double rms_mps2 = 1e-3;          ///< white only: per channel
-  std::uint64_t seed = 1;
-};
-
-/// Piezo actuator: command -> force with gain, saturation and an optional first-order lag.
-struct ActuatorEffect {
-  bool present = false;
-  double gain = 1.0;
-  double force_limit_n = 0;  ///< |force| <= limit
-  double lag_s = 0;          ///< time constant; 0: no lag
-};
-
-/// A sensor: gain error, white noise, ADC (bits over a full-scale range), delay in samples.
-struct SensorEffect {
-  bool present = false;
-  double gain_error = 0;
-  double noise_rms = 0;  ///< SI units of the signal
-  int adc_bits = 16;
-  double adc_range = 0;  ///< full-scale range (span), SI
-  int delay_samples = 0;
-  std::uint64_t seed = 2;
-};
-
-/// The simulated hardware; every effect is off unless its table is present.
-struct EffectsSettings {
-  ActuatorEffect actuator;
-  SensorEffect force_sensor, accelerometer;
-  int transport_delay_samples = 0;  ///< plant -> controller, in samples; 0: none
-};
+using artefact::ActuatorEffect;
+using artefact::EffectsSettings;
+using artefact::FloorSettings;
+using artefact::SensorEffect;
 
 struct RunSettings {
   double duration_s = 10.0;

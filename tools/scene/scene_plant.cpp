@@ -97,6 +97,8 @@ ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& option
   }
   p.partition = {static_cast<Eigen::Index>(scene.disturbances.size()),
                  static_cast<Eigen::Index>(scene.performance.size())};
+  // No controller: the plant runs alone (an external controller, an open-loop study).
+  if (!has_controller(p)) return p;
 
   // The design uses the passive stiffness Kdd (the seed's formula); the actuated struts must be
   // the dynamic coordinates for it to mean what it says.
@@ -195,6 +197,7 @@ SampledLoopRemedy stable_sampled_loop_remedy(const ScenePlant& p) {
 
 void require_stable_loop(const ScenePlant& p) {
   const auto& c = p.scene.controller;
+  if (!has_controller(p)) return;  // nothing closes a loop
   if (p.loop.stable()) {
     require_stable_sampled_loop(p);
     return;
@@ -271,6 +274,7 @@ SampledScene sample_scene(const ScenePlant& p) {
   const auto& d = p.scene.discretisation;
   const plant::lti::DiscretisationOptions o{d.method, 1.0 / d.rate_hz, d.prewarp_hz, false};
   try {
+    if (!has_controller(p)) return {plant::lti::discretise(p.plant, o), {}, {}};
     SampledScene s{plant::lti::discretise(p.plant, o), plant::lti::discretise(p.controller, o), {}};
     s.closed_loop = plant::lti::close_loop_sampled(s.plant, s.controller, p.partition);
     return s;

@@ -37,6 +37,12 @@ struct ScenePlant {
   controller::design::LoopStability loop;
 };
 
+/// False for a scene with [controller] type = "none": no design, no closed loop; the sampled
+/// scene then has the plant alone.
+inline bool has_controller(const ScenePlant& p) {
+  return p.scene.controller.type != "none";
+}
+
 /// The smallest stable leak [Hz] of the scene's loop (0: stable without one; nullopt: none up to
 /// the scene's omega_d). controller/design/loop_stability.hpp explains when one is needed.
 std::optional<double> minimum_stable_leak_hz(const ScenePlant& p);

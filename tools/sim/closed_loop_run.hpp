@@ -4,7 +4,7 @@
 // allows, with the sampling convention of the real-time loop:
 //
 //   reading_k = hardware.sample()          floor, plant outputs with the held force, sensors
-//   u_k       = controller.step(reading_k.force)   (0 when Controller is NoEffect)
+//   u_k       = controller.step(reading_k.sensors)   (0 when Controller is NoEffect)
 //   hardware.apply(u_k)                    actuator, plant advance
 //
 // The loop runs in chunks (progress is reported between chunks, never inside one); inside a
@@ -28,32 +28,34 @@ struct RunSettings {
 };
 
 struct RunResult {
-  Eigen::VectorXd rms_performance;  ///< RMS of each true frame acceleration z_i
+  Eigen::VectorXd rms_performance;  ///< RMS of each true performance output z_i
   Eigen::VectorXd rms_command;      ///< RMS of each actuator command
-  /// Rows: t, floor (NW), frame (NZ), accelerometers (NZ), force sensors (NC), commands (NC).
+  /// Rows: t, floor (NW), performance (NZ), performance sensors (NZ), sensors (NS), commands (NC).
   Eigen::MatrixXd log;
   double loop_seconds = 0;  ///< wall time of the stepping alone
 };
 
 /// Log columns of a run, for the header of a CSV file.
-inline Eigen::Index log_columns(Eigen::Index nw, Eigen::Index nz, Eigen::Index nc) {
-  return 1 + nw + 2 * nz + 2 * nc;
+inline Eigen::Index log_columns(Eigen::Index nw, Eigen::Index nz, Eigen::Index ns,
+                                Eigen::Index nc) {
+  return 1 + nw + 2 * nz + ns + nc;
 }
 
+/// Hardware: plant/runtime/simulated_hardware.hpp (compiled or start-up-sized counts alike).
+/// Controller: anything with step(sensors) -> command, or NoEffect (a zero command).
 template <class Hardware, class Controller>
 RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings& s,
                           const std::function<void(long done, long total)>& progress) {
-  constexpr int NC = Hardware::Command::RowsAtCompileTime;
-  constexpr int NZ = Hardware::Performance::RowsAtCompileTime;
-  constexpr int NW = Hardware::Disturbance::RowsAtCompileTime;
   using Command = typename Hardware::Command;
   using Performance = typename Hardware::Performance;
+  const Eigen::Index nw = hw.disturbances(), nc = hw.actuators(), nz = hw.performance_outputs(),
+                     ns = hw.sensors();
 
   RunResult r;
   const long log_rows = s.log_every > 0 ? (s.steps + s.log_every - 1) / s.log_every : 0;
-  r.log.setZero(log_rows, log_columns(NW, NZ, NC));
-  Performance sum_z2 = Performance::Zero();
-  Command sum_u2 = Command::Zero();
+  r.log.setZero(log_rows, log_columns(nw, nz, ns, nc));
+  Performance sum_z2 = Performance::Zero(nz);
+  Command sum_u2 = Command::Zero(nc), u = Command::Zero(nc);
   long row = 0;
 
   const auto start = std::chrono::steady_clock::now();
@@ -61,30 +63,26 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
     const long begin = s.steps * c / s.chunks, end = s.steps * (c + 1) / s.chunks;
     for (long k = begin; k < end; ++k) {
       const auto& reading = hw.sample();
-      Command u;
-      if constexpr (plant::runtime::kPresent<Controller>)
-        u = controller.step(reading.force);
-      else
-        u.setZero();
+      if constexpr (plant::runtime::kPresent<Controller>) u = controller.step(reading.sensors);
       hw.apply(u);
-      sum_z2 += hw.frame_acceleration().cwiseAbs2();
+      sum_z2 += hw.performance().cwiseAbs2();
       sum_u2 += u.cwiseAbs2();
       if (s.log_every > 0 && k % s.log_every == 0) {
         auto line = r.log.row(row++);
         line(0) = static_cast<double>(k) * s.dt;
-        line.template segment<NW>(1) = hw.floor_acceleration().transpose();
-        line.template segment<NZ>(1 + NW) = hw.frame_acceleration().transpose();
-        line.template segment<NZ>(1 + NW + NZ) = reading.accel.transpose();
-        line.template segment<NC>(1 + NW + 2 * NZ) = reading.force.transpose();
-        line.template segment<NC>(1 + NW + 2 * NZ + NC) = u.transpose();
+        line.segment(1, nw) = hw.floor_acceleration().transpose().template cast<double>();
+        line.segment(1 + nw, nz) = hw.performance().transpose().template cast<double>();
+        line.segment(1 + nw + nz, nz) = reading.performance.transpose().template cast<double>();
+        line.segment(1 + nw + 2 * nz, ns) = reading.sensors.transpose().template cast<double>();
+        line.segment(1 + nw + 2 * nz + ns, nc) = u.transpose().template cast<double>();
       }
     }
     if (progress) progress(end, s.steps);
   }
   r.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double n = static_cast<double>(std::max(s.steps, 1L));
-  r.rms_performance = (sum_z2 / n).cwiseSqrt();
-  r.rms_command = (sum_u2 / n).cwiseSqrt();
+  r.rms_performance = (sum_z2.template cast<double>() / n).cwiseSqrt();
+  r.rms_command = (sum_u2.template cast<double>() / n).cwiseSqrt();
   return r;
 }
 

@@ -15,7 +15,8 @@ class AdditiveNoise {
   /// @throws std::invalid_argument unless every rms is finite and >= 0.
   static AdditiveNoise from_parameters(const ChannelParameters<N>& rms, std::uint64_t seed) {
     require_each<N>(rms, "sensor noise", "rms", ">= 0", [](double v) { return v >= 0; });
-    return AdditiveNoise(rms.template cast<Scalar>(), GaussianNoise<Scalar, N>::from_seed(seed));
+    return AdditiveNoise(rms.template cast<Scalar>(),
+                         GaussianNoise<Scalar, N>::from_seed(seed, rms.size()));
   }
 
   ChannelVector<Scalar, N> step(const ChannelVector<Scalar, N>& x) noexcept {

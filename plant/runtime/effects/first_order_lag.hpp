@@ -24,8 +24,9 @@ class FirstOrderLag {
             "sample time is " + std::to_string(dt) + " s, must be finite and > 0");
     require_each<N>(time_constant, "first-order lag", "time constant [s]", "> 0",
                     [](double v) { return v > 0; });
-    ChannelParameters<N> a, b;
-    for (int c = 0; c < N; ++c) {
+    const int n = channel_count<N>("first-order lag", time_constant.size());
+    ChannelParameters<N> a(n), b(n);
+    for (int c = 0; c < n; ++c) {
       const double one_minus_a = -std::expm1(-dt / time_constant(c));  // accurate for T << τ
       a(c) = 1 - one_minus_a;
       b(c) = time_constant(c) / dt * one_minus_a;
@@ -48,7 +49,7 @@ class FirstOrderLag {
 
  private:
   FirstOrderLag(const ChannelVector<Scalar, N>& a, const ChannelVector<Scalar, N>& b)
-      : a_(a), b_(b), state_(ChannelVector<Scalar, N>::Zero()) {}
+      : a_(a), b_(b), state_(ChannelVector<Scalar, N>::Zero(a.size())) {}
   ChannelVector<Scalar, N> a_, b_, state_;
 };
 

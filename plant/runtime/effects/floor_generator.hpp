@@ -9,7 +9,8 @@
 // run side by side in SIMD lanes: the state is held as one row per channel (rows padded to whole
 // packets, plant/runtime/column_product.hpp), so state i of every channel is one column product,
 //   x_{k+1}(i, all channels) = Σ_j Ad(i, j) x_k(j, all channels) + Bd(i) n_k,
-// with the same arithmetic in every lane (channel c's signal does not depend on N).
+// with the same arithmetic in every lane (channel c's signal does not depend on N). With
+// N = Eigen::Dynamic the lanes are those of kMaxChannels channels, of which the first n run.
 //
 // Start: by default each channel's state is drawn from the filter's stationary distribution
 // N(0, P), P = Ad P Adᵀ + Bd Bdᵀ (found at start-up by the doubling iteration
@@ -34,7 +35,8 @@ class FloorGenerator {
 
  public:
   using Vector = ChannelVector<Scalar, N>;
-  using StateMatrix = Eigen::Matrix<Scalar, NF, N>;
+  using StateMatrix = Eigen::Matrix<Scalar, NF, N, 0, NF, kChannelRows<N>>;
+  using Motion = Eigen::Matrix<Scalar, 2, N, 0, 2, kChannelRows<N>>;
 
   /// Start-up (allocates). Ad NF x NF, Bd NF x 1, Cd 1 x NF, Dd 1 x 1, input a unit-variance
   /// white sequence, output acceleration [m/s²].
@@ -44,28 +46,32 @@ class FloorGenerator {
   static FloorGenerator from_parameters(const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd,
                                         const Eigen::MatrixXd& Cd, const Eigen::MatrixXd& Dd,
                                         std::uint64_t seed,
-                                        FloorStart start = FloorStart::kStationary) {
+                                        FloorStart start = FloorStart::kStationary,
+                                        Eigen::Index channels = N) {
     FloorGenerator g(to_fixed<Eigen::Matrix<Scalar, NF, NF>>("floor generator: Ad", Ad),
                      to_fixed<Eigen::Matrix<Scalar, NF, 1>>("floor generator: Bd", Bd),
                      to_fixed<Eigen::Matrix<Scalar, 1, NF>>("floor generator: Cd", Cd),
                      to_fixed<Eigen::Matrix<Scalar, 1, 1>>("floor generator: Dd", Dd),
-                     GaussianNoise<Scalar, N>::from_seed(seed));
+                     GaussianNoise<Scalar, N>::from_seed(seed, channels));
     if (start == FloorStart::kStationary) g.draw_stationary_state(stationary_covariance(Ad, Bd));
     return g;
   }
 
   /// The floor acceleration of this sample [m/s²], one per channel; advances the filters.
   Vector step() noexcept {
-    const Lanes n = padded_rows<NP>(noise_.sample());
+    Lanes n = Lanes::Zero();
+    n.template head<N>(channels()) = noise_.sample();
     const Lanes a = column_product(x_, c_) + d_ * n;
     Lanes next[NF];
     for (int i = 0; i < NF; ++i) next[i] = column_product(x_, a_t_.col(i)) + b_(i) * n;
     for (int i = 0; i < NF; ++i) x_.col(i) = next[i];
-    return a.template head<N>();
+    return a.template head<N>(channels());
   }
 
+  int channels() const noexcept { return noise_.channels(); }
+
   /// The filters' states, one column per channel.
-  StateMatrix state() const noexcept { return x_.template topRows<N>().transpose(); }
+  StateMatrix state() const noexcept { return x_.template topRows<N>(channels()).transpose(); }
 
   /// Start-up: the floor's velocity and displacement as rows over the filter state (2 x NF,
   /// plant::lti::floor_motion_outputs), so that motion() can say where the floor is.
@@ -76,7 +82,7 @@ class FloorGenerator {
   /// Floor velocity [m/s] (row 0) and displacement [m] (row 1) per channel at the sample the next
   /// step() returns (zero until set_motion_outputs). A plant with the floor's position and
   /// velocity as states starts them here.
-  Eigen::Matrix<Scalar, 2, N> motion() const noexcept { return motion_ * state(); }
+  Motion motion() const noexcept { return motion_ * state(); }
 
   /// P = Ad P Adᵀ + Bd Bdᵀ by doubling (Smith): after j rounds P holds Σ_{i < 2^j} Ad^i Bd Bdᵀ
   /// Ad^iᵀ. @throws std::invalid_argument when the sum does not converge in 64 rounds.
@@ -96,7 +102,8 @@ class FloorGenerator {
   }
 
  private:
-  static constexpr int NP = kPaddedRows<Scalar, N>;  // lanes: N channels, then zero padding
+  // Lanes: the channels, then zero padding.
+  static constexpr int NP = kPaddedRows<Scalar, kChannelRows<N>>;
   using Lanes = Eigen::Matrix<Scalar, NP, 1>;
 
   FloorGenerator(const Eigen::Matrix<Scalar, NF, NF>& a, const Eigen::Matrix<Scalar, NF, 1>& b,
@@ -109,7 +116,7 @@ class FloorGenerator {
     const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(p);
     const Eigen::MatrixXd root =
         eig.eigenvectors() * eig.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal();
-    for (int c = 0; c < N; ++c) {
+    for (int c = 0; c < channels(); ++c) {
       Eigen::VectorXd z(NF);
       for (int i = 0; i < NF; ++i) z(i) = static_cast<double>(noise_.sample(c));
       x_.row(c) = (root * z).transpose().cast<Scalar>();

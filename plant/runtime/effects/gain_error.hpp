@@ -14,7 +14,8 @@ class GainError {
   static GainError from_parameters(const ChannelParameters<N>& relative_error) {
     require_each<N>(relative_error, "gain error", "relative error", "> -1",
                     [](double v) { return v > -1; });
-    return GainError((ChannelParameters<N>::Ones() + relative_error).template cast<Scalar>());
+    channel_count<N>("gain error", relative_error.size());
+    return GainError((relative_error.array() + 1.0).matrix().template cast<Scalar>());
   }
 
   ChannelVector<Scalar, N> step(const ChannelVector<Scalar, N>& x) const noexcept {

@@ -11,11 +11,14 @@
 // platform (std::mt19937_64 is exactly specified by the standard, the ziggurat is Boost's code,
 // not the standard library's implementation-defined transform). Give every effect its own seed:
 // two effects with one seed get the same numbers.
-// Memory: one 2.5 kB engine per channel. A draw costs no allocation and no system call.
+// Memory: one 2.5 kB engine per channel (for N = Eigen::Dynamic in a vector sized at start-up).
+// A draw costs no allocation and no system call.
 #include <array>
 #include <boost/random/normal_distribution.hpp>
 #include <cstdint>
 #include <random>
+#include <type_traits>
+#include <vector>
 
 #include "plant/runtime/effects/channels.hpp"
 
@@ -26,9 +29,15 @@ class GaussianNoise {
   static_assert(kValidChannels<Scalar, N>);
 
  public:
-  static GaussianNoise from_seed(std::uint64_t seed) {
+  /// n channels: N when N is compiled in, 1 .. kMaxChannels for N = Eigen::Dynamic.
+  static GaussianNoise from_seed(std::uint64_t seed, Eigen::Index n = N) {
     GaussianNoise g;
-    for (int c = 0; c < N; ++c) {
+    g.n_ = channel_count<N>("gaussian noise", n);
+    if constexpr (N == Eigen::Dynamic) {
+      g.engines_.resize(static_cast<std::size_t>(g.n_));
+      g.normals_.resize(static_cast<std::size_t>(g.n_));
+    }
+    for (int c = 0; c < g.n_; ++c) {
       std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
                         static_cast<std::uint32_t>(c)};
       g.engines_[c].seed(seq);
@@ -38,18 +47,25 @@ class GaussianNoise {
 
   /// One draw per channel.
   ChannelVector<Scalar, N> sample() noexcept {
-    ChannelVector<Scalar, N> n;
-    for (int c = 0; c < N; ++c) n(c) = sample(c);
+    ChannelVector<Scalar, N> n(n_);
+    for (int c = 0; c < n_; ++c) n(c) = sample(c);
     return n;
   }
 
-  /// The next draw of channel c (0 <= c < N, unchecked).
+  /// The next draw of channel c (0 <= c < channels(), unchecked).
   Scalar sample(int c) noexcept { return static_cast<Scalar>(normals_[c](engines_[c])); }
 
+  int channels() const noexcept { return n_; }
+
  private:
+  // Fixed N: in place; N = Eigen::Dynamic: sized once at start-up.
+  template <class T>
+  using PerChannel = std::conditional_t<N == Eigen::Dynamic, std::vector<T>, std::array<T, N>>;
+
   GaussianNoise() = default;
-  std::array<std::mt19937_64, N> engines_;
-  std::array<boost::random::normal_distribution<double>, N> normals_;
+  PerChannel<std::mt19937_64> engines_;
+  PerChannel<boost::random::normal_distribution<double>> normals_;
+  int n_ = 0;
 };
 
 }  // namespace flexloop::plant::runtime::effects

@@ -20,13 +20,18 @@ namespace flexloop::plant::runtime::effects {
 
 template <int N>
 struct PiezoActuatorParameters {
-  ChannelParameters<N> gain = ChannelParameters<N>::Ones();  ///< g [N per command unit], != 0
-  ChannelParameters<N> force_min =
-      ChannelParameters<N>::Constant(std::numeric_limits<double>::quiet_NaN());  ///< [N]
-  ChannelParameters<N> force_max =
-      ChannelParameters<N>::Constant(std::numeric_limits<double>::quiet_NaN());  ///< [N]
+  /// Unit gain, no lag and limits still to set (NaN), for n channels (n = N when N is compiled in).
+  PiezoActuatorParameters() : PiezoActuatorParameters(N == Eigen::Dynamic ? 1 : N) {}
+  explicit PiezoActuatorParameters(Eigen::Index n)
+      : gain(ChannelParameters<N>::Ones(n)),
+        force_min(ChannelParameters<N>::Constant(n, std::numeric_limits<double>::quiet_NaN())),
+        force_max(ChannelParameters<N>::Constant(n, std::numeric_limits<double>::quiet_NaN())),
+        lag_time_constant(ChannelParameters<N>::Zero(n)) {}
+  ChannelParameters<N> gain;       ///< g [N per command unit], != 0
+  ChannelParameters<N> force_min;  ///< [N]
+  ChannelParameters<N> force_max;  ///< [N]
   /// τ [s]; must be > 0 for a lagged actuator and 0 for one without a lag.
-  ChannelParameters<N> lag_time_constant = ChannelParameters<N>::Zero();
+  ChannelParameters<N> lag_time_constant;
 };
 
 template <class Scalar, int N, bool kLagged = false>
@@ -43,10 +48,13 @@ class PiezoActuator {
   ///         force_min >= force_max, or the lag time constants do not match kLagged.
   static PiezoActuator from_parameters(const PiezoActuatorParameters<N>& p, double dt) {
     constexpr const char* kName = "piezo actuator";
+    const int n = channel_count<N>(kName, p.gain.size());
+    require(p.force_min.size() == n && p.force_max.size() == n && p.lag_time_constant.size() == n,
+            kName, "gain, limits and lag time constants must have one value per channel");
     require_each<N>(p.gain, kName, "gain", "!= 0", [](double v) { return v != 0; });
     require_each<N>(p.force_min, kName, "force_min [N]", "finite", [](double) { return true; });
     require_each<N>(p.force_max, kName, "force_max [N]", "finite", [](double) { return true; });
-    for (int c = 0; c < N; ++c)
+    for (int c = 0; c < n; ++c)
       require(p.force_min(c) < p.force_max(c), kName,
               "channel " + std::to_string(c) + ": force_min " + std::to_string(p.force_min(c)) +
                   " N is not below force_max " + std::to_string(p.force_max(c)) + " N");
@@ -62,7 +70,7 @@ class PiezoActuator {
 
   /// Command u_k held over the sample; returns the force the struts get during it.
   Vector step(const Vector& command) noexcept {
-    for (int c = 0; c < N; ++c) {
+    for (Eigen::Index c = 0; c < gain_.size(); ++c) {
       const Scalar commanded = gain_(c) * command(c);
       const bool nan = commanded != commanded;
       const Scalar finite = nan ? Scalar(0) : commanded;
@@ -91,9 +99,9 @@ class PiezoActuator {
       : gain_(p.gain.template cast<Scalar>()),
         min_(p.force_min.template cast<Scalar>()),
         max_(p.force_max.template cast<Scalar>()),
-        unsaturated_(Vector::Zero()),
-        limited_(Vector::Zero()),
-        saturated_(ChannelFlags<N>::Constant(false)),
+        unsaturated_(Vector::Zero(p.gain.size())),
+        limited_(Vector::Zero(p.gain.size())),
+        saturated_(ChannelFlags<N>::Constant(p.gain.size(), false)),
         lag_(lag) {}
   Vector gain_, min_, max_;
   Vector unsaturated_, limited_;

@@ -28,6 +28,7 @@ class Quantiser {
     constexpr int kMaxBits = std::numeric_limits<Scalar>::digits;
     require(bits >= 1 && bits <= kMaxBits, "quantiser",
             "bits is " + std::to_string(bits) + ", must be 1 .. " + std::to_string(kMaxBits));
+    channel_count<N>("quantiser", full_scale_range.size());
     require_each<N>(full_scale_range, "quantiser", "full-scale range", "> 0",
                     [](double v) { return v > 0; });
     const double levels = std::ldexp(1.0, bits);
@@ -36,8 +37,8 @@ class Quantiser {
   }
 
   ChannelVector<Scalar, N> step(const ChannelVector<Scalar, N>& x) const noexcept {
-    ChannelVector<Scalar, N> y;
-    for (int c = 0; c < N; ++c)
+    ChannelVector<Scalar, N> y(x.size());
+    for (Eigen::Index c = 0; c < x.size(); ++c)
       y(c) = std::clamp(std::rint(x(c) / lsb_(c)), code_min_, code_max_) * lsb_(c);
     return y;
   }

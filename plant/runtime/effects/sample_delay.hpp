@@ -15,11 +15,12 @@ class SampleDelay {
 
  public:
   /// @throws std::invalid_argument unless 0 <= delay <= kMaxDelay.
-  static SampleDelay from_parameters(int delay) {
+  /// n channels: N when N is compiled in, 1 .. kMaxChannels for N = Eigen::Dynamic.
+  static SampleDelay from_parameters(int delay, Eigen::Index n = N) {
     require(delay >= 0 && delay <= kMaxDelay, "sample delay",
             "delay is " + std::to_string(delay) + " samples, must be 0 .. " +
                 std::to_string(kMaxDelay) + " (the compile-time maximum)");
-    return SampleDelay(delay);
+    return SampleDelay(delay, channel_count<N>("sample delay", n));
   }
 
   /// Fills the line with `value`: the next D outputs.
@@ -35,10 +36,24 @@ class SampleDelay {
   int delay() const noexcept { return delay_; }
 
  private:
-  explicit SampleDelay(int delay) : delay_(delay) { reset(ChannelVector<Scalar, N>::Zero()); }
+  SampleDelay(int delay, int n) : delay_(delay) { reset(ChannelVector<Scalar, N>::Zero(n)); }
   std::array<ChannelVector<Scalar, N>, kMaxDelay + 1> ring_;
   int delay_;
   int head_ = 0;
+};
+
+/// The transport from the plant to the controller: the same delay on the NS sensor and the NZ
+/// performance channels.
+template <class Scalar, int NS, int NZ>
+struct TransportDelay {
+  SampleDelay<Scalar, NS> sensors;
+  SampleDelay<Scalar, NZ> performance;
+
+  /// @throws std::invalid_argument as SampleDelay::from_parameters.
+  static TransportDelay from_parameters(int delay, Eigen::Index ns = NS, Eigen::Index nz = NZ) {
+    return {SampleDelay<Scalar, NS>::from_parameters(delay, ns),
+            SampleDelay<Scalar, NZ>::from_parameters(delay, nz)};
+  }
 };
 
 }  // namespace flexloop::plant::runtime::effects

@@ -15,10 +15,16 @@ namespace flexloop::plant::runtime::effects {
 
 template <int N>
 struct SensorParameters {
-  ChannelParameters<N> gain_error = ChannelParameters<N>::Zero();  ///< relative, eps
-  ChannelParameters<N> noise_rms = ChannelParameters<N>::Zero();   ///< sigma, SI units
+  /// Neutral parameters for n channels (n = N when N is compiled in).
+  SensorParameters() : SensorParameters(N == Eigen::Dynamic ? 1 : N) {}
+  explicit SensorParameters(Eigen::Index n)
+      : gain_error(ChannelParameters<N>::Zero(n)),
+        noise_rms(ChannelParameters<N>::Zero(n)),
+        adc_range(ChannelParameters<N>::Ones(n)) {}
+  ChannelParameters<N> gain_error;  ///< relative, eps
+  ChannelParameters<N> noise_rms;   ///< sigma, SI units
   int adc_bits = 16;
-  ChannelParameters<N> adc_range = ChannelParameters<N>::Ones();  ///< full-scale range, SI
+  ChannelParameters<N> adc_range;  ///< full-scale range, SI
   int delay_samples = 0;
   std::uint64_t seed = 1;
 };
@@ -30,10 +36,11 @@ class SensorChain {
 
   /// @throws std::invalid_argument from the stages (naming the stage and the value).
   static SensorChain from_parameters(const SensorParameters<N>& p) {
-    return SensorChain(GainError<Scalar, N>::from_parameters(p.gain_error),
-                       AdditiveNoise<Scalar, N>::from_parameters(p.noise_rms, p.seed),
-                       Quantiser<Scalar, N>::from_parameters(p.adc_bits, p.adc_range),
-                       SampleDelay<Scalar, N>::from_parameters(p.delay_samples));
+    return SensorChain(
+        GainError<Scalar, N>::from_parameters(p.gain_error),
+        AdditiveNoise<Scalar, N>::from_parameters(p.noise_rms, p.seed),
+        Quantiser<Scalar, N>::from_parameters(p.adc_bits, p.adc_range),
+        SampleDelay<Scalar, N>::from_parameters(p.delay_samples, p.noise_rms.size()));
   }
 
   Vector step(const Vector& x) noexcept {

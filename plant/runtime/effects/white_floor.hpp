@@ -12,9 +12,10 @@ class WhiteFloor {
  public:
   using Vector = ChannelVector<Scalar, N>;
   /// @throws std::invalid_argument for a negative or non-finite rms.
-  static WhiteFloor from_parameters(double rms, std::uint64_t seed) {
+  /// n channels: N when N is compiled in, 1 .. kMaxChannels for N = Eigen::Dynamic.
+  static WhiteFloor from_parameters(double rms, std::uint64_t seed, Eigen::Index n = N) {
     require(std::isfinite(rms) && rms >= 0, "white floor", "rms must be finite and >= 0");
-    return WhiteFloor(static_cast<Scalar>(rms), GaussianNoise<Scalar, N>::from_seed(seed));
+    return WhiteFloor(static_cast<Scalar>(rms), GaussianNoise<Scalar, N>::from_seed(seed, n));
   }
   Vector step() noexcept { return rms_ * noise_.sample(); }
 

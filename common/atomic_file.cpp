@@ -1,4 +1,4 @@
-#include "plant/lti/atomic_file.hpp"
+#include "common/atomic_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -10,7 +10,7 @@
 #include <cstring>
 #include <stdexcept>
 
-namespace flexloop::plant::lti {
+namespace flexloop {
 
 void write_text_atomically(const std::filesystem::path& file, const std::string& text) {
   if (file.empty()) throw std::runtime_error("cannot write a file with an empty name");
@@ -48,4 +48,4 @@ void write_text_atomically(const std::filesystem::path& file, const std::string&
   }
 }
 
-}  // namespace flexloop::plant::lti
+}  // namespace flexloop

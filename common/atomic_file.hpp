@@ -7,9 +7,9 @@
 #include <filesystem>
 #include <string>
 
-namespace flexloop::plant::lti {
+namespace flexloop {
 
 /// @throws std::runtime_error "cannot write <file>: <step>: <system error>".
 void write_text_atomically(const std::filesystem::path& file, const std::string& text);
 
-}  // namespace flexloop::plant::lti
+}  // namespace flexloop

@@ -1,0 +1,345 @@
+#include "artefact/loop_artefact.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "common/json_document.hpp"
+#include "plant/model/input_error.hpp"
+
+namespace flexloop::artefact {
+
+using nlohmann::json;
+
+namespace {
+
+// The floor filter's order the online floor generator is compiled for
+// (plant/runtime/effects/floor_generator.hpp is instantiated with it).
+constexpr int kFloorFilterOrder = 9;
+constexpr int kMaxDelaySamples = 32;
+
+const char* const kChannelKinds[] = {"disturbances", "actuators", "performance", "sensors"};
+
+std::vector<Channel>& kind(ChannelMap& m, int k) {
+  return k == 0 ? m.disturbances : k == 1 ? m.actuators : k == 2 ? m.performance : m.sensors;
+}
+const std::vector<Channel>& kind(const ChannelMap& m, int k) {
+  return kind(const_cast<ChannelMap&>(m), k);
+}
+
+json sensor_json(const SensorEffect& s) {
+  if (!s.present) return nullptr;
+  return {{"gain_error", s.gain_error},       {"noise_rms", s.noise_rms},
+          {"adc_bits", s.adc_bits},           {"adc_range", s.adc_range},
+          {"delay_samples", s.delay_samples}, {"seed", s.seed}};
+}
+
+json vector_json(const Eigen::VectorXd& v) {
+  json out = json::array();
+  for (Eigen::Index i = 0; i < v.size(); ++i) out.push_back(v(i));
+  return out;
+}
+
+std::uint64_t seed_at(const JsonReader& r, const std::string& key) {
+  const json& v = r.get(key);
+  if (!v.is_number_unsigned())
+    throw InputError(r.place(key), "expected an unsigned integer, found " + json_type_of(v));
+  return v.get<std::uint64_t>();
+}
+
+SensorEffect read_sensor(const JsonReader& effects, const std::string& key) {
+  SensorEffect s;
+  if (!effects.has(key) || effects.get(key).is_null()) return s;
+  const JsonReader r = effects.object(key);
+  s.present = true;
+  s.gain_error = r.number("gain_error");
+  if (s.gain_error <= -1) throw InputError(r.place("gain_error"), "must be > -1");
+  s.noise_rms = r.number("noise_rms");
+  if (s.noise_rms < 0) throw InputError(r.place("noise_rms"), "must be >= 0");
+  s.adc_bits = static_cast<int>(r.integer("adc_bits", 1, 53));
+  s.adc_range = r.number("adc_range");
+  if (s.adc_range <= 0) throw InputError(r.place("adc_range"), "must be > 0");
+  s.delay_samples = static_cast<int>(r.integer("delay_samples", 0, kMaxDelaySamples));
+  s.seed = seed_at(r, "seed");
+  return s;
+}
+
+void require(bool ok, const std::string& place, const std::string& what) {
+  if (!ok) throw InputError(place, what);
+}
+
+}  // namespace
+
+std::string to_string(ControllerKind kind) {
+  return kind == ControllerKind::kPiForceFeedback ? "pi_force_feedback" : "none";
+}
+
+std::vector<std::string> LoopArtefact::names(const std::vector<Channel>& kind_channels) const {
+  std::vector<std::string> out;
+  for (const auto& c : kind_channels) out.push_back(c.name);
+  return out;
+}
+
+json to_json(const LoopArtefact& a) {
+  validate(a);
+  json channels = json::object();
+  for (int k = 0; k < 4; ++k) {
+    json list = json::array();
+    for (const auto& c : kind(a.channels, k)) list.push_back({{"name", c.name}, {"unit", c.unit}});
+    channels[kChannelKinds[k]] = std::move(list);
+  }
+  json plant = {{"form", a.plant.form},
+                {"states", a.plant.states},
+                {"spectral_radius", a.plant.spectral_radius},
+                {"A", matrix_to_json(a.plant.A)},
+                {"B", matrix_to_json(a.plant.B)},
+                {"C", matrix_to_json(a.plant.C)},
+                {"D", matrix_to_json(a.plant.D)}};
+  if (a.plant.form == "modal")
+    plant["modal"] = {{"Lambda_minus_I", matrix_to_json(a.plant.modal.Lambda_minus_I)},
+                      {"B", matrix_to_json(a.plant.modal.B)},
+                      {"C", matrix_to_json(a.plant.modal.C)},
+                      {"D", matrix_to_json(a.plant.modal.D)},
+                      {"T", matrix_to_json(a.plant.modal.T)}};
+  json controller = {{"type", to_string(a.controller)}};
+  if (a.controller == ControllerKind::kPiForceFeedback) {
+    controller["K_P"] = matrix_to_json(a.pi.K_P);
+    controller["K_I"] = matrix_to_json(a.pi.K_I);
+    controller["leak_rad_s"] = a.pi.leak_rad_s;
+    controller["u_min"] = vector_json(a.pi.u_min);
+    controller["u_max"] = vector_json(a.pi.u_max);
+    if (a.pi.feedthrough.size() > 0) controller["feedthrough"] = matrix_to_json(a.pi.feedthrough);
+    controller["feedthrough_delay"] = a.pi.feedthrough_delay;
+  }
+  json floor = {{"spectrum", a.floor.spectrum}, {"seed", a.floor.seed}};
+  if (a.floor.spectrum == "white")
+    floor["rms_mps2"] = a.floor.rms_mps2;
+  else
+    floor["filter"] = {{"A", matrix_to_json(a.floor_filter.A)},
+                       {"B", matrix_to_json(a.floor_filter.B)},
+                       {"C", matrix_to_json(a.floor_filter.C)},
+                       {"D", matrix_to_json(a.floor_filter.D)},
+                       {"motion", matrix_to_json(a.floor_filter.motion)}};
+  const auto& e = a.effects;
+  json effects = {{"actuator", nullptr},
+                  {"force_sensor", sensor_json(e.force_sensor)},
+                  {"accelerometer", sensor_json(e.accelerometer)},
+                  {"transport_delay_samples", e.transport_delay_samples}};
+  if (e.actuator.present)
+    effects["actuator"] = {{"gain", e.actuator.gain},
+                           {"force_limit_n", e.actuator.force_limit_n},
+                           {"lag_s", e.actuator.lag_s}};
+  const auto& p = a.provenance;
+  return {{"format", kLoopArtefactFormat},
+          {"version", kLoopArtefactVersion},
+          {"name", a.name},
+          {"rate_hz", a.rate_hz},
+          {"method", a.method},
+          {"prewarp_hz", a.prewarp_hz},
+          {"channels", channels},
+          {"plant", plant},
+          {"controller", controller},
+          {"floor", floor},
+          {"effects", effects},
+          {"run", {{"duration_s", a.duration_s}}},
+          {"provenance",
+           {{"scene", p.scene},
+            {"scene_sha256", p.scene_sha256},
+            {"model", p.model},
+            {"model_sha256", p.model_sha256},
+            {"flexloop_version", p.flexloop_version},
+            {"flexloop_git", p.flexloop_git}}}};
+}
+
+LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
+  const JsonReader r(j, place);
+  LoopArtefact a;
+  a.source = place;
+  require(r.string("format") == kLoopArtefactFormat, r.place("format"),
+          "is not \"" + std::string(kLoopArtefactFormat) + "\"");
+  const long version = r.integer("version", 0, 1 << 30);
+  require(version == kLoopArtefactVersion, r.place("version"),
+          "is " + std::to_string(version) + "; this flexloop reads version " +
+              std::to_string(kLoopArtefactVersion) + " (rebuild it: flexloop build SCENE -o FILE)");
+  a.name = r.string("name");
+  a.rate_hz = r.number("rate_hz");
+  require(a.rate_hz > 0, r.place("rate_hz"), "must be > 0");
+  a.method = r.string("method");
+  a.prewarp_hz = r.number("prewarp_hz");
+
+  const JsonReader ch = r.object("channels");
+  for (int k = 0; k < 4; ++k) {
+    const json& list = ch.get(kChannelKinds[k]);
+    const std::string where = ch.place(kChannelKinds[k]);
+    require(list.is_array(), where, "expected a list of channels, found " + json_type_of(list));
+    require(!list.empty() && list.size() <= static_cast<std::size_t>(kMaxArtefactChannels), where,
+            "has " + std::to_string(list.size()) + " channels; each kind takes 1 .. " +
+                std::to_string(kMaxArtefactChannels));
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const JsonReader c(list[i], where + " entry " + std::to_string(i + 1));
+      kind(a.channels, k).push_back({c.string("name"), c.string("unit")});
+    }
+  }
+  const std::size_t nw = a.channels.disturbances.size(), nc = a.channels.actuators.size(),
+                    nz = a.channels.performance.size(), ns = a.channels.sensors.size();
+
+  const JsonReader pl = r.object("plant");
+  a.plant.form = pl.string("form");
+  require(a.plant.form == "dense" || a.plant.form == "modal", pl.place("form"),
+          "is \"" + a.plant.form + "\"; expected \"dense\" or \"modal\"");
+  a.plant.states = pl.labels("states");
+  const std::size_t nx = a.plant.states.size();
+  require(nx >= 1, pl.place("states"), "is empty: the plant has no state");
+  a.plant.spectral_radius = pl.number("spectral_radius");
+  // The matrices' sizes close over the channel map: inputs [disturbances; actuators], outputs
+  // [performance; sensors].
+  a.plant.A = pl.matrix("A", nx, nx, "state", "state");
+  a.plant.B = pl.matrix("B", nx, nw + nc, "state", "input (disturbances, then actuators)");
+  a.plant.C = pl.matrix("C", nz + ns, nx, "output (performance, then sensors)", "state");
+  a.plant.D = pl.matrix("D", nz + ns, nw + nc, "output (performance, then sensors)",
+                        "input (disturbances, then actuators)");
+  if (a.plant.form == "modal") {
+    const JsonReader m = pl.object("modal");
+    a.plant.modal.Lambda_minus_I = m.matrix("Lambda_minus_I", nx, nx, "state", "state");
+    a.plant.modal.B = m.matrix("B", nx, nw + nc, "state", "input");
+    a.plant.modal.C = m.matrix("C", nz + ns, nx, "output", "state");
+    a.plant.modal.D = m.matrix("D", nz + ns, nw + nc, "output", "input");
+    a.plant.modal.T = m.matrix("T", nx, nx, "state", "state");
+  }
+
+  const JsonReader co = r.object("controller");
+  const std::string type = co.string("type");
+  if (type == "none") {
+    a.controller = ControllerKind::kNone;
+  } else if (type == "pi_force_feedback") {
+    a.controller = ControllerKind::kPiForceFeedback;
+    require(ns == nc, co.place("type"),
+            "PI force feedback needs one sensor per actuator; the channel map has " +
+                std::to_string(ns) + " sensors and " + std::to_string(nc) + " actuators");
+    a.pi.K_P = co.matrix("K_P", nc, nc, "actuator", "sensor");
+    a.pi.K_I = co.matrix("K_I", nc, nc, "actuator", "sensor");
+    a.pi.leak_rad_s = co.number("leak_rad_s");
+    require(a.pi.leak_rad_s >= 0, co.place("leak_rad_s"), "must be >= 0");
+    a.pi.u_min = co.vector("u_min");
+    a.pi.u_max = co.vector("u_max");
+    for (const char* key : {"u_min", "u_max"}) {
+      const auto n = static_cast<std::size_t>((key[2] == 'm' ? a.pi.u_min : a.pi.u_max).size());
+      require(n == 0 || n == 1 || n == nc, co.place(key),
+              "has " + std::to_string(n) + " values; expected none, one, or one per actuator (" +
+                  std::to_string(nc) + ")");
+    }
+    if (co.has("feedthrough"))
+      a.pi.feedthrough = co.matrix("feedthrough", nc, nc, "sensor", "actuator");
+    a.pi.feedthrough_delay = static_cast<int>(co.integer("feedthrough_delay", 0, kMaxDelaySamples));
+    a.pi.dt = 1.0 / a.rate_hz;
+  } else {
+    throw InputError(co.place("type"), "is \"" + type +
+                                           "\"; this flexloop knows \"pi_force_feedback\" and "
+                                           "\"none\"");
+  }
+
+  const JsonReader fl = r.object("floor");
+  a.floor.spectrum = fl.string("spectrum");
+  a.floor.seed = seed_at(fl, "seed");
+  if (a.floor.spectrum == "white") {
+    a.floor.rms_mps2 = fl.number("rms_mps2");
+    require(a.floor.rms_mps2 >= 0, fl.place("rms_mps2"), "must be >= 0");
+  } else {
+    const JsonReader f = fl.object("filter");
+    const std::size_t n = kFloorFilterOrder;
+    a.floor_filter.A = f.matrix("A", n, n, "filter state", "filter state");
+    a.floor_filter.B = f.matrix("B", n, 1, "filter state", "noise input");
+    a.floor_filter.C = f.matrix("C", 1, n, "acceleration output", "filter state");
+    a.floor_filter.D = f.matrix("D", 1, 1, "acceleration output", "noise input");
+    a.floor_filter.motion = f.matrix("motion", 2, n, "velocity / displacement", "filter state");
+  }
+
+  const JsonReader ef = r.object("effects");
+  if (!ef.get("actuator").is_null()) {
+    const JsonReader ac = ef.object("actuator");
+    a.effects.actuator.present = true;
+    a.effects.actuator.gain = ac.number("gain");
+    require(a.effects.actuator.gain != 0, ac.place("gain"), "must not be 0");
+    a.effects.actuator.force_limit_n = ac.number("force_limit_n");
+    require(a.effects.actuator.force_limit_n > 0, ac.place("force_limit_n"), "must be > 0");
+    a.effects.actuator.lag_s = ac.number("lag_s");
+    require(a.effects.actuator.lag_s >= 0, ac.place("lag_s"), "must be >= 0");
+  }
+  a.effects.force_sensor = read_sensor(ef, "force_sensor");
+  a.effects.accelerometer = read_sensor(ef, "accelerometer");
+  a.effects.transport_delay_samples =
+      static_cast<int>(ef.integer("transport_delay_samples", 0, kMaxDelaySamples));
+
+  a.duration_s = r.object("run").number("duration_s");
+  require(a.duration_s > 0, r.object("run").place("duration_s"), "must be > 0");
+
+  if (r.has("provenance")) {
+    const JsonReader p = r.object("provenance");
+    auto text = [&p](const char* key) { return p.has(key) ? p.string(key) : std::string(); };
+    a.provenance = {text("scene"),        text("scene_sha256"),     text("model"),
+                    text("model_sha256"), text("flexloop_version"), text("flexloop_git")};
+  }
+  return a;
+}
+
+void validate(const LoopArtefact& a) {
+  const auto fail = [](const std::string& what) {
+    throw std::invalid_argument("loop artefact: " + what);
+  };
+  for (int k = 0; k < 4; ++k) {
+    const auto n = kind(a.channels, k).size();
+    if (n < 1 || n > static_cast<std::size_t>(kMaxArtefactChannels))
+      fail(std::string(kChannelKinds[k]) + ": " + std::to_string(n) +
+           " channels; each kind takes 1 .. " + std::to_string(kMaxArtefactChannels));
+  }
+  const Eigen::Index nx = static_cast<Eigen::Index>(a.plant.states.size()),
+                     nu = a.disturbances() + a.actuators(), ny = a.performance() + a.sensors();
+  const auto sized = [&](const char* name, const Eigen::MatrixXd& m, Eigen::Index r,
+                         Eigen::Index c) {
+    if (m.rows() != r || m.cols() != c)
+      fail(std::string("plant ") + name + " is " + std::to_string(m.rows()) + "x" +
+           std::to_string(m.cols()) + ", expected " + std::to_string(r) + "x" + std::to_string(c));
+    if (!m.allFinite()) fail(std::string("plant ") + name + " has an entry that is not finite");
+  };
+  sized("A", a.plant.A, nx, nx);
+  sized("B", a.plant.B, nx, nu);
+  sized("C", a.plant.C, ny, nx);
+  sized("D", a.plant.D, ny, nu);
+  if (a.plant.form == "modal") {
+    sized("modal Lambda_minus_I", a.plant.modal.Lambda_minus_I, nx, nx);
+    sized("modal B", a.plant.modal.B, nx, nu);
+    sized("modal C", a.plant.modal.C, ny, nx);
+    sized("modal D", a.plant.modal.D, ny, nu);
+    sized("modal T", a.plant.modal.T, nx, nx);
+  } else if (a.plant.form != "dense") {
+    fail("plant form \"" + a.plant.form + "\"; expected dense or modal");
+  }
+  if (!(std::isfinite(a.rate_hz) && a.rate_hz > 0)) fail("rate_hz must be finite and > 0");
+  if (a.controller == ControllerKind::kPiForceFeedback && a.sensors() != a.actuators())
+    fail("PI force feedback needs one sensor per actuator");
+  if (a.floor.spectrum != "white" && a.floor_filter.A.rows() != kFloorFilterOrder)
+    fail("floor filter: expected the discrete filter of order " +
+         std::to_string(kFloorFilterOrder));
+  if (!(std::isfinite(a.duration_s) && a.duration_s > 0)) fail("duration_s must be finite and > 0");
+}
+
+LoopArtefact read_loop_artefact(const std::filesystem::path& file) {
+  return loop_artefact_from_json(parse_json_file(file), file.string());
+}
+
+void write_loop_artefact(const std::filesystem::path& file, const LoopArtefact& a) {
+  write_json_atomically(file, to_json(a),
+                        {"format", "version", "name", "rate_hz", "method", "prewarp_hz", "channels",
+                         "controller", "floor", "effects", "run", "provenance", "plant", "form",
+                         "states", "spectral_radius", "name", "unit", "type"});
+}
+
+bool is_loop_artefact_file(const std::filesystem::path& file) {
+  try {
+    const json j = parse_json_file(file);
+    return j.is_object() && j.value("format", std::string()) == kLoopArtefactFormat;
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+}  // namespace flexloop::artefact

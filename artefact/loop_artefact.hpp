@@ -1,0 +1,118 @@
+#pragma once
+// The discrete loop artefact: the one seam between the offline pipeline and the online programs
+// (DESIGN.md §1). `flexloop build SCENE -o LOOP.json` writes it once; `flexloop sim`, the plant
+// and the controller processes run from it and never read a model or a scene. It holds
+// everything a run needs: the discrete plant, the channel map (names, units, order), rate and
+// method, the controller, the floor (with its discrete shaping filter), the hardware effects, the
+// run's duration, and where it came from. The file format (plain JSON, versioned) is documented
+// in doc/loop_artefact.md; readers in any language can use it.
+//
+// Sizes: nw disturbances, nc actuators, nz performance outputs, ns sensors (each 1 .. 64);
+// the plant's inputs are [disturbances; actuators] and its outputs [performance; sensors].
+#include <Eigen/Core>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "artefact/hardware_settings.hpp"
+#include "controller/runtime/pi_parameters.hpp"
+
+namespace flexloop::artefact {
+
+/// The format this build reads and writes.
+inline constexpr int kLoopArtefactVersion = 1;
+inline constexpr const char* kLoopArtefactFormat = "flexloop loop artefact";
+
+/// The most channels of one kind (one LCM sample carries them in one datagram).
+inline constexpr int kMaxArtefactChannels = 64;
+
+struct Channel {
+  std::string name;  ///< the model's channel name, e.g. "acc:x.3", "stress:e1.4"
+  std::string unit;  ///< SI unit of the signal, e.g. "m/s^2", "N"
+};
+
+struct ChannelMap {
+  std::vector<Channel> disturbances, actuators, performance, sensors;
+};
+
+enum class ControllerKind { kNone, kPiForceFeedback };
+
+/// "none", "pi_force_feedback".
+std::string to_string(ControllerKind kind);
+
+struct Provenance {
+  std::string scene, scene_sha256, model, model_sha256;
+  std::string flexloop_version, flexloop_git;
+};
+
+/// The discrete plant x+ = A x + B [w; u], [z; y] = C x + D [w; u], in the dense form, and the
+/// modal form when the scene asks for it (modal_form.hpp of plant/lti made it).
+struct DiscretePlant {
+  std::string form = "dense";  ///< "dense" or "modal": the form the online side steps
+  Eigen::MatrixXd A, B, C, D;
+  std::vector<std::string> states;
+  double spectral_radius = 0;
+  struct Modal {
+    Eigen::MatrixXd Lambda_minus_I, B, C, D, T;
+  } modal;  ///< filled when form == "modal"
+};
+
+/// The floor's shaping filter, discrete at the loop's rate (one per channel, driven by unit white
+/// noise) and the rows that give the floor's velocity and displacement from its state.
+struct FloorFilter {
+  Eigen::MatrixXd A, B, C, D;
+  Eigen::MatrixXd motion;  ///< 2 x order: velocity, displacement
+};
+
+struct LoopArtefact {
+  std::string name;
+  std::string source;  ///< where it came from (its file, or the scene it was built from): messages
+  Provenance provenance;
+  double rate_hz = 0;
+  std::string method;  ///< the discretisation method, e.g. "zoh"
+  double prewarp_hz = 0;
+  ChannelMap channels;
+  DiscretePlant plant;
+  ControllerKind controller = ControllerKind::kNone;
+  controller::runtime::PiParameters pi;  ///< kPiForceFeedback: at dt = 1 / rate_hz
+  FloorSettings floor;
+  FloorFilter floor_filter;  ///< empty for a white floor
+  EffectsSettings effects;
+  double duration_s = 10;
+
+  double dt() const { return 1.0 / rate_hz; }
+  Eigen::Index disturbances() const {
+    return static_cast<Eigen::Index>(channels.disturbances.size());
+  }
+  Eigen::Index actuators() const { return static_cast<Eigen::Index>(channels.actuators.size()); }
+  Eigen::Index performance() const {
+    return static_cast<Eigen::Index>(channels.performance.size());
+  }
+  Eigen::Index sensors() const { return static_cast<Eigen::Index>(channels.sensors.size()); }
+  std::vector<std::string> names(const std::vector<Channel>& kind) const;
+};
+
+/// The artefact as JSON (doc/loop_artefact.md). @throws std::invalid_argument for an artefact
+/// that does not validate (validate()).
+nlohmann::json to_json(const LoopArtefact& a);
+
+/// @throws flexloop::InputError "<place>: key '...': what is wrong" for a wrong format or
+/// version, sizes that do not close, non-finite entries, an unknown kind or out-of-range values.
+LoopArtefact loop_artefact_from_json(const nlohmann::json& j, const std::string& place);
+
+/// @throws flexloop::InputError naming the file (see loop_artefact_from_json).
+LoopArtefact read_loop_artefact(const std::filesystem::path& file);
+
+/// Writes atomically (a reader never sees half of it). @throws std::runtime_error.
+void write_loop_artefact(const std::filesystem::path& file, const LoopArtefact& a);
+
+/// True when the file is a loop artefact (a JSON object with "format" = kLoopArtefactFormat),
+/// so a command can take a scene or an artefact.
+bool is_loop_artefact_file(const std::filesystem::path& file);
+
+/// Checks what the JSON reader checks, for artefacts built in memory.
+/// @throws std::invalid_argument naming what is wrong.
+void validate(const LoopArtefact& a);
+
+}  // namespace flexloop::artefact

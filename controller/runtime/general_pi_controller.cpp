@@ -1,0 +1,35 @@
+#include "controller/runtime/general_pi_controller.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace flexloop::controller::runtime {
+
+template <typename Scalar>
+GeneralPiController<Scalar> GeneralPiController<Scalar>::from_parameters(const PiParameters& p,
+                                                                         Eigen::Index n) {
+  const std::string who = "GeneralPiController";
+  if (n < 1 || n > plant::runtime::kMaxChannels)
+    throw std::invalid_argument(who + ": " + std::to_string(n) + " channels; it takes 1 .. " +
+                                std::to_string(plant::runtime::kMaxChannels));
+  const PiStepGains g = pi_step_gains(p, n, who);
+  GeneralPiController c;
+  c.G_f_ = g.G_f.cast<Scalar>();
+  c.G_x_ = g.G_x.cast<Scalar>();
+  c.G_x_inv_ = g.G_x_inv.cast<Scalar>();
+  c.D22_ = g.D22.cast<Scalar>();
+  c.identity_feedthrough_ = g.identity_feedthrough;
+  c.a_ = static_cast<Scalar>(g.a);
+  c.b_ = static_cast<Scalar>(g.b);
+  c.delay_ = g.delay;
+  c.history_.assign(kHistory, Vector::Zero(n));
+  c.u_min_ = g.u_min.cast<Scalar>();
+  c.u_max_ = g.u_max.cast<Scalar>();
+  c.s_ = c.f_ = c.v_ = c.u_ = c.g_ = Vector::Zero(n);
+  return c;
+}
+
+template class GeneralPiController<double>;
+template class GeneralPiController<float>;
+
+}  // namespace flexloop::controller::runtime

@@ -1,0 +1,75 @@
+#include "controller/runtime/pi_step_gains.hpp"
+
+#include <Eigen/LU>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace flexloop::controller::runtime {
+
+namespace {
+
+void require(bool ok, const std::string& who, const std::string& what) {
+  if (!ok) throw std::invalid_argument(who + ": " + what);
+}
+
+const Eigen::MatrixXd& square(const Eigen::MatrixXd& m, Eigen::Index n, const std::string& who,
+                              const char* name) {
+  require(m.rows() == n && m.cols() == n, who,
+          std::string(name) + " is " + std::to_string(m.rows()) + "x" + std::to_string(m.cols()) +
+              ", expected " + std::to_string(n) + "x" + std::to_string(n));
+  require(m.allFinite(), who, std::string(name) + " has an entry that is not finite");
+  return m;
+}
+
+/// Limits as n values: none -> `none`, one -> broadcast.
+Eigen::VectorXd limit(const Eigen::VectorXd& v, Eigen::Index n, double none, const std::string& who,
+                      const char* name) {
+  if (v.size() == 0) return Eigen::VectorXd::Constant(n, none);
+  if (v.size() == 1) return Eigen::VectorXd::Constant(n, v(0));
+  require(v.size() == n, who,
+          std::string(name) + " has " + std::to_string(v.size()) + " values, expected 1 or " +
+              std::to_string(n));
+  return v;
+}
+
+}  // namespace
+
+PiStepGains pi_step_gains(const PiParameters& p, Eigen::Index n, const std::string& who) {
+  using M = Eigen::MatrixXd;
+  const M& K_P = square(p.K_P, n, who, "K_P");
+  const M& K_I = square(p.K_I, n, who, "K_I");
+  const M I = M::Identity(n, n);
+  const M D22 = p.feedthrough.size() == 0 ? I : square(p.feedthrough, n, who, "feedthrough");
+  require(std::isfinite(p.dt) && p.dt > 0, who,
+          "dt must be finite and > 0, got " + std::to_string(p.dt));
+  require(std::isfinite(p.leak_rad_s) && p.leak_rad_s >= 0, who,
+          "leak_rad_s must be finite and >= 0, got " + std::to_string(p.leak_rad_s));
+  const double inf = std::numeric_limits<double>::infinity();
+  PiStepGains g;
+  g.u_min = limit(p.u_min, n, -inf, who, "u_min");
+  g.u_max = limit(p.u_max, n, inf, who, "u_max");
+  require(!g.u_min.hasNaN() && !g.u_max.hasNaN() && !(g.u_min.array() > g.u_max.array()).any(), who,
+          "u_min must be <= u_max in every channel");
+
+  const Eigen::FullPivLU<M> loop(I + K_P * D22);
+  require(loop.isInvertible(), who,
+          "I + K_P D22 is singular: the loop through the sensors' feedthrough is ill-posed");
+  const Eigen::FullPivLU<M> integral(K_I);
+  require(integral.isInvertible(), who,
+          "K_I is singular; anti-windup and bumpless start need it invertible");
+  require(p.feedthrough_delay >= 0 && p.feedthrough_delay <= kMaxFeedthroughDelay, who,
+          "feedthrough_delay must be 0 .. " + std::to_string(kMaxFeedthroughDelay) + ", got " +
+              std::to_string(p.feedthrough_delay));
+  g.G_f = -loop.solve(K_P);
+  g.G_x = -loop.solve(K_I);
+  g.G_x_inv = -integral.solve(I + K_P * D22);
+  g.D22 = D22;
+  g.identity_feedthrough = D22 == I;
+  g.delay = p.feedthrough_delay;
+  g.a = std::exp(-p.leak_rad_s * p.dt);
+  g.b = p.leak_rad_s > 0 ? -std::expm1(-p.leak_rad_s * p.dt) / p.leak_rad_s : p.dt;
+  return g;
+}
+
+}  // namespace flexloop::controller::runtime
