@@ -3,8 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/input_error.hpp"
 #include "common/json_document.hpp"
-#include "plant/model/input_error.hpp"
 
 namespace flexloop::artefact {
 
@@ -324,6 +324,23 @@ void validate(const LoopArtefact& a) {
 
 LoopArtefact read_loop_artefact(const std::filesystem::path& file) {
   return loop_artefact_from_json(parse_json_file(file), file.string());
+}
+
+LoopArtefact read_loop_artefact(const std::filesystem::path& file, const LoopOverrides& o) {
+  const std::string path = file.string();
+  if (!is_loop_artefact_file(file))
+    throw InputError(path, "is not a loop artefact (a JSON object with \"format\": \"" +
+                               std::string(kLoopArtefactFormat) +
+                               "\"); build one from a scene: flexloop build SCENE -o LOOP.json");
+  LoopArtefact a = read_loop_artefact(file);
+  if (o.rate_hz > 0 && o.rate_hz != a.rate_hz)
+    throw InputError(path, "key 'rate_hz': the artefact is built for " + std::to_string(a.rate_hz) +
+                               " Hz; rebuild it at another rate (flexloop build SCENE --rate HZ)");
+  if (!o.form.empty() && o.form != a.plant.form)
+    throw InputError(path, "key 'plant': the artefact holds the " + a.plant.form +
+                               " form; rebuild it (flexloop build SCENE --form " + o.form + ")");
+  if (o.duration_s > 0) a.duration_s = o.duration_s;
+  return a;
 }
 
 void write_loop_artefact(const std::filesystem::path& file, const LoopArtefact& a) {

@@ -104,6 +104,18 @@ LoopArtefact loop_artefact_from_json(const nlohmann::json& j, const std::string&
 /// @throws flexloop::InputError naming the file (see loop_artefact_from_json).
 LoopArtefact read_loop_artefact(const std::filesystem::path& file);
 
+/// What a command line may ask of the loop it runs.
+struct LoopOverrides {
+  double rate_hz = 0;     ///< > 0: this rate (a scene is sampled at it; an artefact must have it)
+  std::string form;       ///< "dense" | "modal"; empty: dense (a scene), as built (an artefact)
+  double duration_s = 0;  ///< > 0: instead of the scene's or artefact's duration
+};
+
+/// An artefact file for a command: read, with the duration overridden. An artefact's rate and
+/// form are fixed: @throws flexloop::InputError naming the file when `o` asks for others (rebuild
+/// it), or when the file is not a loop artefact (build one: flexloop build SCENE -o LOOP.json).
+LoopArtefact read_loop_artefact(const std::filesystem::path& file, const LoopOverrides& o);
+
 /// Writes atomically (a reader never sees half of it). @throws std::runtime_error.
 void write_loop_artefact(const std::filesystem::path& file, const LoopArtefact& a);
 

@@ -8,7 +8,7 @@
 #include <set>
 
 #include "common/atomic_file.hpp"
-#include "plant/model/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace flexloop {
 

@@ -12,7 +12,7 @@
 
 #include "controller/runtime/pi_parameters.hpp"
 #include "controller/runtime/pi_step_gains.hpp"
-#include "plant/runtime/channel_limits.hpp"
+#include "online/numeric/channel_limits.hpp"
 
 namespace flexloop::controller::runtime {
 

@@ -49,8 +49,8 @@
 
 #include "controller/runtime/pi_parameters.hpp"
 #include "controller/runtime/pi_step_gains.hpp"
-#include "plant/runtime/column_product.hpp"
-#include "plant/runtime/fixed_size_matrix.hpp"
+#include "online/numeric/column_product.hpp"
+#include "online/numeric/fixed_size_matrix.hpp"
 
 namespace flexloop::controller::runtime {
 
@@ -133,7 +133,7 @@ class PiController {
   }
 
  private:
-  // Vectors padded to whole SIMD packets (plant/runtime/column_product.hpp); the padding lanes
+  // Vectors padded to whole SIMD packets (online/numeric/column_product.hpp); the padding lanes
   // stay exactly zero: the padded rows of G_f, G_x and D22 are zero and so are both limits.
   static constexpr int NP = plant::runtime::kPaddedRows<Scalar, N>;
   using Lanes = Eigen::Matrix<Scalar, NP, 1>;

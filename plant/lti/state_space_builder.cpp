@@ -4,7 +4,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "plant/model/input_error.hpp"
+#include "common/input_error.hpp"
 #include "plant/model/massless_condensation.hpp"
 #include "plant/model/released_model.hpp"
 

@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "plant/model/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace flexloop::plant::lti {
 

@@ -3,7 +3,7 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "plant/model/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace flexloop::plant::model {
 

@@ -5,7 +5,7 @@
 #include <unsupported/Eigen/AutoDiff>
 #include "plant/model/inertia.hpp"
 
-#include "plant/model/input_error.hpp"
+#include "common/input_error.hpp"
 #include "plant/model/kinematics.hpp"
 
 namespace flexloop::plant::model {

@@ -8,8 +8,8 @@
 #include <set>
 #include <sstream>
 
+#include "common/input_error.hpp"
 #include "plant/model/element_properties.hpp"
-#include "plant/model/input_error.hpp"
 #include "plant/model/toml_reader.hpp"
 
 namespace flexloop::plant::model {

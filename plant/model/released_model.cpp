@@ -1,6 +1,6 @@
 #include "plant/model/released_model.hpp"
 
-#include "plant/model/input_error.hpp"
+#include "common/input_error.hpp"
 #include "plant/model/model_parser.hpp"
 
 namespace flexloop::plant::model {

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "plant/model/input_error.hpp"
+#include "common/input_error.hpp"
 #include "plant/model/model.hpp"
 
 namespace flexloop::plant::model {

@@ -19,8 +19,8 @@
 // matrices [Ad - I; C Ad] and [Bd; C Bd + [0 D_h]].
 #include <Eigen/Core>
 
-#include "plant/runtime/column_product.hpp"
-#include "plant/runtime/fixed_size_matrix.hpp"
+#include "online/numeric/column_product.hpp"
+#include "online/numeric/fixed_size_matrix.hpp"
 #include "plant/runtime/state_output.hpp"
 
 namespace flexloop::plant::runtime {

@@ -29,8 +29,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "plant/runtime/column_product.hpp"
-#include "plant/runtime/fixed_size_matrix.hpp"
+#include "online/numeric/column_product.hpp"
+#include "online/numeric/fixed_size_matrix.hpp"
 #include "plant/runtime/state_output.hpp"
 
 namespace flexloop::plant::runtime {

@@ -20,7 +20,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "plant/runtime/channel_limits.hpp"
+#include "online/numeric/channel_limits.hpp"
 
 namespace flexloop::plant::runtime {
 

@@ -26,8 +26,8 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "plant/runtime/column_product.hpp"
-#include "plant/runtime/fixed_size_matrix.hpp"
+#include "online/numeric/column_product.hpp"
+#include "online/numeric/fixed_size_matrix.hpp"
 
 namespace flexloop::plant::runtime {
 

@@ -13,9 +13,9 @@
 #include <string>
 #include <vector>
 
+#include "offline/report/csv_writer.hpp"
+#include "offline/report/plot.hpp"
 #include "plant/lti/frequency_response.hpp"
-#include "tools/report/csv_writer.hpp"
-#include "tools/report/plot.hpp"
 
 namespace fs = std::filesystem;
 namespace report = flexloop::report;

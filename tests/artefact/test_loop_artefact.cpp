@@ -7,10 +7,10 @@
 #include <fstream>
 
 #include "artefact/loop_artefact.hpp"
+#include "common/input_error.hpp"
 #include "common/json_document.hpp"
-#include "plant/model/input_error.hpp"
-#include "tools/scene/loop_input.hpp"
-#include "tools/sim/scene_runs.hpp"
+#include "offline/scene/loop_input.hpp"
+#include "online/sim/scene_runs.hpp"
 
 using namespace flexloop;
 using nlohmann::json;

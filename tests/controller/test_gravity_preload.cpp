@@ -9,10 +9,10 @@
 #include <complex>
 #include <numbers>
 
+#include "common/input_error.hpp"
 #include "controller/design/loop_stability.hpp"
-#include "plant/model/input_error.hpp"
+#include "offline/scene/scene_plant.hpp"
 #include "tests/support/pole_matching.hpp"
-#include "tools/scene/scene_plant.hpp"
 
 using namespace flexloop;
 using cd = std::complex<double>;

@@ -5,10 +5,10 @@
 
 #include <algorithm>
 
+#include "offline/scene/scene_plant.hpp"
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model_parser.hpp"
 #include "plant/model/static_equilibrium.hpp"
-#include "tools/scene/scene_plant.hpp"
 
 using namespace flexloop;
 

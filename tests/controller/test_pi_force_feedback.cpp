@@ -8,11 +8,11 @@
 #include <numbers>
 #include <random>
 
+#include "offline/scene/scene_plant.hpp"
 #include "plant/lti/feedback_interconnection.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "tests/support/pole_matching.hpp"
-#include "tools/scene/scene_plant.hpp"
 
 using namespace flexloop;
 using cd = std::complex<double>;

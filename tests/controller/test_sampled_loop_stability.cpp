@@ -12,15 +12,15 @@
 #include <cmath>
 #include <string>
 
+#include "common/input_error.hpp"
 #include "controller/design/sampled_loop_stability.hpp"
 #include "controller/runtime/pi_controller_sizes.hpp"
+#include "offline/scene/pi_parameters.hpp"
+#include "offline/scene/scene_plant.hpp"
 #include "plant/lti/feedback_interconnection.hpp"
 #include "plant/lti/frequency_response.hpp"
-#include "plant/model/input_error.hpp"
 #include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/effects/sample_delay.hpp"
-#include "tools/scene/pi_parameters.hpp"
-#include "tools/scene/scene_plant.hpp"
 
 using namespace flexloop;
 

@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 #include <random>
 
+#include "common/input_error.hpp"
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/state_space_json.hpp"
-#include "plant/model/input_error.hpp"
 #include "tests/discretise/reference.hpp"
 
 using namespace flexloop::plant::lti;

@@ -5,14 +5,14 @@
 #include <cstdint>
 #include <vector>
 
+#include "offline/scene/loop_input.hpp"
+#include "online/loop/controller_station.hpp"
+#include "online/loop/loop_controller.hpp"
+#include "online/loop/plant_station.hpp"
 #include "plant/runtime/effects/white_floor.hpp"
 #include "plant/runtime/runtime_sizes.hpp"
 #include "plant/runtime/simulated_hardware.hpp"
 #include "tests/support/metrology.hpp"
-#include "tools/hil/controller_station.hpp"
-#include "tools/hil/loop_controller.hpp"
-#include "tools/hil/plant_station.hpp"
-#include "tools/scene/loop_input.hpp"
 
 namespace flexloop::test {
 

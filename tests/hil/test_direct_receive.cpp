@@ -12,12 +12,12 @@
 #include <cstring>
 #include <vector>
 
+#include "online/loop/private_network.hpp"
 #include "rt/lcm_transport.hpp"
 #include "rt/loopback_guard.hpp"
 #include "rt/monotonic_time.hpp"
 #include "rt/realtime_setup.hpp"
 #include "tests/support/messages.hpp"
-#include "tools/hil/private_network.hpp"
 
 using namespace flexloop;
 using flexloop_msgs::sensor_sample_t;

@@ -1,4 +1,4 @@
-// The plant and controller stations of the real-time loop (tools/hil/plant_station.hpp,
+// The plant and controller stations of the real-time loop (online/loop/plant_station.hpp,
 // controller_station.hpp) driven message by message on a synthetic clock: answered in time they
 // reproduce the in-process loop bit for bit; a silent controller makes the plant hold, then apply
 // the safe command after N misses and resume bumplessly; a plant restart resynchronises the
@@ -15,7 +15,7 @@ using hil::CommandSource;
 
 TEST_CASE("hil stations: answers in time reproduce the in-process closed loop exactly") {
   StationPair pair;
-  // The in-process loop of tools/sim (same convention, written out here).
+  // The in-process loop of online/sim (same convention, written out here).
   HilPlant plant = hil_plant();
   auto controller = hil::make_loop_controller(hil_scene());
   auto noise = plant::runtime::effects::GaussianNoise<double, 6>::from_seed(kFloorSeed);

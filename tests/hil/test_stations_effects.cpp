@@ -4,9 +4,9 @@
 // transport delay) reproduce the in-process simulation of `flexloop sim` bit for bit.
 #include <catch2/catch.hpp>
 
+#include "online/sim/closed_loop_run.hpp"
+#include "online/sim/loop_hardware.hpp"
 #include "tests/hil/station_fixture.hpp"
-#include "tools/sim/closed_loop_run.hpp"
-#include "tools/sim/loop_hardware.hpp"
 
 using namespace flexloop;
 using namespace flexloop::test;

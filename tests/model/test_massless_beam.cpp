@@ -26,9 +26,9 @@
 #include <string>
 #include <vector>
 
+#include "common/input_error.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/state_space_builder.hpp"
-#include "plant/model/input_error.hpp"
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model_parser.hpp"
 

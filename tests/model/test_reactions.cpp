@@ -7,8 +7,8 @@
 #include <catch2/catch.hpp>
 #include <functional>
 
+#include "common/input_error.hpp"
 #include "plant/lti/state_space_builder.hpp"
-#include "plant/model/input_error.hpp"
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model_parser.hpp"
 #include "plant/model/released_model.hpp"

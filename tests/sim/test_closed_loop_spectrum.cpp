@@ -1,4 +1,4 @@
-// Consistency of the in-process loop (tools/sim/closed_loop_run.hpp) with the offline analysis:
+// Consistency of the in-process loop (online/sim/closed_loop_run.hpp) with the offline analysis:
 // for a white floor, the simulated closed-loop frame-acceleration spectrum (Welch) equals
 // sum_j |T_ij(e^{jwT})|^2 times the input density, T the sampled closed loop of
 // plant/lti/feedback_interconnection.hpp, within 1 dB over 1-200 Hz; and the same for the
@@ -8,14 +8,14 @@
 #include <cmath>
 
 #include "controller/runtime/pi_controller_sizes.hpp"
+#include "offline/scene/loop_artefact_builder.hpp"
+#include "offline/scene/scene_plant.hpp"
+#include "online/sim/closed_loop_run.hpp"
+#include "online/sim/loop_hardware.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/vibration_criterion.hpp"
 #include "plant/lti/welch.hpp"
 #include "plant/runtime/runtime_sizes.hpp"
-#include "tools/scene/loop_artefact_builder.hpp"
-#include "tools/scene/scene_plant.hpp"
-#include "tools/sim/closed_loop_run.hpp"
-#include "tools/sim/loop_hardware.hpp"
 
 using namespace flexloop;
 

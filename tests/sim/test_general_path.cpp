@@ -1,4 +1,4 @@
-// `flexloop sim`'s general path (any size, sized at start-up; tools/sim/scene_runs_general.cpp):
+// `flexloop sim`'s general path (any size, sized at start-up; online/sim/scene_runs_general.cpp):
 // - on the metrology frame's default scene (every effect on) it gives the compiled path's
 //   figures, dense and modal;
 // - on a machine with no compiled size (tools/scenes/two_mass_chain.toml: 2 floors, 2 struts)
@@ -12,11 +12,11 @@
 
 #include <cmath>
 
+#include "offline/scene/loop_artefact_builder.hpp"
+#include "offline/scene/loop_input.hpp"
+#include "online/sim/loop_hardware.hpp"
+#include "online/sim/scene_runs.hpp"
 #include "tests/support/dynamic_reference.hpp"
-#include "tools/scene/loop_artefact_builder.hpp"
-#include "tools/scene/loop_input.hpp"
-#include "tools/sim/loop_hardware.hpp"
-#include "tools/sim/scene_runs.hpp"
 
 using namespace flexloop;
 

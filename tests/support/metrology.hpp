@@ -6,8 +6,8 @@
 #include <string>
 
 #include "controller/runtime/pi_controller.hpp"
-#include "tools/scene/pi_parameters.hpp"
-#include "tools/scene/scene_plant.hpp"
+#include "offline/scene/pi_parameters.hpp"
+#include "offline/scene/scene_plant.hpp"
 
 namespace flexloop::test {
 

@@ -1,4 +1,4 @@
-// The real-time loop end to end (tools/hil/hil_run.hpp): the metrology scene for 10 s, plant and
+// The real-time loop end to end (online/hil/hil_run.hpp): the metrology scene for 10 s, plant and
 // controller in two processes on the two cores over LCM in a private loopback-only namespace,
 // judged only against the baselines measured in the same run (DESIGN.md §7):
 //   deadline misses  <= 2 x the bare ping-pong's unanswered share + 1 % of the cycles
@@ -14,26 +14,18 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "offline/scene/loop_input.hpp"
+#include "online/hil/hil_run.hpp"
 #include "tests/support/metrology.hpp"
-#include "tools/hil/hil_run.hpp"
+#include "tests/timing/private_network.hpp"
 
 using namespace flexloop;
+using test::in_private_network;
 
 namespace {
 
 constexpr double kMissShareFactor = 2.0, kMissShareMargin = 0.01;
 constexpr double kRoundTripFactor = 1.5;
-
-// Enters the namespace; false (with a warning) when this process cannot.
-bool in_private_network(const hil::HilOptions& o) {
-  try {
-    hil::prepare_hil_network(o);
-    return true;
-  } catch (const std::exception& e) {
-    WARN("skipped: cannot enter a private network namespace: " << e.what());
-    return false;
-  }
-}
 
 hil::HilOptions options(double rate_hz, rt::WaitMode wait) {
   hil::HilOptions o;
@@ -78,12 +70,18 @@ void check_against_baselines(const nlohmann::json& r, double rate_hz) {
   CHECK(rtt_p99 <= kRoundTripFactor * pp_p99 + timer_p99);
 }
 
+// The scene's loop at the options' rate (the artefact `flexloop hil` builds).
+artefact::LoopArtefact loop(const hil::HilOptions& o) {
+  return scene::load_loop(o.loop.loop_path,
+                          {.rate_hz = o.loop.rate_hz, .form = "", .duration_s = 0});
+}
+
 }  // namespace
 
 TEST_CASE("hil at 1 kHz: misses and round-trip p99 within a margin of the same-run baselines") {
   const hil::HilOptions o = options(1000, rt::WaitMode::kHybrid);
   if (!in_private_network(o)) return;
-  check_against_baselines(hil::run_hil(o), 1000);
+  check_against_baselines(hil::run_hil(o, loop(o)), 1000);
 }
 
 TEST_CASE(
@@ -113,5 +111,5 @@ TEST_CASE(
     }
   }
   o.loop.rate_hz = rate_hz;
-  check_against_baselines(hil::run_hil(o), rate_hz);
+  check_against_baselines(hil::run_hil(o, loop(o)), rate_hz);
 }

@@ -8,17 +8,17 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/input_error.hpp"
+#include "offline/pipeline/analyse_scene.hpp"
+#include "offline/pipeline/linearised_model.hpp"
+#include "offline/pipeline/provenance.hpp"
+#include "offline/report/csv_writer.hpp"
+#include "offline/report/plot.hpp"
+#include "offline/scene/scene.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/state_space_json.hpp"
-#include "plant/model/input_error.hpp"
-#include "tools/flexloop/analyse_scene.hpp"
-#include "tools/flexloop/linearised_model.hpp"
-#include "tools/flexloop/provenance.hpp"
 #include "tools/flexloop/subcommands.hpp"
-#include "tools/report/csv_writer.hpp"
-#include "tools/report/plot.hpp"
-#include "tools/scene/scene.hpp"
 
 namespace flexloop::cli {
 

@@ -8,14 +8,14 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "online/hil/baseline_json.hpp"
+#include "online/loop/latency_json.hpp"
 #include "plant/lti/state_space_json.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/pingpong_baseline.hpp"
 #include "rt/timer_baseline.hpp"
-#include "tools/flexloop/loop_options_cli.hpp"
 #include "tools/flexloop/subcommands.hpp"
-#include "tools/hil/baseline_json.hpp"
-#include "tools/hil/latency_json.hpp"
+#include "tools/loop_cli/loop_options_cli.hpp"
 
 namespace flexloop::cli {
 

@@ -5,8 +5,8 @@
 #include <cstdio>
 #include <memory>
 
+#include "offline/scene/loop_input.hpp"
 #include "tools/flexloop/subcommands.hpp"
-#include "tools/scene/loop_input.hpp"
 
 namespace flexloop::cli {
 

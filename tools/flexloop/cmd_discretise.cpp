@@ -8,10 +8,10 @@
 #include <numbers>
 #include <string>
 
+#include "common/input_error.hpp"
+#include "offline/pipeline/provenance.hpp"
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/state_space_json.hpp"
-#include "plant/model/input_error.hpp"
-#include "tools/flexloop/provenance.hpp"
 #include "tools/flexloop/subcommands.hpp"
 
 namespace flexloop::cli {

@@ -1,14 +1,14 @@
 // `flexloop fit-metrology -o MODEL.toml [--mass KG] [--damping-ratio Z]`: choose the inertia,
 // centre-of-gravity depth and strut stiffness of the metrology frame (DESIGN.md §4) so that its
 // passive natural frequencies are the paper's, and write the model file
-// (tools/flexloop/metrology_frame_fit.hpp has the geometry and the method).
+// (offline/pipeline/metrology_frame_fit.hpp has the geometry and the method).
 #include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "common/atomic_file.hpp"
-#include "tools/flexloop/metrology_frame_fit.hpp"
+#include "offline/pipeline/metrology_frame_fit.hpp"
 #include "tools/flexloop/subcommands.hpp"
 
 namespace flexloop::cli {

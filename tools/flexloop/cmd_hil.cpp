@@ -1,5 +1,5 @@
 // `flexloop hil SCENE --rate HZ --duration S --report OUT.json [--wait MODE] [--netns]
-//  [--lcm-log FILE] [--sweep]`: the hardware-in-the-loop rehearsal (tools/hil/hil_run.hpp):
+//  [--lcm-log FILE] [--sweep]`: the hardware-in-the-loop rehearsal (online/hil/hil_run.hpp):
 // same-run baselines (bare timer, bare LCM ping-pong), then the controller and plant processes
 // on the two cores for the duration; writes the report JSON and the round-trip and wake-up
 // histograms (PNG) beside it, prints a summary. --sweep runs the rates 1, 2, 5, 10, 20 kHz
@@ -11,11 +11,13 @@
 #include <memory>
 #include <vector>
 
+#include "offline/report/hil_report.hpp"
+#include "offline/scene/loop_input.hpp"
+#include "online/hil/hil_run.hpp"
 #include "plant/lti/state_space_json.hpp"
-#include "tools/flexloop/loop_options_cli.hpp"
 #include "tools/flexloop/subcommands.hpp"
-#include "tools/hil/hil_report.hpp"
-#include "tools/hil/hil_run.hpp"
+#include "tools/loop_cli/loop_commands.hpp"
+#include "tools/loop_cli/loop_options_cli.hpp"
 
 namespace flexloop::cli {
 
@@ -28,12 +30,18 @@ struct HilArgs : LoopArgs {
   std::vector<double> sweep_rates{1000, 2000, 5000, 10000, 20000};
 };
 
+// The offline pipeline runs once per rate, here; the plant and controller start from its artefact.
+artefact::LoopArtefact load_hil_loop(const hil::HilOptions& o) {
+  return scene::load_loop(o.loop.loop_path,
+                          {.rate_hz = o.loop.rate_hz, .form = "", .duration_s = 0});
+}
+
 void print_written(const std::vector<std::string>& paths) {
   for (const auto& p : paths) std::printf("wrote %s\n", p.c_str());
 }
 
 void run_one(const HilArgs& a, hil::HilOptions o) {
-  const nlohmann::json report = hil::run_hil(o);
+  const nlohmann::json report = hil::run_hil(o, load_hil_loop(o));
   hil::print_hil_summary(report);
   print_written(hil::write_hil_report(report, a.report));
 }
@@ -45,7 +53,7 @@ void run_sweep(const HilArgs& a, hil::HilOptions o) {
     o.loop.rate_hz = rate;
     std::printf("\n--- %.6g Hz ---\n", rate);
     std::fflush(stdout);
-    reports.push_back(hil::run_hil(o));
+    reports.push_back(hil::run_hil(o, load_hil_loop(o)));
     hil::print_hil_summary(reports.back());
     char suffix[32];
     std::snprintf(suffix, sizeof suffix, "_%.6ghz.json", rate);
@@ -77,7 +85,7 @@ void register_hil(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "hil",
       "Hardware-in-the-loop rehearsal: baselines, then plant and controller processes over LCM");
-  add_loop_options(cmd, *args, 0);
+  add_loop_options(cmd, *args, 0, kSceneOrArtefactHelp);
   cmd->add_option("--duration", args->options.duration_s,
                   "Run time [s] (default: the scene's [run] duration)")
       ->check(CLI::PositiveNumber);

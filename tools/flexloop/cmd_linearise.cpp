@@ -4,9 +4,9 @@
 #include <cstdio>
 #include <memory>
 
+#include "offline/pipeline/linearised_model.hpp"
+#include "offline/pipeline/provenance.hpp"
 #include "plant/lti/state_space_json.hpp"
-#include "tools/flexloop/linearised_model.hpp"
-#include "tools/flexloop/provenance.hpp"
 #include "tools/flexloop/subcommands.hpp"
 
 namespace flexloop::cli {

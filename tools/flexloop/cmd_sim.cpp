@@ -1,6 +1,6 @@
 // `flexloop sim SCENE|LOOP.json [--duration S] [--controller on|off] [--form dense|modal]
 //  [--log OUT.csv] [--log-every N] [--plots DIR]`: the loop artefact's discrete plant, hardware
-// and controller in one process, faster than real time (tools/sim/closed_loop_run.hpp has the
+// and controller in one process, faster than real time (online/sim/closed_loop_run.hpp has the
 // loop), once with the controller off and once on, driven by the same seeded floor; prints the
 // RMS of every performance output for both and writes the log of the requested run. A scene is
 // first built into its artefact (tools/flexloop/loop_input.hpp), as `flexloop build` does.
@@ -13,14 +13,14 @@
 #include <string>
 #include <tuple>
 
+#include "common/input_error.hpp"
+#include "offline/report/csv_writer.hpp"
+#include "offline/report/plot.hpp"
+#include "offline/scene/loop_input.hpp"
+#include "online/sim/closed_loop_run.hpp"
+#include "online/sim/scene_runs.hpp"
 #include "plant/lti/welch.hpp"
-#include "plant/model/input_error.hpp"
 #include "tools/flexloop/subcommands.hpp"
-#include "tools/report/csv_writer.hpp"
-#include "tools/report/plot.hpp"
-#include "tools/scene/loop_input.hpp"
-#include "tools/sim/closed_loop_run.hpp"
-#include "tools/sim/scene_runs.hpp"
 
 namespace flexloop::cli {
 

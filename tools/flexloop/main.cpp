@@ -1,9 +1,6 @@
 // flexloop: finite-element multibody model -> linearised, discretised plant -> real-time loop.
-#include <cstdio>
-#include <exception>
-
-#include "plant/model/input_error.hpp"
 #include "tools/flexloop/subcommands.hpp"
+#include "tools/loop_cli/loop_commands.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -23,16 +20,5 @@ int main(int argc, char** argv) {
   flexloop::cli::register_plant(app);
   flexloop::cli::register_controller(app);
   flexloop::cli::register_hil(app);
-  try {
-    app.parse(argc, argv);
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
-  } catch (const flexloop::InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+  return flexloop::cli::run_command_line(app, argc, argv);
 }

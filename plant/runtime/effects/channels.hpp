@@ -15,7 +15,7 @@
 #include <string>
 #include <type_traits>
 
-#include "plant/runtime/channel_limits.hpp"
+#include "online/numeric/channel_limits.hpp"
 
 namespace flexloop::plant::runtime::effects {
 

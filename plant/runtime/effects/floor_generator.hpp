@@ -7,7 +7,7 @@
 // The filter is designed offline (plant/lti/vibration_criterion.hpp: design_floor_filter, then
 // discretise_floor_filter, whose Bd already carries the 1/sqrt(dt) noise scaling). The channels
 // run side by side in SIMD lanes: the state is held as one row per channel (rows padded to whole
-// packets, plant/runtime/column_product.hpp), so state i of every channel is one column product,
+// packets, online/numeric/column_product.hpp), so state i of every channel is one column product,
 //   x_{k+1}(i, all channels) = Σ_j Ad(i, j) x_k(j, all channels) + Bd(i) n_k,
 // with the same arithmetic in every lane (channel c's signal does not depend on N). With
 // N = Eigen::Dynamic the lanes are those of kMaxChannels channels, of which the first n run.
@@ -20,10 +20,10 @@
 #include <Eigen/Dense>
 #include <cstdint>
 
-#include "plant/runtime/column_product.hpp"
+#include "online/numeric/column_product.hpp"
+#include "online/numeric/fixed_size_matrix.hpp"
 #include "plant/runtime/effects/channels.hpp"
 #include "plant/runtime/effects/gaussian_noise.hpp"
-#include "plant/runtime/fixed_size_matrix.hpp"
 
 namespace flexloop::plant::runtime::effects {
 

@@ -1,0 +1,279 @@
+#include "offline/pipeline/analyse_scene.hpp"
+
+#include <cmath>
+#include <complex>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+
+#include "common/input_error.hpp"
+#include "offline/pipeline/provenance.hpp"
+#include "offline/report/csv_writer.hpp"
+#include "offline/report/plot.hpp"
+#include "offline/scene/scene_plant.hpp"
+#include "plant/lti/frequency_response.hpp"
+#include "plant/lti/modal_analysis.hpp"
+#include "plant/lti/state_space_json.hpp"
+
+namespace flexloop::cli {
+
+namespace {
+
+namespace lti = plant::lti;
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+std::vector<double> to_vector(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+void print_matrix(const char* name, const Eigen::MatrixXd& m) {
+  std::printf("%s =\n", name);
+  for (Eigen::Index r = 0; r < m.rows(); ++r) {
+    std::printf("  ");
+    for (Eigen::Index c = 0; c < m.cols(); ++c) std::printf(" %11.4e", m(r, c));
+    std::printf("\n");
+  }
+}
+
+double db(double v) {
+  return 20 * std::log10(v);
+}
+
+// Largest singular value's peak over the grid: value and frequency.
+std::pair<double, double> peak(const Eigen::MatrixXd& sv, const std::vector<double>& f) {
+  Eigen::Index i = 0;
+  sv.col(0).maxCoeff(&i);
+  return {sv(i, 0), f[static_cast<std::size_t>(i)]};
+}
+
+}  // namespace
+
+void analyse_scene(const std::string& scene_path, const std::string& out_dir,
+                   const FrequencyGrid& grid) {
+  const scene::Scene sc = scene::load_scene(scene_path);
+  const scene::ScenePlant p = scene::build_scene_plant(sc);
+  std::filesystem::create_directories(out_dir);
+  const std::string dir = out_dir + "/";
+
+  std::printf("scene %s: model %s, %ld states, %ld inputs, %ld outputs\n", sc.name.c_str(),
+              sc.model_path.c_str(), static_cast<long>(p.plant.nx()),
+              static_cast<long>(p.plant.nu()), static_cast<long>(p.plant.ny()));
+  nlohmann::json j;
+  std::printf("passive natural frequencies%s [Hz]:",
+              sc.gravity_preload ? " with the gravity preload" : "");
+  for (Eigen::Index i = 0; i < p.natural_frequencies_hz.size(); ++i)
+    std::printf(" %.4f", p.natural_frequencies_hz(i));
+  std::printf("\n");
+  j["natural_frequencies_hz"] = to_vector(p.natural_frequencies_hz);
+  if (sc.gravity_preload) {
+    // The same scene unloaded, to show what the preload (G-bar) does to each mode.
+    scene::Scene unloaded = sc;
+    unloaded.gravity_preload = false;
+    const auto u = scene::build_scene_plant(unloaded);
+    std::printf("gravity preload: static equilibrium in %d Newton steps; shift per mode [Hz]:",
+                p.equilibrium_iterations);
+    const Eigen::VectorXd shift = p.natural_frequencies_hz - u.natural_frequencies_hz;
+    for (Eigen::Index i = 0; i < shift.size(); ++i) std::printf(" %+.3e", shift(i));
+    std::printf("\n");
+    j["natural_frequencies_unloaded_hz"] = to_vector(u.natural_frequencies_hz);
+    j["gravity_frequency_shift_hz"] = to_vector(shift);
+  }
+
+  const auto& c = sc.controller;
+  std::printf("PI force feedback: omega_d = 2 pi x %g Hz, zeta = %g, leak %s\n", c.omega_d_hz,
+              c.zeta, c.leak_hz > 0 ? (std::to_string(c.leak_hz) + " Hz").c_str() : "none");
+  print_matrix("K_P", p.gains.K_P);
+  print_matrix("K_I [1/s]", p.gains.K_I);
+  j["K_P"] = lti::matrix_to_json(p.gains.K_P);
+  j["K_I"] = lti::matrix_to_json(p.gains.K_I);
+  j["controller_settings"] = {
+      {"omega_d_hz", c.omega_d_hz}, {"zeta", c.zeta}, {"leak_hz", c.leak_hz}};
+
+  // The loop's poles: the closed loop's without the floor's integrator states (at s = 0, driven
+  // by the floor only, untouched by the controller).
+  const Eigen::VectorXcd& poles = p.loop.poles;
+  const Eigen::Index floor_states = p.closed_loop.nx() - poles.size();
+  std::printf("closed-loop poles (%ld%s):\n", static_cast<long>(poles.size()),
+              floor_states > 0 ? (", besides " + std::to_string(floor_states) +
+                                  " floor integrator states at s = 0")
+                                     .c_str()
+                               : "");
+  nlohmann::json pj = nlohmann::json::array();
+  for (const auto& s : poles) {
+    const double w = std::abs(s);
+    std::printf("  %+14.6e %+14.6ej rad/s   %9.4f Hz  damping %.4f\n", s.real(), s.imag(),
+                w / kTwoPi, w > 0 ? -s.real() / w : 0.0);
+    pj.push_back({s.real(), s.imag()});
+  }
+  // Stability, and the leak that would give it (or the margin the present one has).
+  const auto min_leak = scene::minimum_stable_leak_hz(p);
+  if (p.loop.stable())
+    std::printf("continuous loop: stable");
+  else
+    std::printf("continuous loop: UNSTABLE, %d poles in the right half plane (fastest e^(%.3g t))",
+                p.loop.unstable, p.loop.largest_real_part);
+  if (min_leak && *min_leak > 0)
+    std::printf(
+        "; needs leak_hz > %.4g (has %g)%s\n", *min_leak, c.leak_hz,
+        sc.gravity_preload ? ": the gravity preload's geometric stiffness is negative" : "");
+  else if (min_leak)
+    std::printf(p.loop.stable() ? " without a leak\n"
+                                : "; it would be without a leak: check omega_d_hz and zeta\n");
+  else
+    std::printf(p.loop.stable() ? " (no leak up to omega_d would be)\n"
+                                : "; no leak up to omega_d makes it stable\n");
+  // The loop as it runs: sampled at the scene's rate (controller/design/sampled_loop_stability).
+  nlohmann::json sj = nullptr;
+  bool sampled_stable = false;
+  try {
+    const scene::SampledLoop s = scene::sampled_loop(p);
+    const auto& st = s.stability;
+    sampled_stable = st.stable();
+    const int delay = s.hardware.feedthrough_delay;
+    std::printf(
+        "sampled loop at %g Hz (%s, the PI as it runs, the held command%s): spectral "
+        "radius %.6g",
+        s.rate_hz, lti::to_string(s.method).c_str(),
+        delay > 0
+            ? (", " + std::to_string(delay) + (delay == 1 ? " sample" : " samples") + " of delay")
+                  .c_str()
+            : "",
+        st.spectral_radius);
+    if (st.marginal > 0)
+      std::printf(" (%d pole%s on the unit circle%s; the poles inside it within |z| <= %.6g)",
+                  st.marginal, st.marginal == 1 ? "" : "s",
+                  c.leak_hz == 0 ? ", marginal: the pure integrator's at z = 1" : ", marginal",
+                  st.largest_inner_radius);
+    sj = {{"rate_hz", s.rate_hz},
+          {"method", lti::to_string(s.method)},
+          {"feedthrough_delay_samples", delay},
+          {"spectral_radius", st.spectral_radius},
+          {"largest_inner_radius", st.largest_inner_radius},
+          {"unit_circle_tolerance", st.tolerance},
+          {"unstable_poles", st.unstable},
+          {"marginal_poles", st.marginal},
+          {"stable", st.stable()}};
+    nlohmann::json zp = nlohmann::json::array();
+    for (const auto& z : st.poles) zp.push_back({z.real(), z.imag()});
+    sj["poles"] = zp;
+    if (st.stable()) {
+      std::printf(": stable\n");
+    } else {
+      std::printf(": UNSTABLE, %d pole%s outside the unit circle", st.unstable,
+                  st.unstable == 1 ? "" : "s");
+      const scene::SampledLoopRemedy r = scene::stable_sampled_loop_remedy(p);
+      if (r.rate_hz) std::printf("; stable at rate_hz = %g", *r.rate_hz);
+      if (r.omega_d_hz)
+        std::printf("%s omega_d_hz <= %g at %g Hz", r.rate_hz ? " or with" : "; stable with",
+                    *r.omega_d_hz, s.rate_hz);
+      std::printf("\n");
+      sj["stable_rate_hz"] = r.rate_hz ? nlohmann::json(*r.rate_hz) : nlohmann::json(nullptr);
+      sj["stable_omega_d_hz"] =
+          r.omega_d_hz ? nlohmann::json(*r.omega_d_hz) : nlohmann::json(nullptr);
+    }
+  } catch (const InputError& e) {
+    std::printf("sampled loop: not formed: %s\n", e.what());
+  }
+  const bool stable = p.loop.stable() && sampled_stable;
+  std::printf("closed loop: %s\n",
+              stable ? "stable (continuous, and sampled as it runs)"
+                     : "UNSTABLE as it runs: sim, plant, controller and hil refuse this scene");
+  j["closed_loop_stable"] = stable;
+  j["continuous_loop_stable"] = p.loop.stable();
+  j["sampled_loop"] = sj;
+  j["floor_integrator_states"] = floor_states;
+  j["minimum_stable_leak_hz"] = min_leak ? nlohmann::json(*min_leak) : nlohmann::json(nullptr);
+  j["closed_loop_poles"] = pj;
+  j["open_loop"] = lti::to_json(p.plant);
+  j["controller"] = lti::to_json(p.controller);
+  j["closed_loop"] = lti::to_json(p.closed_loop);
+
+  // Singular values of the passive floor -> frame path G11 and of the closed loop T.
+  const auto f = lti::log_frequency_grid_hz(grid.f_min_hz, grid.f_max_hz, grid.points);
+  lti::StateSpace g11 = p.plant;
+  g11.B = p.plant.B.leftCols(p.partition.disturbances);
+  g11.D = p.plant.D.topLeftCorner(p.partition.performance, p.partition.disturbances);
+  g11.C = p.plant.C.topRows(p.partition.performance);
+  g11.inputs.resize(static_cast<std::size_t>(p.partition.disturbances));
+  g11.outputs.resize(static_cast<std::size_t>(p.partition.performance));
+  const auto G = lti::frequency_response(g11, f);
+  const auto T = lti::frequency_response(p.closed_loop, f);
+  const Eigen::MatrixXd sv_open = lti::singular_values(G), sv_closed = lti::singular_values(T);
+
+  std::vector<std::string> header{"frequency_hz"};
+  std::vector<std::vector<double>> cols{f};
+  for (const auto& [name, sv] : {std::pair{"open", &sv_open}, std::pair{"closed", &sv_closed}})
+    for (Eigen::Index k = 0; k < sv->cols(); ++k) {
+      header.push_back(std::string(name) + " sigma" + std::to_string(k + 1) + " [dB]");
+      std::vector<double> col;
+      for (Eigen::Index i = 0; i < sv->rows(); ++i) col.push_back(db((*sv)(i, k)));
+      cols.push_back(col);
+    }
+  report::write_csv_columns(dir + "singular_values.csv", header, cols);
+  report::plot_singular_values(
+      {sc.name + ": floor acceleration -> frame acceleration, singular values", "", "", true,
+       false},
+      {{"open loop (passive)", f, sv_open, "lines lw 2 dt 1"},
+       {"closed loop (PI force feedback)", f, sv_closed, "lines lw 2 dt 2"}},
+      dir + "singular_values.png");
+
+  // Per channel: disturbance i -> performance output i.
+  const Eigen::Index n = std::min(p.partition.disturbances, p.partition.performance);
+  std::vector<std::string> th{"frequency_hz"};
+  std::vector<std::vector<double>> tc{f};
+  std::vector<report::Series> series;
+  nlohmann::json peaks = nlohmann::json::array();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const std::string name = p.closed_loop.outputs[i] + " / " + p.closed_loop.inputs[i];
+    std::vector<double> open, closed;
+    for (std::size_t k = 0; k < f.size(); ++k)
+      open.push_back(db(std::abs(G[k](i, i)))), closed.push_back(db(std::abs(T[k](i, i))));
+    th.push_back(name + " open [dB]");
+    th.push_back(name + " closed [dB]");
+    tc.push_back(open);
+    tc.push_back(closed);
+    const std::string colour = " lc " + std::to_string(i + 1);
+    series.push_back({name + " open", f, open, "lines lw 2 dt 1" + colour});
+    series.push_back({name + " closed", f, closed, "lines lw 2 dt 2" + colour});
+  }
+  report::write_csv_columns(dir + "transmissibility.csv", th, tc);
+  report::plot_lines({sc.name + ": per-channel floor -> frame transmissibility (solid open, "
+                                "dashed closed)",
+                      "frequency [Hz]", "|T_ii| [dB]", true, false, 1200, 700},
+                     series, dir + "transmissibility.png");
+
+  // What the controller does at each passive resonance (responses evaluated exactly there).
+  std::vector<double> fr(p.natural_frequencies_hz.data(),
+                         p.natural_frequencies_hz.data() + p.natural_frequencies_hz.size());
+  const Eigen::MatrixXd at_open = lti::singular_values(lti::frequency_response(g11, fr));
+  const Eigen::MatrixXd at_closed =
+      lti::singular_values(lti::frequency_response(p.closed_loop, fr));
+  std::printf("at the passive resonances: largest singular value open -> closed loop\n");
+  nlohmann::json at = nlohmann::json::array();
+  for (std::size_t i = 0; i < fr.size(); ++i) {
+    const double o = db(at_open(static_cast<Eigen::Index>(i), 0)),
+                 cl = db(at_closed(static_cast<Eigen::Index>(i), 0));
+    std::printf("  %8.3f Hz  %7.1f dB -> %7.1f dB  (%+.1f dB)\n", fr[i], o, cl, cl - o);
+    at.push_back({{"frequency_hz", fr[i]}, {"open_db", o}, {"closed_db", cl}});
+  }
+  j["sigma_max_at_resonances"] = at;
+  const auto [open_peak, open_f] = peak(sv_open, f);
+  const auto [closed_peak, closed_f] = peak(sv_closed, f);
+  std::printf(
+      "largest singular value: open loop peak %.1f dB at %.2f Hz, closed loop peak %.1f "
+      "dB at %.2f Hz\n",
+      db(open_peak), open_f, db(closed_peak), closed_f);
+  j["sigma_max_peak"] = {{"open_db", db(open_peak)},
+                         {"open_hz", open_f},
+                         {"closed_db", db(closed_peak)},
+                         {"closed_hz", closed_f}};
+  j["provenance"] = make_provenance(scene_path, "flexloop analyse");
+  j["provenance"]["model"] = make_provenance(sc.model_path, "flexloop analyse");
+  lti::write_json_atomically(dir + "analysis.json", j);
+  std::printf(
+      "wrote %s{analysis.json, singular_values.csv, singular_values.png, "
+      "transmissibility.csv, transmissibility.png}\n",
+      dir.c_str());
+}
+
+}  // namespace flexloop::cli

@@ -1,0 +1,16 @@
+#include "offline/pipeline/provenance.hpp"
+
+#include "flexloop/build_info.hpp"
+#include "offline/scene/loop_input.hpp"
+
+namespace flexloop::cli {
+
+nlohmann::json make_provenance(const std::string& source_path, const std::string& command) {
+  return {{"source", source_path},
+          {"source_sha256", scene::file_sha256(source_path)},
+          {"flexloop_version", build_info::kVersion},
+          {"flexloop_git", build_info::kGitHash},
+          {"command", command}};
+}
+
+}  // namespace flexloop::cli

@@ -1,0 +1,133 @@
+#include "offline/report/hil_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+#include "offline/report/plot.hpp"
+#include "plant/lti/state_space_json.hpp"
+
+namespace flexloop::hil {
+
+namespace {
+
+constexpr int kPlotBins = 120;
+
+// Rebins [[lower, upper, count], ...] into kPlotBins log-spaced bins in microseconds.
+void plot_bins(const nlohmann::json& bins, const std::string& title, const std::string& png) {
+  if (!bins.is_array() || bins.empty()) return;
+  const double lo = std::max(0.1, bins.front()[0].get<double>() / 1e3);
+  const double hi = std::max(lo * 1.01, bins.back()[1].get<double>() / 1e3 + 1e-3);
+  std::vector<double> edges(kPlotBins + 1), counts(kPlotBins, 0.0);
+  for (int i = 0; i <= kPlotBins; ++i) edges[i] = lo * std::pow(hi / lo, double(i) / kPlotBins);
+  for (const auto& b : bins) {
+    const double us = std::max(lo, b[0].get<double>() / 1e3);
+    const int i = std::min(kPlotBins - 1,
+                           static_cast<int>(kPlotBins * std::log(us / lo) / std::log(hi / lo)));
+    counts[static_cast<std::size_t>(i)] += b[2].get<double>();
+  }
+  report::PlotSpec spec{title, "[us] (log)", "cycles (log)", true, true, 1000, 500};
+  report::plot_histogram(spec, edges, counts, png);
+}
+
+std::string figures(const nlohmann::json& s) {
+  char line[160];
+  std::snprintf(line, sizeof line, "p50 %.1f us, p99 %.1f us, max %.1f us", s.value("p50", 0) / 1e3,
+                s.value("p99", 0) / 1e3, s.value("max", 0) / 1e3);
+  return line;
+}
+
+void print_line(const char* what, const nlohmann::json& s) {
+  std::printf("  %-26s min %8.1f  p50 %8.1f  p99 %8.1f  p99.9 %8.1f  max %9.1f us\n", what,
+              s.value("min", 0) / 1e3, s.value("p50", 0) / 1e3, s.value("p99", 0) / 1e3,
+              s.value("p999", 0) / 1e3, s.value("max", 0) / 1e3);
+}
+
+double percent(double part, double whole) {
+  return whole > 0 ? 100.0 * part / whole : 0.0;
+}
+
+}  // namespace
+
+std::vector<std::string> write_hil_report(const nlohmann::json& report, const std::string& path) {
+  nlohmann::json out = report;
+  out.erase("histograms");
+  if (const auto dir = std::filesystem::path(path).parent_path(); !dir.empty())
+    std::filesystem::create_directories(dir);
+  plant::lti::write_json_atomically(path, out);
+  std::vector<std::string> written{path};
+  if (!report.contains("histograms")) return written;
+  const auto stem = std::filesystem::path(path).replace_extension("").string();
+  const auto& h = report["histograms"];
+  const auto& base = report["baseline"];
+  char rate[64];
+  std::snprintf(rate, sizeof rate, "%.6g Hz, wait %s, receive %s", report.value("rate_hz", 0.0),
+                report.value("wait_mode", "?").c_str(), report.value("receive_path", "?").c_str());
+  const std::string rtt_png = stem + "_round_trip.png", late_png = stem + "_wakeup_lateness.png";
+  plot_bins(h["round_trip_ns"],
+            std::string("sensor -> actuator round trip, ") + rate +
+                " (bare LCM ping-pong: " + figures(base["pingpong"]["round_trip_ns"]) + ")",
+            rtt_png);
+  plot_bins(h["wakeup_lateness_ns"],
+            std::string("plant wake-up lateness, ") + rate +
+                " (bare timer: " + figures(base["timer"]["wakeup_lateness_ns"]) + ")",
+            late_png);
+  written.push_back(rtt_png);
+  written.push_back(late_png);
+  return written;
+}
+
+void print_hil_summary(const nlohmann::json& r) {
+  const double cycles = r.value("cycles", 0.0);
+  const auto& pp = r["baseline"]["pingpong"];
+  std::printf(
+      "hil: %s at %.6g Hz for %.6g s, wait %s, receive %s, plant CPU %d, controller CPU %d%s\n",
+      r.value("scene", "?").c_str(), r.value("rate_hz", 0.0), r.value("duration_s", 0.0),
+      r.value("wait_mode", "?").c_str(), r.value("receive_path", "?").c_str(), r.value("cpu", -1),
+      r.value("controller_cpu", -1),
+      r.value("fifo", false) ? ", SCHED_FIFO" : ", SCHED_FIFO NOT granted");
+  std::printf(
+      "  cycles %lld, deadline misses %lld (%.3f %%), late answers %lld, overruns %lld, "
+      "safe-command cycles %lld\n",
+      r.value("cycles", 0LL), r.value("deadline_misses", 0LL),
+      percent(r.value("deadline_misses", 0.0), cycles), r.value("late_answers", 0LL),
+      r.value("overruns", 0LL), r.value("safe_command_cycles", 0LL));
+  std::printf("  dropped messages: plant %s, controller %s\n", r["dropped_messages"].dump().c_str(),
+              r["controller"]["dropped_messages"].dump().c_str());
+  print_line("round trip", r["round_trip_ns"]);
+  print_line("  baseline LCM ping-pong", pp["round_trip_ns"]);
+  print_line("wake-up lateness", r["wakeup_lateness_ns"]);
+  print_line("  baseline bare timer", r["baseline"]["timer"]["wakeup_lateness_ns"]);
+  print_line("plant compute (TET)", r["plant_compute_ns"]);
+  print_line("controller compute", r["controller_compute_ns"]);
+  std::printf("  baseline ping-pong: %lld of %lld pings unanswered within the period (%.3f %%)\n",
+              pp.value("unanswered", 0LL), pp.value("sent", 0LL),
+              percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)));
+}
+
+void print_sweep_table(const std::vector<nlohmann::json>& reports) {
+  std::printf(
+      "\n| rate | wait | receive | cycles | misses | misses, ping-pong | round trip p50 / p99 / "
+      "p99.9 [us] | ping-pong p50 / p99 / p99.9 [us] | p99 ratio | timer lateness p99 [us] |\n"
+      "|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& r : reports) {
+    const auto& rtt = r["round_trip_ns"];
+    const auto& pp = r["baseline"]["pingpong"];
+    const auto& ppr = pp["round_trip_ns"];
+    const double ratio =
+        ppr.value("p99", 0.0) > 0 ? rtt.value("p99", 0.0) / ppr.value("p99", 0.0) : 0.0;
+    std::printf(
+        "| %.6g kHz | %s | %s | %lld | %lld (%.2f %%) | %lld (%.2f %%) | %.1f / %.1f / %.1f "
+        "| %.1f / %.1f / %.1f | %.2f | %.1f |\n",
+        r.value("rate_hz", 0.0) / 1e3, r.value("wait_mode", "?").c_str(),
+        r.value("receive_path", "?").c_str(), r.value("cycles", 0LL),
+        r.value("deadline_misses", 0LL),
+        percent(r.value("deadline_misses", 0.0), r.value("cycles", 0.0)),
+        pp.value("unanswered", 0LL), percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)),
+        rtt.value("p50", 0) / 1e3, rtt.value("p99", 0) / 1e3, rtt.value("p999", 0) / 1e3,
+        ppr.value("p50", 0) / 1e3, ppr.value("p99", 0) / 1e3, ppr.value("p999", 0) / 1e3, ratio,
+        r["baseline"]["timer"]["wakeup_lateness_ns"].value("p99", 0) / 1e3);
+  }
+}
+
+}  // namespace flexloop::hil

@@ -1,0 +1,367 @@
+#include "offline/report/plot.hpp"
+
+#include <fcntl.h>
+#include <spawn.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "offline/report/csv_writer.hpp"
+
+extern char** environ;
+
+namespace flexloop::report {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846264338327950288;
+
+// gnuplot single-quoted string: no escapes except '' for a quote; newlines would end the command.
+std::string quote(const std::string& s) {
+  std::string q = "'";
+  for (char c : s) {
+    if (c == '\'')
+      q += "''";
+    else if (c == '\n' || c == '\r')
+      q += ' ';
+    else
+      q += c;
+  }
+  return q + "'";
+}
+
+std::string checked_style(const std::string& style, const std::string& fallback,
+                          const std::string& png_path) {
+  if (style.empty()) return fallback;
+  for (char c : style) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    std::strchr(" .#'\"-_:", c) != nullptr;
+    if (!ok || c == '\0')
+      throw std::invalid_argument("plot " + png_path + ": style '" + style +
+                                  "' contains the character '" + std::string(1, c) +
+                                  "'; only a gnuplot `with` clause is allowed");
+  }
+  return style;
+}
+
+bool has_colour(const std::string& style) {
+  for (const char* key : {"lc ", "linecolor", "lt ", "linetype"})
+    if (style.find(key) != std::string::npos) return true;
+  return false;
+}
+
+// A value gnuplot can place on the axis, else NaN (a gap in the line).
+std::string value(double v, bool log_axis) {
+  if (!std::isfinite(v) || (log_axis && v <= 0.0)) return "NaN";
+  return format_number(v);
+}
+
+std::string or_default(const std::string& s, const char* fallback) {
+  return s.empty() ? fallback : s;
+}
+
+// Common preamble: terminal, output, labels, axes.
+std::string preamble(const PlotSpec& spec, const std::string& out_png) {
+  if (spec.width_px < 100 || spec.height_px < 100 || spec.width_px > 10000 ||
+      spec.height_px > 10000)
+    throw std::invalid_argument("plot: image size " + std::to_string(spec.width_px) + "x" +
+                                std::to_string(spec.height_px) + " px out of range");
+  const std::string size = std::to_string(spec.width_px) + "," + std::to_string(spec.height_px);
+  std::ostringstream s;
+  s << "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+    << "  set terminal pngcairo noenhanced size " << size << " font 'sans,11'\n"
+    << "} else {\n"
+    << "  set terminal png noenhanced size " << size << "\n"
+    << "}\n"
+    << "set output " << quote(out_png) << "\n"
+    << "set encoding utf8\n"
+    << "set grid xtics ytics mxtics mytics lw 1 lc rgb '#b8b8b8', lw 1 lc rgb '#e0e0e0'\n"
+    << "set key top right box opaque\n"
+    << "set datafile missing 'NaN'\n";
+  return s.str();
+}
+
+std::string labels(const PlotSpec& spec) {
+  std::ostringstream s;
+  s << "set title " << quote(spec.title) << "\n"
+    << "set xlabel " << quote(spec.xlabel) << "\n"
+    << "set ylabel " << quote(spec.ylabel) << "\n"
+    << (spec.logx ? "set logscale x\n" : "unset logscale x\n")
+    << (spec.logy ? "set logscale y\n" : "unset logscale y\n");
+  return s.str();
+}
+
+std::string datablock(const std::string& name, const std::vector<double>& x,
+                      const std::vector<std::vector<double>>& ys, bool logx, bool logy) {
+  std::string s = name + " << EOD\n";
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    s += value(x[i], logx);
+    for (const auto& y : ys) s += ' ' + value(y[i], logy);
+    s += '\n';
+  }
+  return s + "EOD\n";
+}
+
+// Read a whole (small) file, for quoting gnuplot's complaints.
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  constexpr std::size_t kMax = 2000;
+  if (s.size() > kMax) s = "..." + s.substr(s.size() - kMax);
+  return s;
+}
+
+struct TempFile {
+  std::string path;
+  explicit TempFile(const std::string& base, const std::string& png_path) : path(base + ".XXXXXX") {
+    const int fd = ::mkstemp(path.data());
+    if (fd < 0)
+      throw std::runtime_error("plot " + png_path + ": cannot create a temporary file beside it: " +
+                               std::strerror(errno));
+    ::fchmod(fd, 0644);  // mkstemp makes it 0600; the PNG is renamed into place as it is
+    ::close(fd);
+  }
+  ~TempFile() { ::unlink(path.c_str()); }
+  TempFile(const TempFile&) = delete;
+  TempFile& operator=(const TempFile&) = delete;
+};
+
+// Write the script (whose body refers to the output via `set output`), run gnuplot, check the
+// PNG and move it into place.
+void run_gnuplot(const std::string& png_path, const std::string& body_without_preamble,
+                 const PlotSpec& spec) {
+  TempFile image(png_path + ".tmp", png_path);
+  TempFile script(png_path + ".gp", png_path);
+  TempFile log(png_path + ".log", png_path);
+  {
+    std::ofstream out(script.path, std::ios::trunc);
+    out << preamble(spec, image.path) << body_without_preamble << "unset output\n";
+    out.close();
+    if (!out) throw std::runtime_error("plot " + png_path + ": cannot write gnuplot script");
+  }
+  const char* env = std::getenv("FLEXLOOP_GNUPLOT");
+  const std::string program = env && *env ? env : "gnuplot";
+
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.path.c_str(), O_WRONLY | O_TRUNC,
+                                   0);
+  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
+  std::string arg_d = "-d";
+  std::vector<char*> argv{const_cast<char*>(program.c_str()), arg_d.data(), script.path.data(),
+                          nullptr};
+  pid_t pid = -1;
+  const int rc = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+  posix_spawn_file_actions_destroy(&actions);
+  if (rc != 0)
+    throw std::runtime_error(
+        "plot " + png_path + ": cannot run '" + program +
+        "' (is gnuplot installed? apt-get install gnuplot-nox): " + std::strerror(rc));
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0) {
+    if (errno != EINTR)
+      throw std::runtime_error("plot " + png_path + ": waitpid: " + std::strerror(errno));
+  }
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
+    // glibc's posix_spawnp reports a missing program through rc; 127 covers other shells/libcs.
+    const std::string why = WIFEXITED(status)
+                                ? "exited with status " + std::to_string(WEXITSTATUS(status))
+                                : "was killed by signal " + std::to_string(WTERMSIG(status));
+    throw std::runtime_error("plot " + png_path + ": '" + program + "' " + why + ": " +
+                             slurp(log.path));
+  }
+  {
+    std::ifstream in(image.path, std::ios::binary);
+    char sig[8] = {};
+    in.read(sig, 8);
+    static const char kPng[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
+    if (!in || std::memcmp(sig, kPng, 8) != 0)
+      throw std::runtime_error("plot " + png_path +
+                               ": gnuplot produced no PNG: " + slurp(log.path));
+  }
+  if (std::rename(image.path.c_str(), png_path.c_str()) != 0)
+    throw std::runtime_error("plot " + png_path + ": rename: " + std::strerror(errno));
+}
+
+std::string plot_title(const std::string& t) {
+  return t.empty() ? "notitle" : "title " + quote(t);
+}
+
+std::vector<double> magnitude_db(const std::vector<std::complex<double>>& g) {
+  std::vector<double> db(g.size());
+  for (std::size_t i = 0; i < g.size(); ++i) db[i] = 20.0 * std::log10(std::abs(g[i]));
+  return db;
+}
+
+// Phase in degrees, unwrapped along the sequence so it does not jump by 360.
+std::vector<double> unwrapped_phase_deg(const std::vector<std::complex<double>>& g) {
+  std::vector<double> ph(g.size());
+  double offset = 0.0, prev = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    double p = std::arg(g[i]) * 180.0 / kPi;
+    if (std::isfinite(prev)) {
+      while (p + offset - prev > 180.0) offset -= 360.0;
+      while (p + offset - prev < -180.0) offset += 360.0;
+    }
+    ph[i] = p + offset;
+    if (std::isfinite(ph[i])) prev = ph[i];
+  }
+  return ph;
+}
+}  // namespace
+
+void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
+                const std::string& png_path) {
+  if (series.empty()) throw std::invalid_argument("plot " + png_path + ": no series to draw");
+  std::string body = labels(spec), cmd = "plot ";
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const Series& s = series[k];
+    if (s.x.size() != s.y.size())
+      throw std::invalid_argument("plot " + png_path + ": series '" + s.title + "' has " +
+                                  std::to_string(s.x.size()) + " x and " +
+                                  std::to_string(s.y.size()) + " y values");
+    const std::string name = "$s" + std::to_string(k);
+    body += datablock(name, s.x, {s.y}, spec.logx, spec.logy);
+    cmd += (k ? ", \\\n     " : "") + name + " using 1:2 with " +
+           checked_style(s.style, "lines lw 2", png_path) + " " + plot_title(s.title);
+  }
+  if (std::all_of(series.begin(), series.end(), [](const Series& x) { return x.title.empty(); }))
+    body += "unset key\n";
+  run_gnuplot(png_path, body + cmd + "\n", spec);
+}
+
+std::vector<std::complex<double>> channel(const std::vector<Eigen::MatrixXcd>& G,
+                                          Eigen::Index output, Eigen::Index input) {
+  std::vector<std::complex<double>> c;
+  c.reserve(G.size());
+  for (const auto& g : G) {
+    if (output < 0 || input < 0 || output >= g.rows() || input >= g.cols())
+      throw std::invalid_argument(
+          "channel (" + std::to_string(output) + ", " + std::to_string(input) + ") outside a " +
+          std::to_string(g.rows()) + "x" + std::to_string(g.cols()) + " response");
+    c.push_back(g(output, input));
+  }
+  return c;
+}
+
+void plot_bode(const PlotSpec& spec, const std::vector<BodeSeries>& series,
+               const std::string& png_path) {
+  if (series.empty()) throw std::invalid_argument("plot " + png_path + ": no channel to draw");
+  PlotSpec s = spec;
+  s.logx = true;
+  s.logy = false;
+  if (spec.height_px == PlotSpec{}.height_px) s.height_px = 900;  // two panels
+  std::string data, mag = "plot ", phase = "plot ";
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const BodeSeries& b = series[k];
+    if (b.f_hz.size() != b.response.size())
+      throw std::invalid_argument("plot " + png_path + ": channel '" + b.title + "' has " +
+                                  std::to_string(b.f_hz.size()) + " frequencies and " +
+                                  std::to_string(b.response.size()) + " values");
+    const std::string name = "$b" + std::to_string(k);
+    data += datablock(name, b.f_hz, {magnitude_db(b.response), unwrapped_phase_deg(b.response)},
+                      true, false);
+    const std::string style = checked_style(b.style, "lines lw 2", png_path);
+    const std::string colour = has_colour(style) ? "" : " lc " + std::to_string(k + 1);
+    const std::string sep = k ? ", \\\n     " : "";
+    mag += sep + name + " using 1:2 with " + style + colour + " " + plot_title(b.title);
+    phase += sep + name + " using 1:3 with " + style + colour + " notitle";
+  }
+  std::ostringstream body;
+  body << data << "set logscale x\n"
+       << "set multiplot layout 2,1 title " << quote(spec.title) << "\n"
+       << "set xlabel " << quote(or_default(spec.xlabel, "frequency [Hz]")) << "\n"
+       << "set ylabel " << quote(or_default(spec.ylabel, "magnitude [dB]")) << "\n"
+       << mag << "\n"
+       << "unset key\nset ylabel 'phase [deg]'\nset ytics 90\nset mytics 2\n"
+       << phase << "\n"
+       << "unset multiplot\n";
+  run_gnuplot(png_path, body.str(), s);
+}
+
+void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& systems,
+                          const std::string& png_path) {
+  if (systems.empty()) throw std::invalid_argument("plot " + png_path + ": no system to draw");
+  PlotSpec s = spec;
+  s.logx = true;
+  s.logy = false;  // dB
+  s.xlabel = or_default(spec.xlabel, "frequency [Hz]");
+  s.ylabel = or_default(spec.ylabel, "singular value [dB]");
+  std::string body = labels(s), cmd = "plot ";
+  bool first = true;
+  for (std::size_t k = 0; k < systems.size(); ++k) {
+    const SigmaSeries& sys = systems[k];
+    if (static_cast<Eigen::Index>(sys.f_hz.size()) != sys.sigma.rows())
+      throw std::invalid_argument("plot " + png_path + ": system '" + sys.title + "' has " +
+                                  std::to_string(sys.f_hz.size()) + " frequencies and " +
+                                  std::to_string(sys.sigma.rows()) + " rows of singular values");
+    std::vector<std::vector<double>> cols;
+    for (Eigen::Index j = 0; j < sys.sigma.cols(); ++j) {
+      std::vector<double> db(sys.f_hz.size());
+      for (std::size_t i = 0; i < db.size(); ++i)
+        db[i] = 20.0 * std::log10(sys.sigma(static_cast<Eigen::Index>(i), j));
+      cols.push_back(std::move(db));
+    }
+    const std::string name = "$g" + std::to_string(k);
+    body += datablock(name, sys.f_hz, cols, true, false);
+    std::string style = checked_style(sys.style, "", png_path);
+    if (style.empty()) style = "lines lw 2 dt " + std::to_string(k % 5 + 1);
+    if (!has_colour(style)) style += " lc " + std::to_string(k + 1);
+    for (Eigen::Index j = 0; j < sys.sigma.cols(); ++j) {
+      cmd += (first ? "" : ", \\\n     ") + name + " using 1:" + std::to_string(j + 2) + " with " +
+             style + " " + (j == 0 ? plot_title(sys.title) : std::string("notitle"));
+      first = false;
+    }
+  }
+  if (first) throw std::invalid_argument("plot " + png_path + ": no singular values to draw");
+  run_gnuplot(png_path, body + cmd + "\n", s);
+}
+
+void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
+                    const std::vector<double>& counts, const std::string& png_path) {
+  if (counts.empty() || bin_edges.size() != counts.size() + 1)
+    throw std::invalid_argument("plot " + png_path + ": need counts.size() + 1 bin edges, got " +
+                                std::to_string(bin_edges.size()) + " edges for " +
+                                std::to_string(counts.size()) + " counts");
+  for (std::size_t i = 0; i + 1 < bin_edges.size(); ++i)
+    if (!(bin_edges[i] < bin_edges[i + 1]))
+      throw std::invalid_argument("plot " + png_path + ": bin edges must increase (edge " +
+                                  std::to_string(i) + ")");
+  std::vector<double> centre(counts.size()), width(counts.size());
+  double min_positive = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < counts.size(); ++i) {
+    centre[i] = 0.5 * (bin_edges[i] + bin_edges[i + 1]);  // x +- width/2 are the edges
+    width[i] = bin_edges[i + 1] - bin_edges[i];
+    if (counts[i] > 0.0) min_positive = std::min(min_positive, counts[i]);
+  }
+  std::string body = labels(spec);
+  // Columns: centre, width, count; only the count goes on the (possibly log) y axis.
+  body += "$h << EOD\n";
+  for (std::size_t i = 0; i < counts.size(); ++i)
+    body += value(centre[i], spec.logx) + ' ' + format_number(width[i]) + ' ' +
+            value(counts[i], spec.logy) + '\n';
+  body += "EOD\n";
+  body += "unset key\nset xrange [" + format_number(bin_edges.front()) + ":" +
+          format_number(bin_edges.back()) + "]\n";
+  body += "set style fill solid 0.6 border lc rgb '#1f4e79'\nset boxwidth 1 absolute\n";
+  if (spec.logy && std::isfinite(min_positive))
+    body += "set yrange [" + format_number(min_positive / 2.0) + ":*]\n";
+  else if (!spec.logy)
+    body += "set yrange [0:*]\n";
+  body += "plot $h using 1:3:2 with boxes lc rgb '#4a90d9' notitle\n";
+  run_gnuplot(png_path, body, spec);
+}
+
+}  // namespace flexloop::report

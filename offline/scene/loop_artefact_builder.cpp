@@ -1,0 +1,93 @@
+#include "offline/scene/loop_artefact_builder.hpp"
+
+#include <cmath>
+
+#include "common/input_error.hpp"
+#include "offline/scene/pi_parameters.hpp"
+#include "plant/lti/modal_form.hpp"
+#include "plant/lti/vibration_criterion.hpp"
+
+namespace flexloop::scene {
+
+std::string channel_unit(const std::string& channel) {
+  const auto colon = channel.find(':');
+  const std::string kind = channel.substr(0, colon), target = channel.substr(colon + 1);
+  // Rotations: planar angles and Euler parameters; a deformation other than e1 (an elongation)
+  // is a torsion or bending angle, its stress a moment.
+  const bool rotation =
+      target.rfind("phi.", 0) == 0 ||
+      (target.size() > 1 && target[0] == 'l' && target[1] >= '0' && target[1] <= '3') ||
+      (target[0] == 'e' && target.rfind("e1.", 0) != 0);
+  if (kind == "acc") return rotation ? "rad/s^2" : "m/s^2";
+  if (kind == "vel") return rotation ? "rad/s" : "m/s";
+  if (kind == "pos") return rotation ? "rad" : "m";
+  return rotation ? "N m" : "N";  // force, stress, reaction
+}
+
+controller::runtime::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double dt) {
+  controller::runtime::PiParameters pi = pi_parameters(p, dt);
+  const auto& e = p.scene.effects;
+  pi.feedthrough_delay =
+      (e.force_sensor.present ? e.force_sensor.delay_samples : 0) + e.transport_delay_samples;
+  if (e.actuator.present) {
+    const double limit = std::min(p.scene.controller.force_limit_n,
+                                  e.actuator.force_limit_n / std::abs(e.actuator.gain));
+    pi.u_min = Eigen::VectorXd::Constant(1, -limit);
+    pi.u_max = Eigen::VectorXd::Constant(1, limit);
+  }
+  return pi;
+}
+
+artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
+                                           const std::string& form,
+                                           const artefact::Provenance& provenance) {
+  const Scene& sc = p.scene;
+  artefact::LoopArtefact a;
+  a.name = sc.name;
+  a.source = sc.file;
+  a.provenance = provenance;
+  a.rate_hz = sc.discretisation.rate_hz;
+  a.method = plant::lti::to_string(sampled.plant.method);
+  a.prewarp_hz = sampled.plant.prewarp_hz;
+  const auto map = [](const std::vector<std::string>& names) {
+    std::vector<artefact::Channel> out;
+    for (const auto& n : names) out.push_back({n, channel_unit(n)});
+    return out;
+  };
+  a.channels = {map(sc.disturbances), map(sc.actuators), map(sc.performance), map(sc.sensors)};
+  const auto& d = sampled.plant.sys;
+  a.plant.form = form;
+  a.plant.A = d.A;
+  a.plant.B = d.B;
+  a.plant.C = d.C;
+  a.plant.D = d.D;
+  a.plant.states = d.states;
+  a.plant.spectral_radius = sampled.plant.spectral_radius;
+  if (form == "modal") {
+    try {
+      const auto m = plant::lti::to_modal_form(sampled.plant);
+      a.plant.modal = {m.Lambda_minus_I, m.B, m.C, m.D, m.T};
+    } catch (const std::invalid_argument& e) {
+      throw InputError(
+          sc.file, std::string("the modal form is refused: ") + e.what() + " (use the dense form)");
+    }
+  }
+  if (has_controller(p)) {
+    a.controller = artefact::ControllerKind::kPiForceFeedback;
+    a.pi = pi_parameters_with_hardware(p, a.dt());
+  }
+  a.floor = sc.floor;
+  if (sc.floor.spectrum != "white") {
+    const auto continuous = plant::lti::design_floor_filter(plant::lti::criterion_band_velocity_rms(
+        plant::lti::parse_vibration_criterion(sc.floor.spectrum)));
+    const auto filter = plant::lti::discretise_floor_filter(continuous, a.dt());
+    a.floor_filter = {filter.sys.A, filter.sys.B, filter.sys.C, filter.sys.D,
+                      plant::lti::floor_motion_outputs(continuous)};
+  }
+  a.effects = sc.effects;
+  a.duration_s = sc.run.duration_s;
+  artefact::validate(a);
+  return a;
+}
+
+}  // namespace flexloop::scene

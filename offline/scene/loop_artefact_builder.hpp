@@ -1,0 +1,27 @@
+#pragma once
+// Offline: a scene's loop artefact (artefact/loop_artefact.hpp) from its offline pipeline
+// (scene_plant.hpp): the plant sampled at the scene's rate and method (and in modal form when
+// asked), the channel map with units, the PI parameters at the loop's rate with what the hardware
+// effects imply (the actuator limit for the anti-windup, the sensor + transport delay of the
+// controller's own force), the floor's discrete shaping filter, the effects and the run.
+#include <string>
+
+#include "artefact/loop_artefact.hpp"
+#include "offline/scene/scene_plant.hpp"
+
+namespace flexloop::scene {
+
+/// The SI unit of a channel of the model ("acc:x.3" -> "m/s^2", "stress:e1.4" -> "N", a rotation
+/// -> "rad", "N m", ...).
+std::string channel_unit(const std::string& channel);
+
+/// The PI parameters of a scene at sample time dt with what its hardware effects imply.
+controller::runtime::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double dt);
+
+/// form: "dense" or "modal" (the modal form is computed here; a defective plant is refused).
+/// @throws flexloop::InputError naming the scene when the modal form is refused.
+artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
+                                           const std::string& form,
+                                           const artefact::Provenance& provenance = {});
+
+}  // namespace flexloop::scene

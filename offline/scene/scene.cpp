@@ -1,0 +1,209 @@
+#include "offline/scene/scene.hpp"
+
+#include <filesystem>
+
+#include <cmath>
+#include <tuple>
+
+#include "common/input_error.hpp"
+#include "plant/lti/vibration_criterion.hpp"
+#include "plant/model/toml_reader.hpp"
+
+namespace flexloop::scene {
+
+namespace {
+
+using plant::model::TomlReader;
+
+std::vector<std::string> names(const TomlReader& r, const char* key) {
+  std::vector<std::string> out;
+  for (const auto& [s, n] : r.strings(key)) out.push_back(s);
+  if (out.empty()) r.fail("'" + std::string(key) + "' must list at least one channel");
+  return out;
+}
+
+double positive(const TomlReader& r, const char* key, double def) {
+  const double v = r.number(key, def);
+  if (!(v > 0)) r.fail("'" + std::string(key) + "' must be positive", r.get(key));
+  return v;
+}
+
+double non_negative(const TomlReader& r, const char* key, double def) {
+  const double v = r.number(key, def);
+  if (!(v >= 0)) r.fail("'" + std::string(key) + "' must not be negative", r.get(key));
+  return v;
+}
+
+// A non-negative integer (seeds, bit counts, sample counts).
+std::uint64_t count(const TomlReader& r, const char* key, std::uint64_t def) {
+  const double v = r.number(key, static_cast<double>(def));
+  if (!(v >= 0) || v != std::floor(v) || v > 9.007199254740992e15)
+    r.fail("'" + std::string(key) + "' must be a non-negative integer", r.get(key));
+  return static_cast<std::uint64_t>(v);
+}
+
+const toml::table* table(const TomlReader& top, const toml::table& root, const char* key,
+                         bool required) {
+  const auto* n = root.get(key);
+  if (!n) {
+    if (required) top.fail("missing [" + std::string(key) + "] table");
+    return nullptr;
+  }
+  if (!n->as_table()) top.fail("'" + std::string(key) + "' must be a table", n);
+  return n->as_table();
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::string& file) {
+  const toml::table root = plant::model::parse_toml(text, file);
+  Scene s;
+  s.file = file;
+  TomlReader top(root, file, "scene file");
+  top.allow_only({"scene", "plant", "controller", "discretisation", "floor", "effects", "run"});
+
+  TomlReader sr(*table(top, root, "scene", true), file, "[scene]");
+  sr.allow_only({"name", "model", "description"});
+  s.name = sr.string("name");
+  const std::string model = sr.string("model");
+  const auto base = std::filesystem::path(file).parent_path();
+  s.model_path = std::filesystem::path(model).is_absolute() ? model : (base / model).string();
+  if (!std::filesystem::exists(s.model_path))
+    sr.fail("model file '" + s.model_path + "' does not exist", sr.get("model"));
+
+  TomlReader pr(*table(top, root, "plant", true), file, "[plant]");
+  pr.allow_only({"gravity_preload", "disturbances", "actuators", "performance", "sensors"});
+  s.gravity_preload = pr.boolean("gravity_preload", false);
+  s.disturbances = names(pr, "disturbances");
+  s.actuators = names(pr, "actuators");
+  s.performance = names(pr, "performance");
+  s.sensors = names(pr, "sensors");
+  if (s.actuators.size() != s.sensors.size())
+    pr.fail("force feedback needs one sensor per actuator (" + std::to_string(s.actuators.size()) +
+                " actuators, " + std::to_string(s.sensors.size()) + " sensors)",
+            pr.get("sensors"));
+
+  s.controller.place = file;
+  if (const auto* t = table(top, root, "controller", false)) {
+    TomlReader cr(*t, file, "[controller]");
+    cr.allow_only({"enabled", "type", "omega_d_hz", "zeta", "leak_hz", "force_limit_n"});
+    auto& c = s.controller;
+    c.type = cr.string("type", c.type);
+    if (c.type != "pi_force_feedback" && c.type != "none")
+      cr.fail("'type' must be \"pi_force_feedback\" or \"none\"", cr.get("type"));
+    c.enabled = cr.boolean("enabled", c.enabled);
+    c.omega_d_hz = positive(cr, "omega_d_hz", c.omega_d_hz);
+    c.zeta = positive(cr, "zeta", c.zeta);
+    c.leak_hz = non_negative(cr, "leak_hz", c.leak_hz);
+    c.place = cr.place(cr.get("leak_hz"));
+    if (cr.has("force_limit_n")) c.force_limit_n = positive(cr, "force_limit_n", 1.0);
+  }
+
+  if (const auto* t = table(top, root, "discretisation", false)) {
+    TomlReader dr(*t, file, "[discretisation]");
+    dr.allow_only({"method", "rate_hz", "prewarp_hz"});
+    auto& d = s.discretisation;
+    if (dr.has("method")) {
+      try {
+        d.method = plant::lti::parse_discretisation_method(dr.string("method"));
+      } catch (const std::invalid_argument& e) {
+        dr.fail(e.what(), dr.get("method"));
+      }
+    }
+    d.rate_hz = positive(dr, "rate_hz", d.rate_hz);
+    d.prewarp_hz = non_negative(dr, "prewarp_hz", d.prewarp_hz);
+    if (d.prewarp_hz >= d.rate_hz / 2)
+      dr.fail("'prewarp_hz' must be below the Nyquist frequency rate_hz / 2", dr.get("prewarp_hz"));
+  }
+
+  if (const auto* t = table(top, root, "floor", false)) {
+    TomlReader fr(*t, file, "[floor]");
+    fr.allow_only({"spectrum", "rms_mps2", "seed"});
+    auto& f = s.floor;
+    f.spectrum = fr.string("spectrum", f.spectrum);
+    try {
+      if (f.spectrum != "white") plant::lti::parse_vibration_criterion(f.spectrum);
+    } catch (const std::invalid_argument&) {
+      fr.fail("'spectrum' must be \"white\" or a vibration criterion VC-A .. VC-E",
+              fr.get("spectrum"));
+    }
+    if (f.spectrum != "white" && fr.has("rms_mps2"))
+      fr.fail("'rms_mps2' is for the white spectrum; a VC curve sets its own level",
+              fr.get("rms_mps2"));
+    f.rms_mps2 = non_negative(fr, "rms_mps2", f.rms_mps2);
+    f.seed = count(fr, "seed", f.seed);
+  }
+
+  if (const auto* t = table(top, root, "effects", false)) {
+    TomlReader er(*t, file, "[effects]");
+    er.allow_only({"actuator", "force_sensor", "accelerometer", "transport_delay"});
+    auto& e = s.effects;
+    if (const auto* a = table(er, *t, "actuator", false)) {
+      TomlReader ar(*a, file, "[effects.actuator]");
+      ar.allow_only({"gain", "force_limit_n", "lag_s"});
+      e.actuator.present = true;
+      e.actuator.gain = ar.number("gain", 1.0);
+      if (e.actuator.gain == 0) ar.fail("'gain' must not be zero", ar.get("gain"));
+      if (!ar.has("force_limit_n")) ar.fail("missing key 'force_limit_n' (the saturation, N)");
+      e.actuator.force_limit_n = positive(ar, "force_limit_n", 1.0);
+      e.actuator.lag_s = non_negative(ar, "lag_s", 0.0);
+    }
+    for (auto [key, sensor, unit] : {std::tuple{"force_sensor", &e.force_sensor, "n"},
+                                     std::tuple{"accelerometer", &e.accelerometer, "mps2"}}) {
+      const auto* st = table(er, *t, key, false);
+      if (!st) continue;
+      TomlReader r(*st, file, "[effects." + std::string(key) + "]");
+      const std::string noise = std::string("noise_rms_") + unit,
+                        range = std::string("adc_range_") + unit;
+      r.allow_only(
+          {"gain_error", noise.c_str(), "adc_bits", range.c_str(), "delay_samples", "seed"});
+      sensor->present = true;
+      sensor->gain_error = r.number("gain_error", 0.0);
+      if (!(sensor->gain_error > -1))
+        r.fail("'gain_error' must be above -1 (a relative error)", r.get("gain_error"));
+      sensor->noise_rms = non_negative(r, noise.c_str(), 0.0);
+      sensor->adc_bits = static_cast<int>(count(r, "adc_bits", 16));
+      if (sensor->adc_bits < 1 || sensor->adc_bits > 32)
+        r.fail("'adc_bits' must be 1 .. 32", r.get("adc_bits"));
+      if (!r.has(range.c_str())) r.fail("missing key '" + range + "' (the ADC's full-scale span)");
+      sensor->adc_range = positive(r, range.c_str(), 1.0);
+      sensor->delay_samples = static_cast<int>(count(r, "delay_samples", 0));
+      if (sensor->delay_samples > 32)
+        r.fail("'delay_samples' must be at most 32", r.get("delay_samples"));
+      sensor->seed = count(r, "seed", std::string(key) == "force_sensor" ? 2 : 3);
+    }
+    if (const auto* d = table(er, *t, "transport_delay", false)) {
+      TomlReader dr(*d, file, "[effects.transport_delay]");
+      dr.allow_only({"samples"});
+      e.transport_delay_samples = static_cast<int>(count(dr, "samples", 0));
+      if (e.transport_delay_samples < 1 || e.transport_delay_samples > 32)
+        dr.fail("'samples' must be 1 .. 32", dr.get("samples"));
+      // The controller follows its own force through both delays (at most 32 samples).
+      if (e.force_sensor.delay_samples + e.transport_delay_samples > 32)
+        dr.fail("force-sensor delay + transport delay must be at most 32 samples",
+                dr.get("samples"));
+    }
+  }
+
+  if (const auto* t = table(top, root, "run", false)) {
+    TomlReader rr(*t, file, "[run]");
+    rr.allow_only({"duration_s"});
+    s.run.duration_s = positive(rr, "duration_s", s.run.duration_s);
+  }
+  return s;
+}
+
+Scene load_scene(const std::string& path) {
+  return parse_scene(plant::model::read_input_file(path, "scene file"), path);
+}
+
+bool is_scene_file(const std::string& path) {
+  try {
+    const toml::table root = toml::parse_file(path);
+    return root.contains("scene");
+  } catch (const toml::parse_error&) {
+    return false;
+  }
+}
+
+}  // namespace flexloop::scene

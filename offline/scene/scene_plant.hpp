@@ -1,0 +1,107 @@
+#pragma once
+// The offline half of a scene: model -> (static equilibrium under gravity when the scene asks
+// for the preload) -> linearisation -> generalised plant G with inputs [disturbances;
+// actuators] and outputs [performance; sensors] -> PI force-feedback design from Mdd, Kdd ->
+// continuous closed loop; and the sampled versions at the scene's rate (plant and controller
+// discretised with the scene's method, closed as the simulation loop closes them).
+#include <Eigen/Dense>
+#include <optional>
+#include <vector>
+
+#include "controller/design/loop_stability.hpp"
+#include "controller/design/pi_force_feedback.hpp"
+#include "controller/design/sampled_loop_stability.hpp"
+#include "offline/scene/scene.hpp"
+#include "plant/lti/discretise.hpp"
+#include "plant/lti/feedback_interconnection.hpp"
+#include "plant/lti/state_space.hpp"
+#include "plant/model/linearisation.hpp"
+#include "plant/model/model.hpp"
+
+namespace flexloop::scene {
+
+struct ScenePlant {
+  Scene scene;
+  plant::model::Model model;
+  plant::model::Linearisation lin;
+  int equilibrium_iterations = 0;          ///< Newton steps to the gravity-loaded equilibrium
+  Eigen::VectorXd natural_frequencies_hz;  ///< undamped, about the operating point
+  plant::lti::StateSpace plant;            ///< G: [w; u] -> [z; y]
+  plant::lti::LoopPartition partition;     ///< sizes of w and z
+  controller::design::PiGains gains;       ///< designed even when the controller is disabled
+  plant::lti::StateSpace controller;       ///< y -> u
+  plant::lti::StateSpace closed_loop;      ///< w -> z (T)
+  /// The feedback path G22 (actuators -> sensors, floor held still) and the poles of the loop it
+  /// makes with the controller: the closed loop's poles without the floor's integrator states.
+  plant::lti::StateSpace feedback_path;
+  controller::design::LoopStability loop;
+};
+
+/// False for a scene with [controller] type = "none": no design, no closed loop; the sampled
+/// scene then has the plant alone.
+inline bool has_controller(const ScenePlant& p) {
+  return p.scene.controller.type != "none";
+}
+
+/// The smallest stable leak [Hz] of the scene's loop (0: stable without one; nullopt: none up to
+/// the scene's omega_d). controller/design/loop_stability.hpp explains when one is needed.
+std::optional<double> minimum_stable_leak_hz(const ScenePlant& p);
+
+/// The loop as it runs (controller/design/sampled_loop_stability.hpp): the feedback path G22
+/// discretised at a rate with the scene's method, the runtime PI with `gains`, the held command,
+/// and the linear part of the scene's [effects] (force-sensor + transport delay, actuator gain and
+/// lag, force-sensor gain error).
+struct SampledLoop {
+  double rate_hz = 0;
+  plant::lti::DiscretisationMethod method = plant::lti::DiscretisationMethod::kZeroOrderHold;
+  controller::design::SampledLoopHardware hardware;
+  controller::design::SampledLoopStability stability;
+};
+
+/// At the scene's rate with its designed gains.
+/// @throws flexloop::InputError naming the scene file when the discretisation is refused.
+SampledLoop sampled_loop(const ScenePlant& p);
+/// At another rate and/or with other gains (the searches below).
+SampledLoop sampled_loop(const ScenePlant& p, double rate_hz,
+                         const controller::design::PiGains& gains);
+
+/// What would make an unstable sampled loop stable, each checked (continuous loop stable too):
+/// the lowest rate of the 1-2-5 series above the scene's rate, up to kMaxSuggestedRateHz, and the
+/// largest omega_d_hz at the scene's rate (bisection below the scene's, 3 significant digits,
+/// rounded down). nullopt: none found.
+struct SampledLoopRemedy {
+  std::optional<double> rate_hz;
+  std::optional<double> omega_d_hz;
+};
+inline constexpr double kMaxSuggestedRateHz = 1e6;
+SampledLoopRemedy stable_sampled_loop_remedy(const ScenePlant& p);
+
+/// For the commands that run the loop (sim, plant, controller, hil), before any run: throws
+/// flexloop::InputError
+/// - at the scene's [controller] leak_hz (or table) when the continuous loop is unstable, saying
+///   how fast it diverges and which leak would make it stable;
+/// - at the scene's [discretisation] rate_hz (or table) when the sampled loop (sampled_loop) is
+///   unstable, giving its spectral radius and a rate and an omega_d_hz that would be stable
+///   (stable_sampled_loop_remedy).
+void require_stable_loop(const ScenePlant& p);
+/// The second check alone (the sampled loop).
+void require_stable_sampled_loop(const ScenePlant& p);
+
+/// Overrides for studies and tests: zero every strut damper before linearising.
+struct ScenePlantOptions {
+  bool without_damping = false;
+};
+
+/// @throws flexloop::InputError naming the scene (or model) file for bad channels or models.
+ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& options = {});
+
+struct SampledScene {
+  plant::lti::DiscreteStateSpace plant, controller;
+  plant::lti::DiscreteStateSpace closed_loop;  ///< w -> z as the simulation loop closes it
+};
+
+/// Discretise plant and controller at the scene's rate and method.
+/// @throws flexloop::InputError naming the scene file when the discretisation is refused.
+SampledScene sample_scene(const ScenePlant& p);
+
+}  // namespace flexloop::scene

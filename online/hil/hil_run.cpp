@@ -1,0 +1,145 @@
+#include "online/hil/hil_run.hpp"
+
+#include <signal.h>
+
+#include <cstdio>
+#include <memory>
+
+#include "online/hil/baseline_json.hpp"
+#include "online/hil/child_process.hpp"
+#include "online/hil/lcm_logger.hpp"
+#include "online/loop/controller_loop.hpp"
+#include "online/loop/plant_loop.hpp"
+#include "online/loop/private_network.hpp"
+#include "rt/loop_process_setup.hpp"
+#include "rt/monotonic_time.hpp"
+#include "rt/pingpong_baseline.hpp"
+#include "rt/timer_baseline.hpp"
+
+namespace flexloop::hil {
+
+namespace {
+
+rt::PeriodicClockOptions clock_options(const LoopOptions& o, double rate_hz) {
+  return {.period_ns = static_cast<std::int64_t>(1e9 / rate_hz + 0.5),
+          .wait_mode = o.wait,
+          .spin_margin_ns = o.spin_margin_ns};
+}
+
+}  // namespace
+
+nlohmann::json run_baselines(const HilOptions& o, double rate_hz) {
+  const auto duration_ns = static_cast<std::int64_t>(o.baseline_duration_s * 1e9);
+  rt::TimerBaselineOptions timer;
+  timer.clock = clock_options(o.loop, rate_hz);
+  timer.duration_ns = duration_ns;
+  timer.realtime = o.loop.realtime;
+  const rt::TimerBaselineResult t = rt::run_timer_baseline(timer);
+
+  rt::PingPongOptions pp;
+  pp.clock = timer.clock;
+  pp.receive_mode = rt::receive_mode_for(o.loop.wait);
+  pp.receive_path = o.loop.receive_path;
+  pp.duration_ns = duration_ns;
+  pp.ping_realtime = o.loop.realtime;
+  pp.pong_realtime = o.loop.realtime;
+  pp.pong_realtime.cpu = o.controller_cpu;
+  pp.url = loop_lcm_url(o.loop.url, o.loop.link);
+  const rt::PingPongResult p = rt::run_pingpong_baseline(pp);
+  return {{"timer", timer_baseline_json(t)}, {"pingpong", pingpong_baseline_json(p)}};
+}
+
+void prepare_hil_network(const HilOptions& o) {
+  static bool entered = false;
+  if (o.netns && !entered) {
+    enter_private_loopback_namespace();
+    entered = true;
+  }
+  require_private_network("flexloop hil", o.loop.link);
+}
+
+namespace {
+
+// What a log needs to be read: the loop, its rate and its channels (name, unit, order).
+nlohmann::json channel_map_json(const artefact::LoopArtefact& loop) {
+  const nlohmann::json a = artefact::to_json(loop);
+  return {{"format", "flexloop channel map"},
+          {"loop", loop.name},
+          {"rate_hz", loop.rate_hz},
+          {"controller", artefact::to_string(loop.controller)},
+          {"channels", a["channels"]},
+          {"provenance", a["provenance"]},
+          {"messages",
+           {{"FLEXLOOP_SENSOR",
+             {{"sensors", "channels.sensors"}, {"performance", "channels.performance"}}},
+            {"FLEXLOOP_COMMAND", {{"commands", "channels.actuators"}}}}}};
+}
+
+}  // namespace
+
+nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) {
+  prepare_hil_network(o);
+  // Both processes start from the one artefact.
+  const std::string url = loop_lcm_url(o.loop.url, o.loop.link);
+  LoopOptions plant_options = o.loop;
+  plant_options.url = url;
+  plant_options.quiet = true;
+  LoopOptions controller_options = plant_options;
+  controller_options.realtime.cpu = o.controller_cpu;
+  controller_options.duration_s = 0;  // until stopped, after the plant
+
+  const rt::CpuDmaLatencyHold dma;  // for the baselines (each loop process holds its own)
+  nlohmann::json report;
+  report["baseline"] = run_baselines(o, loop.rate_hz);
+
+  std::unique_ptr<LcmLogger> logger;
+  if (!o.lcm_log.empty()) {
+    logger = std::make_unique<LcmLogger>(url, o.lcm_log);
+    logger->record(kChannelMapChannel, channel_map_json(loop).dump());
+  }
+
+  // A loop without a controller runs the plant alone: it publishes every sample and, with no
+  // answer, holds and then applies the zero command (what an external controller would answer).
+  const bool has_controller = loop.controller != artefact::ControllerKind::kNone;
+  std::unique_ptr<ChildProcess> controller;
+  if (has_controller) {
+    controller = std::make_unique<ChildProcess>([&](const std::function<void()>& ready) {
+      return controller_result_json(run_controller_loop(controller_options, loop, ready),
+                                    controller_options)
+          .dump();
+    });
+    controller->wait_ready(10 * rt::kNsPerSecond);
+  }
+  const double duration_s = o.loop.duration_s > 0 ? o.loop.duration_s : loop.duration_s;
+  ChildProcess plant([&](const std::function<void()>&) {
+    return plant_result_json(run_plant_loop(plant_options, loop), plant_options, true).dump();
+  });
+  const auto grace = static_cast<std::int64_t>((duration_s + 30) * 1e9);
+  nlohmann::json plant_json;
+  try {
+    plant_json = nlohmann::json::parse(plant.finish(grace));
+  } catch (...) {
+    if (controller) controller->signal(SIGTERM);
+    throw;
+  }
+  nlohmann::json controller_json = {{"kind", "none"},
+                                    {"dropped_messages", nlohmann::json::object()}};
+  if (controller) {
+    controller->signal(SIGTERM);
+    controller_json = nlohmann::json::parse(controller->finish(10 * rt::kNsPerSecond));
+    controller_json["kind"] = artefact::to_string(loop.controller);
+  }
+  logger.reset();
+
+  report.update(plant_json);
+  report["controller"] = controller_json;
+  report["scene"] = o.loop.loop_path;
+  report["duration_s"] = duration_s;
+  report["controller_cpu"] = o.controller_cpu;
+  report["lcm_url"] = url;
+  report["cpu_dma_latency_held"] = dma.active();
+  if (!o.lcm_log.empty()) report["lcm_log"] = o.lcm_log;
+  return report;
+}
+
+}  // namespace flexloop::hil

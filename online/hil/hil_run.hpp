@@ -1,0 +1,47 @@
+#pragma once
+// `flexloop hil`: one hardware-in-the-loop rehearsal, measured against baselines taken in the
+// same run (DESIGN.md §7). In order:
+//   1. the private network: with `netns`, enter a fresh loopback-only namespace in-process
+//      (online/loop/private_network.hpp); otherwise the caller must already be in one
+//      (tools/netns-run);
+//   2. the loop artefact the caller built or read (both processes get it by fork);
+//   3. baselines with the loop's rate, wait mode, CPUs and priority: a bare periodic thread on
+//      the plant's CPU (rt/timer_baseline.hpp) and a bare LCM ping-pong between the plant's and
+//      the controller's CPUs (rt/pingpong_baseline.hpp);
+//   4. optionally lcm-logger on the loop's URL (online/hil/lcm_logger.hpp);
+//   5. the controller process (forked, online/loop/controller_loop.hpp), and once it has
+//      subscribed, the plant process (forked, online/loop/plant_loop.hpp) for the duration; then
+//      the controller is stopped (SIGTERM) and both hand back their figures. A loop without a
+//      controller runs the plant alone (report "controller": {"kind": "none"}).
+// The result is the report (keys of offline/report/hil_report.hpp), with the plant's histogram bins
+// under "histograms" for drawing. Orchestration: allocates, throws std::runtime_error /
+// flexloop::InputError.
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "artefact/loop_artefact.hpp"
+#include "online/loop/loop_options.hpp"
+
+namespace flexloop::hil {
+
+struct HilOptions {
+  LoopOptions loop;        ///< the plant's settings (realtime.cpu: the plant's CPU)
+  int controller_cpu = 1;  ///< -1: not pinned
+  double baseline_duration_s = 3;
+  bool netns = false;   ///< enter a private namespace first
+  std::string lcm_log;  ///< record the run with lcm-logger to this file
+};
+
+/// Enters the private namespace when asked (once per process; later calls do nothing).
+void prepare_hil_network(const HilOptions& o);
+
+/// Step 3 alone: the bare timer and ping-pong baselines at `rate_hz` with the loop's wait mode,
+/// receive path, URL, CPUs and priority, each for `o.baseline_duration_s`; the report's
+/// "baseline" object {timer, pingpong}. Call prepare_hil_network first.
+nlohmann::json run_baselines(const HilOptions& o, double rate_hz);
+
+/// Runs the rehearsal of `loop` (its rate; o.loop.loop_path names it in the report) and returns
+/// the report (see the header comment).
+nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop);
+
+}  // namespace flexloop::hil

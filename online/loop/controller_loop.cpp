@@ -1,0 +1,99 @@
+#include "online/loop/controller_loop.hpp"
+
+#include <cstdio>
+
+#include "online/loop/controller_station.hpp"
+#include "online/loop/latency_json.hpp"
+#include "online/loop/loop_controller.hpp"
+#include "online/loop/private_network.hpp"
+#include "online/loop/stop_signal.hpp"
+#include "rt/loop_process_setup.hpp"
+#include "rt/monotonic_time.hpp"
+
+namespace flexloop::hil {
+
+namespace {
+
+template <class Controller>
+ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o,
+                              const artefact::LoopArtefact& loop,
+                              const std::function<void()>& ready) {
+  const std::string url = loop_lcm_url(o.url, o.link);
+  const auto period_ns = static_cast<std::int64_t>(1e9 / loop.rate_hz + 0.5);
+  const std::int64_t spin_margin_ns = rt::effective_spin_margin_ns(
+      {.period_ns = period_ns, .wait_mode = o.wait, .spin_margin_ns = o.spin_margin_ns});
+  install_stop_handlers();
+
+  ControllerLoopResult r;
+  auto station = std::make_unique<ControllerStation<Controller>>(controller, o.safe_after);
+  rt::LcmTransport lcm(url, o.receive_path);
+  lcm.subscribe(o.channels.sensor, station->samples());
+  rt::LcmPublisher<flexloop_msgs::actuator_command_t> command(lcm, o.channels.command);
+  const rt::CpuDmaLatencyHold dma;
+  const rt::LoopProcessSetup setup = rt::set_up_loop_process(lcm, o.realtime);
+  r.fifo = setup.fifo;
+  r.setup = setup.text + (dma.active() ? "  ok    " : "  WARN  ") + dma.message() + "\n";
+  if (!o.quiet)
+    std::printf(
+        "controller: %s, PI on %ld channels at %.6g Hz, wait %s, safe after %d misses, LCM %s\n%s",
+        loop.name.c_str(), static_cast<long>(controller.channels()), loop.rate_hz,
+        rt::to_string(o.wait), o.safe_after, url.c_str(), r.setup.c_str());
+  std::fflush(stdout);
+  if (ready) ready();
+
+  const rt::ReceiveMode receive = rt::receive_mode_for(o.wait);
+  const std::int64_t end =
+      o.duration_s > 0 ? rt::monotonic_now_ns() + static_cast<std::int64_t>(o.duration_s * 1e9)
+                       : INT64_MAX;
+  const auto wake = [&] { return station->samples().has_fresh() || stop_requested(); };
+  constexpr std::int64_t kLookNs = 20'000'000;  // how often an idle loop checks the stop flag
+  std::int64_t spin_from = 0;
+  while (!stop_requested()) {
+    const std::int64_t now = rt::monotonic_now_ns();
+    if (now >= end) break;
+    lcm.handle_until(now + kLookNs < end ? now + kLookNs : end, receive, wake, spin_from);
+    if (const flexloop_msgs::sensor_sample_t* s = station->samples().take()) {
+      const std::int64_t t0 = rt::monotonic_now_ns();
+      flexloop_msgs::actuator_command_t& cmd = station->answer(*s);
+      const std::int64_t t1 = rt::monotonic_now_ns();
+      cmd.controller_compute_ns = t1 - t0;
+      cmd.t_ns = t1;
+      command.publish(cmd);
+      r.compute->record(t1 - t0);
+      r.response->record(rt::monotonic_now_ns() - station->samples().newest_received_ns());
+      spin_from = s->t_ns + period_ns - spin_margin_ns;
+    }
+  }
+  r.answered = station->answered();
+  r.superseded = station->samples().superseded();
+  r.resyncs = station->resyncs();
+  r.resumes = station->resumes();
+  r.drops = station->samples().drops();
+  r.publish_failures = command.failures();
+  return r;
+}
+
+}  // namespace
+
+ControllerLoopResult run_controller_loop(const LoopOptions& o, const artefact::LoopArtefact& loop,
+                                         const std::function<void()>& ready) {
+  require_private_network("flexloop controller", o.link);
+  return with_loop_controller(
+      loop, [&](const auto& controller) { return run_with(controller, o, loop, ready); });
+}
+
+nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopOptions& o) {
+  return {{"answered", r.answered},
+          {"superseded", r.superseded},
+          {"resyncs", r.resyncs},
+          {"resumes", r.resumes},
+          {"publish_failures", r.publish_failures},
+          {"dropped_messages", drops_json(r.drops)},
+          {"compute_ns", summary_json(*r.compute)},
+          {"response_ns", summary_json(*r.response)},
+          {"cpu", o.realtime.cpu},
+          {"fifo", r.fifo},
+          {"controller_setup", r.setup}};
+}
+
+}  // namespace flexloop::hil

@@ -1,0 +1,47 @@
+#pragma once
+// The controller process (`flexloop controller`, DESIGN.md §7): answers each sensor message with
+// the PI step (online/loop/controller_station.hpp) and publishes the actuator message, stamped
+// with its send time and the step's compute time. Set-up as the plant's (pin, mlockall,
+// prefaulted stack, SCHED_FIFO when permitted, /dev/cpu_dma_latency at 0), the PI controller
+// sampled at the loop's rate (pass the plant's --rate). Waiting for a sample: block (sleep),
+// hybrid (sleep until spin_margin before the next sample is due, then poll) or poll (spin).
+// Runs until SIGINT / SIGTERM (or duration_s > 0 elapsed). Per message: no allocation, no
+// exception; system calls: ppoll, read, sendmsg.
+#include <cstdint>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "artefact/loop_artefact.hpp"
+#include "online/loop/loop_options.hpp"
+#include "rt/latency_histogram.hpp"
+#include "rt/message_validation.hpp"
+
+namespace flexloop::hil {
+
+struct ControllerLoopResult {
+  std::unique_ptr<rt::LatencyHistogram> compute = std::make_unique<rt::LatencyHistogram>();
+  /// Sample received -> answer sent, ns (handling, step and encode in this process).
+  std::unique_ptr<rt::LatencyHistogram> response = std::make_unique<rt::LatencyHistogram>();
+  std::int64_t answered = 0;
+  std::int64_t superseded = 0;  ///< samples replaced by a newer one before answered
+  std::int64_t resyncs = 0;     ///< plant restarts followed
+  std::int64_t resumes = 0;     ///< bumpless restarts after the plant went safe
+  std::int64_t publish_failures = 0;
+  rt::DropCounts drops;
+  std::string setup;
+  bool fifo = false;
+};
+
+/// Runs the artefact's controller until stopped (options.loop_path and rate_hz unused). `ready`
+/// (optional) is called once LCM is subscribed and the process is set up, before the first
+/// message is awaited. Errors before the loop: std::runtime_error / flexloop::InputError (also
+/// for an artefact without a controller).
+ControllerLoopResult run_controller_loop(const LoopOptions& options,
+                                         const artefact::LoopArtefact& loop,
+                                         const std::function<void()>& ready = {});
+
+nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopOptions& o);
+
+}  // namespace flexloop::hil

@@ -1,0 +1,41 @@
+#pragma once
+// Settings shared by the plant and controller processes (flexloop plant | controller | hil):
+// clock and wait mode, CPU and priority, safe-command threshold, LCM URL, channels, and the
+// private link allowed besides loopback (online/loop/private_network.hpp).
+#include <cstdint>
+#include <string>
+
+#include "rt/lcm_transport.hpp"
+#include "rt/periodic_clock.hpp"
+#include "rt/realtime_setup.hpp"
+
+namespace flexloop::hil {
+
+struct LoopChannels {
+  std::string sensor = "FLEXLOOP_SENSOR";    // sensor_sample_t, plant -> controller
+  std::string command = "FLEXLOOP_COMMAND";  // actuator_command_t, controller -> plant
+  std::string stats = "FLEXLOOP_STATS";      // loop_stats_t, plant, once a second
+};
+
+struct LoopOptions {
+  std::string loop_path;  ///< a scene (TOML) or a loop artefact (JSON)
+  double rate_hz = 0;     ///< <= 0: the scene's [discretisation] rate (scenes only)
+  double duration_s = 0;  ///< plant: <= 0: the scene's [run] duration; controller: 0 = until
+                          ///< SIGINT/SIGTERM
+  /// Hybrid by default: sleep until the spin margin before a deadline or an expected message,
+  /// then spin; a sleeping loop pays one timer or socket wake-up per message (tens of us on a
+  /// VM), which at 10 kHz is most of the period.
+  rt::WaitMode wait = rt::WaitMode::kHybrid;
+  /// Who reads the socket: the loop thread itself by default (LCM's receive thread adds a
+  /// wake-up per message, see rt/lcm_direct_socket.hpp and the README's measurements).
+  rt::ReceivePath receive_path = rt::ReceivePath::kDirect;
+  std::int64_t spin_margin_ns = rt::kDefaultSpinMarginNs;
+  rt::RealtimeOptions realtime{.cpu = 0, .fifo_priority = 80};
+  int safe_after = 10;  ///< consecutive missed answers before the safe command
+  std::string url;      ///< empty: see loop_lcm_url()
+  std::string link;     ///< a veth allowed besides lo (two-namespace runs)
+  LoopChannels channels;
+  bool quiet = false;  ///< no start-up banner
+};
+
+}  // namespace flexloop::hil

@@ -1,0 +1,63 @@
+#include "online/loop/plant_loop.hpp"
+
+#include <string>
+
+#include "online/loop/latency_json.hpp"
+#include "online/loop/plant_loop_run.hpp"
+#include "online/loop/private_network.hpp"
+#include "online/loop/stop_signal.hpp"
+
+namespace flexloop::hil {
+
+PlantLoopResult run_plant_loop(const LoopOptions& o, const artefact::LoopArtefact& loop) {
+  require_private_network("flexloop plant", o.link);
+  const std::string url = loop_lcm_url(o.url, o.link);
+  install_stop_handlers();
+  PlantLoopResult r;
+  // One translation unit per compiled plant size, each with every effect combination.
+  // The metrology frame (12 states, and 24 under gravity preload; 6 channels of each kind) on
+  // its compiled fast path; every other plant on the general path, sized at start-up.
+  const Eigen::Index nx = loop.plant.A.rows();
+  const bool metrology_io = loop.disturbances() == kChannels && loop.actuators() == kChannels &&
+                            loop.performance() == kChannels && loop.sensors() == kChannels;
+  if (metrology_io && nx == 12)
+    detail::run_plant_metrology(loop, o, url, r);
+  else if (metrology_io && nx == 24)
+    detail::run_plant_preloaded(loop, o, url, r);
+  else
+    detail::run_plant_general(loop, o, url, r);
+  return r;
+}
+
+nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o, bool with_bins) {
+  const LoopAccounts& a = r.accounts;
+  nlohmann::json j = {{"rate_hz", r.rate_hz},
+                      {"period_ns", static_cast<std::int64_t>(1e9 / r.rate_hz + 0.5)},
+                      {"wait_mode", rt::to_string(o.wait)},
+                      {"receive_path", rt::to_string(o.receive_path)},
+                      {"spin_margin_ns", r.spin_margin_ns},
+                      {"cycles", r.cycles},
+                      {"periods", r.periods},
+                      {"deadline_misses", r.deadline_misses},
+                      {"late_answers", r.late_answers},
+                      {"overruns", r.overruns},
+                      {"skipped_periods", r.skipped_periods},
+                      {"safe_command_cycles", r.safe_command_cycles},
+                      {"safe_after", o.safe_after},
+                      {"dropped_messages", drops_json(r.drops)},
+                      {"round_trip_ns", summary_json(*a.round_trip)},
+                      {"wakeup_lateness_ns", summary_json(*a.wakeup_lateness)},
+                      {"plant_compute_ns", summary_json(*a.plant_compute)},
+                      {"controller_compute_ns", summary_json(*a.controller_compute)},
+                      {"stats_published", r.stats_published},
+                      {"publish_failures", r.publish_failures},
+                      {"cpu", o.realtime.cpu},
+                      {"fifo", r.fifo},
+                      {"plant_setup", r.setup}};
+  if (with_bins)
+    j["histograms"] = {{"round_trip_ns", bins_json(*a.round_trip)},
+                       {"wakeup_lateness_ns", bins_json(*a.wakeup_lateness)}};
+  return j;
+}
+
+}  // namespace flexloop::hil

@@ -1,0 +1,52 @@
+#pragma once
+// The plant process (`flexloop plant`, DESIGN.md §7): owns the clock and plays the hardware.
+// Set-up: the scene sampled at the loop's rate, LCM (command subscription, sensor and stats
+// publishers), /dev/cpu_dma_latency held at 0, then rt/loop_process_setup.hpp (pin, mlockall,
+// prefaulted stack, SCHED_FIFO when permitted -- the report says when not). Each period:
+//   wait for the deadline (rt/periodic_clock.hpp, the chosen wait mode)    -> wake-up lateness
+//   settle the last period and take the sample (online/loop/plant_station.hpp)  -> plant TET
+//   publish the sensor message, then receive until the answer to it came or the next sample is
+//   due (block / hybrid / poll as the wait mode)         -> round trip, controller compute time
+//   in the slack, one stage of the once-a-second loop_stats_t (online/loop/loop_accounts.hpp)
+// A cycle allocates nothing, takes no lock (but LCM's handle mutex, shared with its receive
+// thread only), throws nothing; its system calls are the wait, sendmsg, ppoll and read.
+// SIGINT / SIGTERM end the run early (the report covers what ran).
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "artefact/loop_artefact.hpp"
+#include "online/loop/loop_accounts.hpp"
+#include "online/loop/loop_options.hpp"
+#include "rt/message_validation.hpp"
+
+namespace flexloop::hil {
+
+struct PlantLoopResult {
+  LoopAccounts accounts;
+  double rate_hz = 0;
+  std::int64_t spin_margin_ns = 0;  ///< hybrid: as spun (rt::effective_spin_margin_ns)
+  std::int64_t periods = 0;         ///< grid periods elapsed (cycles + skipped)
+  std::int64_t cycles = 0;
+  std::int64_t deadline_misses = 0;
+  std::int64_t late_answers = 0;
+  std::int64_t overruns = 0;
+  std::int64_t skipped_periods = 0;
+  std::int64_t safe_command_cycles = 0;
+  std::int64_t stats_published = 0;
+  std::int64_t publish_failures = 0;
+  rt::DropCounts drops;
+  std::string setup;  ///< set-up report, one line per step
+  bool fifo = false;
+};
+
+/// Runs the plant loop of the artefact (options.loop_path and rate_hz unused).
+/// std::runtime_error / flexloop::InputError before the loop starts (not in a private network,
+/// LCM unavailable, hardware the artefact's sizes refuse).
+PlantLoopResult run_plant_loop(const LoopOptions& options, const artefact::LoopArtefact& loop);
+
+/// The figures as JSON (keys of the hil report); with_bins adds the non-empty histogram bins of
+/// round trip and wake-up lateness under "histograms" (for drawing them in another process).
+nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o, bool with_bins);
+
+}  // namespace flexloop::hil

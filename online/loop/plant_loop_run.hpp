@@ -1,0 +1,117 @@
+#pragma once
+// The plant loop's body (online/loop/plant_loop.hpp) for one composed hardware type, and its
+// instantiation per compiled plant size with the artefact's effects (online/sim/loop_hardware.hpp).
+// Each size lives in its own translation unit (plant_loop_metrology.cpp, plant_loop_preloaded.cpp)
+// so that the effect combinations compile in parallel.
+#include <unistd.h>
+
+#include <cstdio>
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "online/loop/plant_loop.hpp"
+#include "online/loop/plant_station.hpp"
+#include "online/loop/stop_signal.hpp"
+#include "online/sim/loop_hardware.hpp"
+#include "plant/runtime/runtime_sizes.hpp"
+#include "rt/loop_process_setup.hpp"
+#include "rt/monotonic_time.hpp"
+
+namespace flexloop::hil::detail {
+
+template <class Hardware>
+void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopOptions& o,
+                    const std::string& url, PlantLoopResult& r) {
+  const rt::PeriodicClockOptions clock_options{
+      .period_ns = static_cast<std::int64_t>(1e9 / loop.rate_hz + 0.5),
+      .wait_mode = o.wait,
+      .spin_margin_ns = o.spin_margin_ns};
+  rt::PeriodicClock clock(clock_options);
+  const double duration_s = o.duration_s > 0 ? o.duration_s : loop.duration_s;
+  const auto periods = static_cast<std::int64_t>(duration_s * loop.rate_hz + 0.5);
+  // A new epoch per run: the controller sees a restart, old answers are stale.
+  const std::int64_t epoch = rt::monotonic_now_ns() ^ (static_cast<std::int64_t>(getpid()) << 40);
+  auto station = std::make_unique<PlantStation<Hardware>>(
+      std::move(hw),
+      PlantStationSettings{
+          .safe_after = o.safe_after, .epoch = epoch, .period_ns = clock_options.period_ns});
+  rt::LcmTransport lcm(url, o.receive_path);
+  lcm.subscribe(o.channels.command, station->commands());
+  rt::LcmPublisher<flexloop_msgs::sensor_sample_t> sensor(lcm, o.channels.sensor);
+  StatsPublisher stats(lcm, o.channels.stats, loop.rate_hz);
+  const rt::CpuDmaLatencyHold dma;
+  r.rate_hz = loop.rate_hz;
+  r.spin_margin_ns = rt::effective_spin_margin_ns(clock_options);
+  const rt::LoopProcessSetup setup = rt::set_up_loop_process(lcm, o.realtime);
+  r.fifo = setup.fifo;
+  r.setup = setup.text + (dma.active() ? "  ok    " : "  WARN  ") + dma.message() + "\n";
+  if (!o.quiet)
+    std::printf("plant: %s, %.6g Hz for %.6g s (%lld periods), wait %s, LCM %s\n%s",
+                loop.name.c_str(), loop.rate_hz, duration_s, static_cast<long long>(periods),
+                rt::to_string(o.wait), url.c_str(), r.setup.c_str());
+  std::fflush(stdout);
+
+  LoopAccounts& a = r.accounts;
+  const rt::ReceiveMode receive = rt::receive_mode_for(o.wait);
+  const auto answered = [&] { return station->answered(); };
+  std::int64_t published_ns = 0;
+  LoopCounts counts;
+  clock.start();
+  stats.start(rt::monotonic_now_ns());
+  while (clock.schedule().periods_elapsed() < periods && !stop_requested()) {
+    const rt::CycleStart c = clock.wait_next();
+    a.wakeup_lateness->record(c.lateness_ns);
+    const std::int64_t t0 = rt::monotonic_now_ns();
+    station->settle(c.due_ns);
+    if (const auto* answer = station->last_answer()) {
+      a.round_trip->record(station->commands().newest_received_ns() - published_ns);
+      a.controller_compute->record(answer->controller_compute_ns);
+    }
+    const auto& sample = station->sample(t0);
+    published_ns = rt::monotonic_now_ns();
+    a.plant_compute->record(published_ns - t0);
+    sensor.publish(sample);
+    lcm.handle_until(clock.next_deadline_ns(), receive, answered, published_ns);
+    counts = {clock.schedule().cycles(), station->deadline_misses(), clock.schedule().overruns(),
+              station->commands().drops().total(), station->safe_command_cycles()};
+    stats.poll(rt::monotonic_now_ns(), a, counts);
+  }
+  // The last sample's answer had its window too.
+  station->settle(clock.next_deadline_ns());
+  if (const auto* answer = station->last_answer()) {
+    a.round_trip->record(station->commands().newest_received_ns() - published_ns);
+    a.controller_compute->record(answer->controller_compute_ns);
+  }
+  const rt::DeadlineSchedule& s = clock.schedule();
+  r.periods = s.periods_elapsed();
+  r.cycles = s.cycles();
+  r.overruns = s.overruns();
+  r.skipped_periods = s.skipped_periods();
+  r.deadline_misses = station->deadline_misses();
+  r.late_answers = station->late_answers();
+  r.safe_command_cycles = station->safe_command_cycles();
+  r.drops = station->commands().drops();
+  r.stats_published = stats.published();
+  r.publish_failures = sensor.failures();
+}
+
+/// The loop on the dense plant of NX states with the artefact's hardware effects.
+template <int NX>
+void run_plant_of_size(const artefact::LoopArtefact& loop, const LoopOptions& o,
+                       const std::string& url, PlantLoopResult& r) {
+  const auto& d = loop.plant;
+  const auto plant = plant::runtime::DensePlant<double, NX, 2 * kChannels, 2 * kChannels,
+                                                kChannels>::from_matrices(d.A, d.B, d.C, d.D);
+  sim::with_hardware<kChannels, kChannels>(
+      loop, plant, [&](auto hw) { run_plant_with(std::move(hw), loop, o, url, r); });
+}
+
+void run_plant_metrology(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
+                         PlantLoopResult&);  // 12 states
+void run_plant_preloaded(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
+                         PlantLoopResult&);  // 24 states (gravity preload)
+void run_plant_general(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
+                       PlantLoopResult&);  // any size, sized at start-up
+
+}  // namespace flexloop::hil::detail

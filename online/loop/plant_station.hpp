@@ -1,0 +1,152 @@
+#pragma once
+// The plant process's work in one period, without clocks or sockets (so that tests can drive it
+// sample by sample): the simulated hardware of the scene (plant/runtime/simulated_hardware.hpp:
+// the discrete plant with inputs [w (disturbances); u (actuator commands)] and outputs
+// [z (performance); y (sensors)], compiled sizes or sized at start-up, the scene's floor, and
+// whichever actuator, sensor and transport effects the scene asks for -- composed at compile
+// time, so an absent effect costs nothing here either).
+//
+// Cycle k (k = 0, 1, ...), as the real-time loop calls it:
+//   settle(due_k)  decide the command u that is held over the last period and apply it
+//                  (actuator, then the plant advances with [w_{k-1}; force]). u is
+//                    the answer to sample k-1 when it was received by due_k     (answered)
+//                    else the command held before (a deadline miss)             (held)
+//                    else zero once `safe_after` consecutive samples were missed (safe)
+//                  An answer that came for an older sample, or after due_k, is late: counted,
+//                  never applied. Nothing happens at k = 0 (no sample was out yet).
+//   sample(t_k)    the hardware's sample k (floor w_k, plant outputs with the force held, the
+//                  sensors' readings after their effects) into the sensor message (seq k + 1,
+//                  t_ns = t_k).
+// With every answer in time this is exactly the in-process loop of online/sim/closed_loop_run.hpp
+// (tests/hil/test_stations.cpp checks it bit for bit, with and without effects). When answers
+// return after the safe command, the plant applies them at once; the controller makes that
+// bumpless (online/loop/controller_station.hpp restarts from the zero command).
+//
+// Commands arrive through commands(), a MessageInbox with a fixed epoch (this plant run's) and a
+// maximum transit age of one period: messages that fail to decode, carry NaN/Inf, answer another
+// plant run, took longer than a period in transit, repeat or reorder are dropped and counted
+// there, never applied. settle() and sample() are noexcept and allocation-free.
+#include <Eigen/Core>
+#include <cstdint>
+#include <flexloop_msgs/actuator_command_t.hpp>
+#include <flexloop_msgs/sensor_sample_t.hpp>
+
+#include <type_traits>
+#include <utility>
+
+#include "rt/message_inbox.hpp"
+
+namespace flexloop::hil {
+
+/// The metrology frame's channels of each kind (its compiled fast path).
+inline constexpr int kChannels = 6;
+using ChannelVector = Eigen::Matrix<double, kChannels, 1>;
+
+struct PlantStationSettings {
+  int safe_after = 10;     ///< consecutive missed answers before the safe command, >= 1
+  std::int64_t epoch = 1;  ///< this plant run's id (sensor_sample_t.plant_epoch)
+  std::int64_t period_ns = 1'000'000;
+};
+
+/// Where the command applied over the last period came from.
+enum class CommandSource { kNone, kAnswer, kHeld, kSafe };
+
+template <class Hardware>
+class PlantStation {
+  static_assert(std::is_same_v<typename Hardware::Scalar, double>, "messages carry doubles");
+
+ public:
+  using Command = typename Hardware::Command;
+
+  /// Set-up; safe_after < 1 is taken as 1. Commands must carry one value per actuator.
+  PlantStation(Hardware hardware, const PlantStationSettings& s)
+      : hw_(std::move(hardware)),
+        settings_(s),
+        commands_(rt::OrderGate(rt::EpochPolicy::kFixed, s.epoch, s.period_ns),
+                  {static_cast<int>(hw_.actuators()), 0}),
+        u_(Command::Zero(hw_.actuators())) {
+    if (settings_.safe_after < 1) settings_.safe_after = 1;
+    msg_.plant_epoch = s.epoch;
+    msg_.n_sensors = static_cast<std::int16_t>(hw_.sensors());
+    msg_.n_performance = static_cast<std::int16_t>(hw_.performance_outputs());
+    msg_.sensors.assign(static_cast<std::size_t>(msg_.n_sensors), 0.0);
+    msg_.performance.assign(static_cast<std::size_t>(msg_.n_performance), 0.0);
+  }
+
+  rt::MessageInbox<flexloop_msgs::actuator_command_t>& commands() noexcept { return commands_; }
+  const rt::MessageInbox<flexloop_msgs::actuator_command_t>& commands() const noexcept {
+    return commands_;
+  }
+
+  /// True when the answer to the newest sample is in the inbox (the loop's "stop waiting").
+  bool answered() const noexcept {
+    return commands_.has_fresh() && commands_.newest().answers_seq == msg_.seq;
+  }
+
+  /// Settles the last period (see the header comment); returns where its command came from.
+  /// The applied answer, if any, is last_answer().
+  CommandSource settle(std::int64_t due_ns) noexcept {
+    last_answer_ = nullptr;
+    if (msg_.seq == 0) return CommandSource::kNone;
+    const flexloop_msgs::actuator_command_t* a = commands_.take();
+    CommandSource source = CommandSource::kAnswer;
+    if (a != nullptr && a->answers_seq == msg_.seq && commands_.newest_received_ns() <= due_ns) {
+      consecutive_misses_ = 0;
+      last_answer_ = a;
+      u_ = Eigen::Map<const Command>(a->commands.data(), u_.size());
+    } else {
+      if (a != nullptr) ++late_answers_;
+      ++deadline_misses_;
+      ++consecutive_misses_;
+      source = CommandSource::kHeld;
+      if (consecutive_misses_ >= settings_.safe_after) {
+        source = CommandSource::kSafe;
+        u_.setZero();
+        ++safe_command_cycles_;
+      }
+    }
+    hw_.apply(u_);
+    return source;
+  }
+
+  /// Takes sample k at t_ns: the message to publish.
+  const flexloop_msgs::sensor_sample_t& sample(std::int64_t t_ns) noexcept {
+    const auto& reading = hw_.sample();
+    // Maps of the hardware's own vector types: their sizes are then known to the compiler too.
+    Eigen::Map<typename Hardware::Performance>(msg_.performance.data(), msg_.n_performance) =
+        reading.performance;
+    Eigen::Map<typename Hardware::Sensors>(msg_.sensors.data(), msg_.n_sensors) = reading.sensors;
+    msg_.seq += 1;
+    msg_.t_ns = t_ns;
+    return msg_;
+  }
+
+  /// The newest sample (seq 0 before the first).
+  const flexloop_msgs::sensor_sample_t& last_sample() const noexcept { return msg_; }
+  /// The answer applied by the last settle(), or nullptr.
+  const flexloop_msgs::actuator_command_t* last_answer() const noexcept { return last_answer_; }
+  /// The command the actuators hold now (what they make of it: hardware().actuator_force()).
+  const Command& command() const noexcept { return u_; }
+  const Hardware& hardware() const noexcept { return hw_; }
+
+  std::int64_t samples() const noexcept { return msg_.seq; }
+  std::int64_t deadline_misses() const noexcept { return deadline_misses_; }
+  std::int64_t late_answers() const noexcept { return late_answers_; }
+  std::int64_t safe_command_cycles() const noexcept { return safe_command_cycles_; }
+  int consecutive_misses() const noexcept { return consecutive_misses_; }
+  const PlantStationSettings& settings() const noexcept { return settings_; }
+
+ private:
+  Hardware hw_;
+  PlantStationSettings settings_;
+  rt::MessageInbox<flexloop_msgs::actuator_command_t> commands_;
+  Command u_;
+  flexloop_msgs::sensor_sample_t msg_{};
+  const flexloop_msgs::actuator_command_t* last_answer_ = nullptr;
+  std::int64_t deadline_misses_ = 0;
+  std::int64_t late_answers_ = 0;
+  std::int64_t safe_command_cycles_ = 0;
+  int consecutive_misses_ = 0;
+};
+
+}  // namespace flexloop::hil

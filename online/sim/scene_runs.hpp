@@ -1,0 +1,44 @@
+#pragma once
+// `flexloop sim`'s runs of a loop artefact: the same floor and hardware (same seeds) once with the
+// controller off and once on (a loop without a controller runs once). An artefact whose sizes have
+// a compiled fast path (the metrology frame) runs on it; every other one runs on the general
+// path, sized at start-up. The combinations of plant size, form and effects live in separate
+// translation units (scene_runs_*.cpp) so that they build in parallel.
+#include <functional>
+#include <string>
+
+#include "artefact/loop_artefact.hpp"
+#include "online/sim/closed_loop_run.hpp"
+
+namespace flexloop::sim {
+
+struct BothRuns {
+  RunResult off, on;
+  bool controlled = true;  ///< false: the artefact has no controller, `on` is not run
+};
+
+using ProgressFactory = std::function<std::function<void(long, long)>(const char* what)>;
+
+struct SceneRunOptions {
+  /// Run on the start-up-sized general path even where a compiled size matches (comparisons).
+  bool general = false;
+  bool log_off = false, log_on = false;
+  ProgressFactory progress;
+};
+
+/// @throws flexloop::InputError naming the artefact for what its hardware refuses.
+BothRuns run_artefact(const artefact::LoopArtefact& a, const RunSettings& s,
+                      const SceneRunOptions& o);
+
+namespace detail {
+// One per translation unit: the dense metrology plant (12 states) and its gravity-preloaded
+// variant (24 states) with every effect combination; the other compiled sizes with the floor
+// only; the general path with everything.
+BothRuns run_metrology(const artefact::LoopArtefact&, const RunSettings&, const SceneRunOptions&);
+BothRuns run_metrology_preloaded(const artefact::LoopArtefact&, const RunSettings&,
+                                 const SceneRunOptions&);
+BothRuns run_bare(const artefact::LoopArtefact&, const RunSettings&, const SceneRunOptions&);
+BothRuns run_general(const artefact::LoopArtefact&, const RunSettings&, const SceneRunOptions&);
+}  // namespace detail
+
+}  // namespace flexloop::sim

@@ -1,0 +1,112 @@
+// Machines that are not the metrology frame, end to end through `flexloop hil` (online/hil):
+// built into their loop artefacts, run as plant and controller processes over LCM in a private
+// loopback-only namespace, on the general runtime path (channel counts 2/2/2/2, 6/8/8/8 and
+// 3/2/2/2; 8, 24 and 106 states). Correctness only, no timing bound: every period ran, the
+// messages carried the loop's channel counts (no drop of any kind), the PI answered, a loop with
+// no controller ran its plant alone; and a run recorded with --lcm-log carries the channel map.
+// The flexible arm's plant step at 10 kHz is reported (WARN). Needs root for the namespace;
+// without it each case says so and checks nothing.
+#include <catch2/catch.hpp>
+#include <lcm/lcm-cpp.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <string>
+
+#include "offline/scene/loop_input.hpp"
+#include "online/hil/hil_run.hpp"
+#include "online/hil/lcm_logger.hpp"
+#include "tests/timing/private_network.hpp"
+
+using namespace flexloop;
+using test::in_private_network;
+
+namespace {
+
+hil::HilOptions options(const std::string& scene, double duration_s) {
+  hil::HilOptions o;
+  o.loop.loop_path = scene;
+  o.loop.duration_s = duration_s;
+  o.loop.realtime = {.cpu = 0, .fifo_priority = 80};
+  o.controller_cpu = 1;
+  o.baseline_duration_s = 0.5;
+  o.netns = true;
+  return o;
+}
+
+void check_run(const nlohmann::json& r, const artefact::LoopArtefact& a, double duration_s) {
+  const double cycles = r["cycles"].get<double>();
+  const double periods = r["periods"].get<double>();
+  const double skipped = r["skipped_periods"].get<double>();
+  WARN(a.name << " at " << a.rate_hz << " Hz: " << a.plant.states.size() << " states, cycles "
+              << cycles << ", misses " << r["deadline_misses"] << ", plant compute p50/p99 "
+              << r["plant_compute_ns"]["p50"] << "/" << r["plant_compute_ns"]["p99"]
+              << " ns, controller compute p50 " << r["controller_compute_ns"]["p50"] << " ns");
+  CHECK(periods >= std::round(duration_s * a.rate_hz));
+  CHECK(cycles + skipped == periods);
+  // Malformed or miscounted messages never occur; stale and reordered answers can (a stalled
+  // vCPU delays an answer past its period), and the timing tests judge how often.
+  for (const char* reason : {"decode_failure", "channel_count", "non_finite"})
+    CHECK(r["dropped_messages"][reason] == 0);
+  if (a.controller == artefact::ControllerKind::kNone) {
+    CHECK(r["controller"]["kind"] == "none");
+    // Nobody answers: the plant holds, then applies the zero command from safe_after on.
+    CHECK(r["deadline_misses"].get<double>() == cycles);
+    CHECK(r["safe_command_cycles"].get<double>() == cycles - r["safe_after"].get<double>() + 1);
+  } else {
+    CHECK(r["controller"]["kind"] == "pi_force_feedback");
+    for (const char* reason : {"decode_failure", "channel_count", "non_finite"})
+      CHECK(r["controller"]["dropped_messages"][reason] == 0);
+    // In time for most periods (a shared VM stalls now and then; the timing tests judge that).
+    CHECK(r["controller"]["answered"].get<double>() >= 0.9 * cycles);
+    CHECK(r["deadline_misses"].get<double>() <= 0.1 * cycles);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("hil machines: any channel counts run as plant and controller processes over LCM",
+          "[hil][general]") {
+  for (const char* scene : {"tools/scenes/two_mass_chain.toml", "tools/scenes/payload_bipods.toml",
+                            "tools/scenes/flexible_arm.toml"}) {
+    CAPTURE(scene);
+    const hil::HilOptions o = options(scene, 2);
+    if (!in_private_network(o)) return;
+    const auto a = scene::load_loop(scene);
+    check_run(hil::run_hil(o, a), a, 2);
+  }
+}
+
+TEST_CASE("hil machines: a run recorded with --lcm-log carries its channel map", "[hil][general]") {
+  hil::HilOptions o = options("tools/scenes/payload_bipods.toml", 0.5);
+  if (!in_private_network(o)) return;
+  const auto log = std::filesystem::temp_directory_path() / "flexloop_test_channel_map.lcmlog";
+  std::filesystem::remove(log);
+  o.lcm_log = log.string();
+  const auto a = scene::load_loop(o.loop.loop_path);
+  hil::run_hil(o, a);
+  lcm::LogFile file(log.string(), "r");
+  REQUIRE(file.good());
+  nlohmann::json map;
+  long sensor_events = 0;
+  for (const lcm::LogEvent* e = file.readNextEvent(); e != nullptr; e = file.readNextEvent()) {
+    if (e->channel == hil::kChannelMapChannel) {
+      const auto* text = static_cast<const char*>(e->data);
+      map = nlohmann::json::parse(text, text + e->datalen);
+    }
+    if (e->channel == "FLEXLOOP_SENSOR") ++sensor_events;
+  }
+  std::filesystem::remove(log);
+  // The logger runs beside the loop, unpinned, at normal priority (online/hil/lcm_logger.cpp):
+  // it records the samples (all but those of its first moments and of a stalled vCPU).
+  CHECK(sensor_events >= 0.8 * 0.5 * a.rate_hz);
+  REQUIRE(map.is_object());
+  CHECK(map["format"] == "flexloop channel map");
+  CHECK(map["loop"] == "payload_bipods");
+  CHECK(map["channels"]["sensors"].size() == 8);
+  CHECK(map["channels"]["actuators"].size() == 8);
+  CHECK(map["channels"]["disturbances"].size() == 6);
+  CHECK(map["channels"]["sensors"][0]["name"] == a.channels.sensors[0].name);
+  CHECK(map["channels"]["sensors"][0]["unit"] == a.channels.sensors[0].unit);
+}

@@ -1,0 +1,47 @@
+// `flexloop controller SCENE|LOOP.json` and `flexloop-controller LOOP.json` [--rate HZ]
+// [--wait sleep|hybrid|spin] [--cpu N] [--safe-after N] [--duration S]: the controller process of
+// the real-time loop (online/loop/controller_loop.hpp). Answers every FLEXLOOP_SENSOR sample with a
+// FLEXLOOP_COMMAND until SIGINT / SIGTERM, then prints its counts. Give it the plant's --rate (the
+// PI controller is sampled at it). Refuses to run outside the private network namespace (exit 1).
+#include <cstdio>
+#include <memory>
+
+#include "online/loop/controller_loop.hpp"
+#include "online/loop/latency_json.hpp"
+#include "tools/loop_cli/loop_commands.hpp"
+#include "tools/loop_cli/loop_options_cli.hpp"
+
+namespace flexloop::cli {
+
+namespace {
+
+void run(const LoopArgs& a, const LoopSource& source) {
+  const hil::LoopOptions o = apply_loop_options(a);
+  const hil::ControllerLoopResult r = hil::run_controller_loop(
+      o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
+  hil::print_summary("compute (ns)", *r.compute);
+  hil::print_summary("receive -> send (ns)", *r.response);
+  std::printf(
+      "answered %lld, superseded %lld, plant restarts followed %lld, bumpless resumes %lld, "
+      "dropped %s\n",
+      static_cast<long long>(r.answered), static_cast<long long>(r.superseded),
+      static_cast<long long>(r.resyncs), static_cast<long long>(r.resumes),
+      hil::drops_json(r.drops).dump().c_str());
+}
+
+}  // namespace
+
+void configure_controller_command(CLI::App* cmd, const LoopSource& source) {
+  auto args = std::make_shared<LoopArgs>();
+  add_loop_options(cmd, *args, 1, source.help);
+  cmd->add_option("--duration", args->options.duration_s,
+                  "Stop after this long [s] (default: until SIGINT / SIGTERM)")
+      ->check(CLI::PositiveNumber);
+  cmd->footer(
+      "Example (inside tools/netns-run -- bash, with the plant started afterwards):\n"
+      "  " +
+      source.prefix + "controller " + source.example + " --rate 1000 --wait hybrid");
+  cmd->callback([args, source] { run(*args, source); });
+}
+
+}  // namespace flexloop::cli

@@ -1,0 +1,32 @@
+#include "tools/loop_cli/loop_commands.hpp"
+
+#include <cstdio>
+#include <exception>
+
+#include "common/input_error.hpp"
+
+namespace flexloop::cli {
+
+LoopSource artefact_source() {
+  return {"flexloop-", "Loop artefact (JSON, written by flexloop build SCENE -o LOOP.json)",
+          "loop.json", [](const std::string& path, const artefact::LoopOverrides& o) {
+            return artefact::read_loop_artefact(path, o);
+          }};
+}
+
+int run_command_line(CLI::App& app, int argc, char** argv) {
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace flexloop::cli

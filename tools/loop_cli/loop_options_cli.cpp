@@ -1,0 +1,67 @@
+#include "tools/loop_cli/loop_options_cli.hpp"
+
+namespace flexloop::cli {
+
+void add_wait_options(CLI::App* cmd, std::string& wait, double& spin_margin_us) {
+  cmd->add_option("--wait", wait,
+                  "How to wait for a deadline: sleep | hybrid (sleep, then spin) | spin")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"sleep", "hybrid", "spin"}));
+  cmd->add_option("--spin-margin-us", spin_margin_us,
+                  "hybrid: sleep until this long before the deadline, then spin [us]")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1e6));
+}
+
+void add_receive_path_option(CLI::App* cmd, std::string& path) {
+  cmd->add_option("--receive-path", path,
+                  "Who reads the LCM socket: lcm-thread (LCM's receive thread, handing over "
+                  "through a pipe) | direct (the loop thread reads the multicast socket itself)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"lcm-thread", "direct"}));
+}
+
+void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock) {
+  cmd->add_option("--cpu", cpu, "CPU to pin to (-1: do not pin)")
+      ->capture_default_str()
+      ->check(CLI::Range(-1, 1023));
+  cmd->add_option("--priority", priority,
+                  "SCHED_FIFO priority 1..99 when permitted (0: normal scheduling)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 99));
+  cmd->add_flag("--no-mlock", no_mlock, "Do not lock memory");
+}
+
+void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::string& loop_help) {
+  hil::LoopOptions& o = a.options;
+  o.realtime.cpu = default_cpu;
+  cmd->add_option("loop", o.loop_path, loop_help)->required()->check(CLI::ExistingFile);
+  cmd->add_option(
+         "--rate", o.rate_hz,
+         "Loop rate [Hz] (default: the scene's discretisation rate; an artefact runs at its own)")
+      ->check(CLI::Range(1.0, 1e6));
+  add_wait_options(cmd, a.wait, a.spin_margin_us);
+  add_receive_path_option(cmd, a.receive_path);
+  add_realtime_options(cmd, o.realtime.cpu, o.realtime.fifo_priority, a.no_mlock);
+  cmd->add_option("--safe-after", o.safe_after,
+                  "Consecutive missed answers before the plant applies the safe (zero-force) "
+                  "command; give plant and controller the same value")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1'000'000));
+  cmd->add_option("--url", o.url,
+                  "LCM URL (default: $LCM_DEFAULT_URL, else ttl=0 multicast on loopback)");
+  cmd->add_option("--link", o.link,
+                  "Allow this veth interface besides loopback (two namespaces joined by a veth "
+                  "pair with private addresses; ttl <= 1)");
+}
+
+hil::LoopOptions apply_loop_options(const LoopArgs& a) {
+  hil::LoopOptions o = a.options;
+  o.wait = rt::parse_wait_mode(a.wait);
+  o.receive_path = rt::parse_receive_path(a.receive_path);
+  o.spin_margin_ns = static_cast<std::int64_t>(a.spin_margin_us * 1e3);
+  o.realtime.lock_memory = !a.no_mlock;
+  return o;
+}
+
+}  // namespace flexloop::cli

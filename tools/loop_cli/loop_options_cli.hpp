@@ -1,0 +1,34 @@
+#pragma once
+// Command-line options shared by `flexloop plant`, `controller` and `hil` and the online programs
+// flexloop-plant and flexloop-controller (online/loop/loop_options.hpp): --rate, --wait,
+// --spin-margin-us, --cpu, --priority, --no-mlock,
+// --safe-after, --url, --link. apply_loop_options() turns the parsed text into LoopOptions.
+#include <CLI/CLI.hpp>
+#include <string>
+
+#include "online/loop/loop_options.hpp"
+
+namespace flexloop::cli {
+
+struct LoopArgs {
+  hil::LoopOptions options;
+  std::string wait = rt::to_string(hil::LoopOptions{}.wait);
+  std::string receive_path = rt::to_string(hil::LoopOptions{}.receive_path);
+  double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
+  bool no_mlock = false;
+};
+
+/// --wait sleep|hybrid|spin and --spin-margin-us (also used by `flexloop baseline`).
+void add_wait_options(CLI::App* cmd, std::string& wait, double& spin_margin_us);
+/// --receive-path lcm-thread|direct (also used by `flexloop baseline pingpong`).
+void add_receive_path_option(CLI::App* cmd, std::string& path);
+/// --cpu, --priority, --no-mlock (also used by `flexloop baseline`).
+void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock);
+
+/// Adds the shared options; default_cpu is the process's usual core (plant 0, controller 1);
+/// loop_help says what the positional `loop` file may be.
+void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::string& loop_help);
+/// The options as parsed (wait mode, margin, memory locking applied).
+hil::LoopOptions apply_loop_options(const LoopArgs& a);
+
+}  // namespace flexloop::cli

@@ -1,0 +1,68 @@
+// `flexloop plant SCENE|LOOP.json` and `flexloop-plant LOOP.json` [--rate HZ] [--duration S]
+// [--wait sleep|hybrid|spin] [--cpu N] [--safe-after N] [--json OUT.json]: the plant process of
+// the real-time loop
+// (online/loop/plant_loop.hpp). Owns the clock, publishes FLEXLOOP_SENSOR every period and
+// FLEXLOOP_STATS every second, applies the answers from FLEXLOOP_COMMAND, prints the figures at
+// the end. Refuses to run outside the private network namespace (exit 1).
+#include <cstdio>
+#include <memory>
+
+#include "common/json_document.hpp"
+#include "online/loop/latency_json.hpp"
+#include "online/loop/plant_loop.hpp"
+#include "tools/loop_cli/loop_commands.hpp"
+#include "tools/loop_cli/loop_options_cli.hpp"
+
+namespace flexloop::cli {
+
+namespace {
+
+struct PlantArgs : LoopArgs {
+  std::string json;
+};
+
+void run(const PlantArgs& a, const LoopSource& source) {
+  const hil::LoopOptions o = apply_loop_options(a);
+  const hil::PlantLoopResult r = hil::run_plant_loop(
+      o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
+  const hil::LoopAccounts& acc = r.accounts;
+  hil::print_summary("round trip (ns)", *acc.round_trip);
+  hil::print_summary("wakeup lateness (ns)", *acc.wakeup_lateness);
+  hil::print_summary("plant compute (ns)", *acc.plant_compute);
+  hil::print_summary("controller compute", *acc.controller_compute);
+  std::printf(
+      "cycles %lld, deadline misses %lld, late answers %lld, overruns %lld, safe-command cycles "
+      "%lld, dropped %lld, stats published %lld\n",
+      static_cast<long long>(r.cycles), static_cast<long long>(r.deadline_misses),
+      static_cast<long long>(r.late_answers), static_cast<long long>(r.overruns),
+      static_cast<long long>(r.safe_command_cycles), static_cast<long long>(r.drops.total()),
+      static_cast<long long>(r.stats_published));
+  if (!a.json.empty()) {
+    write_json_atomically(a.json, hil::plant_result_json(r, o, false));
+    std::printf("wrote %s\n", a.json.c_str());
+  }
+}
+
+}  // namespace
+
+void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
+  auto args = std::make_shared<PlantArgs>();
+  add_loop_options(cmd, *args, 0, source.help);
+  cmd->add_option("--duration", args->options.duration_s,
+                  "Run time [s] (default: the loop's [run] duration)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--json", args->json, "Write the figures as JSON to this file");
+  cmd->footer(
+      "Example (start the controller first, in the same namespace), inside one\n"
+      "tools/netns-run -- bash:\n"
+      "  " +
+      source.prefix + "controller " + source.example +
+      " --rate 1000 &\n"
+      "  " +
+      source.prefix + "plant " + source.example +
+      " --rate 1000 --duration 10\n"
+      "  kill %1");
+  cmd->callback([args, source] { run(*args, source); });
+}
+
+}  // namespace flexloop::cli
