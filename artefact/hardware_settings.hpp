@@ -7,6 +7,10 @@
 
 namespace flexloop::artefact {
 
+/// The order of the floor's discrete shaping filter an artefact carries (the online floor
+/// generator is compiled for it).
+inline constexpr int kFloorFilterOrder = 9;
+
 /// Stationary random floor acceleration on every disturbance input.
 struct FloorSettings {
   std::string spectrum = "white";  ///< "white" (band-limited by the sample rate) or "VC-A".."VC-E"

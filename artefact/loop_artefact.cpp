@@ -12,10 +12,8 @@ using nlohmann::json;
 
 namespace {
 
-// The floor filter's order the online floor generator is compiled for
-// (plant/runtime/effects/floor_generator.hpp is instantiated with it).
-constexpr int kFloorFilterOrder = 9;
-constexpr int kMaxDelaySamples = 32;
+// The longest delay in samples the effects and the PI's feedthrough removal follow.
+constexpr int kMaxDelaySamples = controller::runtime::kMaxFeedthroughDelay;
 
 const char* const kChannelKinds[] = {"disturbances", "actuators", "performance", "sensors"};
 

@@ -9,6 +9,9 @@
 
 namespace flexloop::scene {
 
+static_assert(plant::lti::kFloorFilterOrder == artefact::kFloorFilterOrder,
+              "the floor filter the offline design makes is the one the artefact carries");
+
 std::string channel_unit(const std::string& channel) {
   const auto colon = channel.find(':');
   const std::string kind = channel.substr(0, colon), target = channel.substr(colon + 1);

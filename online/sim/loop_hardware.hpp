@@ -32,8 +32,7 @@ namespace fx = plant::runtime::effects;
 using artefact::has_effects;
 using plant::runtime::NoEffect;
 
-/// The order of the floor's shaping filter the floor generator is compiled for.
-inline constexpr int kFloorFilterOrder = 9;
+using artefact::kFloorFilterOrder;
 
 template <int N>
 fx::SensorParameters<N> sensor_parameters(const artefact::SensorEffect& e, Eigen::Index n = N) {
