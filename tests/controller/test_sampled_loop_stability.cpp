@@ -143,7 +143,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "sampled loop: the suggested rate and omega_d run bounded in the runtime loop; just "
+    "sampled loop: the suggested rate and omega_d run bounded in the runtime loop, just "
     "beyond them it diverges",
     "[controller][sampled]") {
   const auto remedy = scene::stable_sampled_loop_remedy(one_strut());
@@ -254,7 +254,7 @@ TEST_CASE("sampled loop: without hardware effects it is close_loop_sampled's loo
   CHECK(at_zero >= 6);
 }
 
-TEST_CASE("sampled loop: the metrology frame's scenes pass; their integrator poles are marginal",
+TEST_CASE("sampled loop: the metrology frame's scenes pass, their integrator poles are marginal",
           "[controller][sampled]") {
   // The default scene at 10 kHz: the pure integrator's six poles at z = 1 (marginal, as at s = 0
   // in the continuous loop), every other pole strictly inside.

@@ -96,7 +96,7 @@ TEST_CASE("forward euler is accepted just above the rate the message names, refu
   CHECK_THAT(msg, Contains(expected));
 }
 
-TEST_CASE("undamped modes: euler has no stable rate; zoh keeps |z| = 1; unstable plants pass") {
+TEST_CASE("undamped modes: euler has no stable rate, zoh keeps |z| = 1, unstable plants pass") {
   const double w = kTwoPi * 50;
   Eigen::MatrixXd A(2, 2), B(2, 1), C(1, 2), D(1, 1);
   A << 0, 1, -w * w, 0;
@@ -215,7 +215,7 @@ TEST_CASE("a static gain (no states) keeps D under every method") {
   }
 }
 
-TEST_CASE("method names parse and print; unknown names list the valid ones") {
+TEST_CASE("method names parse and print, unknown names list the valid ones") {
   for (const char* name : {"zoh", "foh", "tustin", "euler", "backward-euler"})
     CHECK(to_string(parse_discretisation_method(name)) == name);
   CHECK_THROWS_WITH(parse_discretisation_method("bilinear"),

@@ -198,7 +198,7 @@ TEST_CASE("floor generator: same seed same signal, other seed other signal, floa
   }
 }
 
-TEST_CASE("floor generator: stationary start has the stationary variance; at rest starts at 0") {
+TEST_CASE("floor generator: stationary start has the stationary variance, at rest starts at 0") {
   const auto d = discretise_floor_filter(design_floor_filter(12.5e-6), 1e-3);
   using Gen = FloorGenerator<double, 1, kFloorFilterOrder>;
   const Eigen::MatrixXd p = Gen::stationary_covariance(d.sys.A, d.sys.B);

@@ -35,7 +35,7 @@ TEST_CASE("quantiser: grid values, half-LSB neighbourhoods and ties are exact (m
   CHECK(adc.step(both(-0.0))(0) == 0.0);
 }
 
-TEST_CASE("quantiser: clips at the end codes, ±inf included; NaN stays NaN") {
+TEST_CASE("quantiser: clips at the end codes, ±inf included, NaN stays NaN") {
   const auto adc = Quantiser<double, 2>::from_parameters(8, both(2.0));
   const double q = 1.0 / 128;
   CHECK(adc.step(both(1.0))(0) == 127 * q);  // +full scale is beyond the last code
@@ -48,7 +48,7 @@ TEST_CASE("quantiser: clips at the end codes, ±inf included; NaN stays NaN") {
   CHECK(std::isnan(adc.step(both(std::numeric_limits<double>::quiet_NaN()))(0)));
 }
 
-TEST_CASE("quantiser: per-channel ranges; a reading is a level within q/2 (16 bits, 20 N range)") {
+TEST_CASE("quantiser: per-channel ranges, a reading is a level within q/2 (16 bits, 20 N range)") {
   ChannelVector<double, 2> range;
   range << 20.0, 3.0;
   const auto adc = Quantiser<double, 2>::from_parameters(16, range);

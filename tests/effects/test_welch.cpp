@@ -45,7 +45,7 @@ TEST_CASE("welch: white noise has the level 2 sigma^2 / fs") {
   CHECK(std::abs(level / (2 * sigma * sigma / fs) - 1) <= 5 * 1.5 / std::sqrt(double(n)));
 }
 
-TEST_CASE("welch: cross spectrum of y = 3x is 3 P_xx; P_xx is the real cross spectrum of x, x") {
+TEST_CASE("welch: cross spectrum of y = 3x is 3 P_xx, P_xx is the real cross spectrum of x, x") {
   std::mt19937_64 rng(9);
   std::normal_distribution<double> normal;
   Eigen::VectorXd x(5000);
@@ -56,7 +56,9 @@ TEST_CASE("welch: cross spectrum of y = 3x is 3 P_xx; P_xx is the real cross spe
   const auto self = welch_csd(x, x, 100, o);
   CHECK((pxy.csd - 3 * pxx.psd.cast<std::complex<double>>()).norm() <= 1e-12 * pxx.psd.norm());
   CHECK((self.csd.real() - pxx.psd).norm() <= 1e-14 * pxx.psd.norm());
-  CHECK(self.csd.imag().norm() == 0);
+  // conj(X) X is real; its computed imaginary part, re*im - im*re, is rounding (a fused
+  // multiply-add rounds one product and not the other).
+  CHECK(self.csd.imag().norm() <= 1e-15 * pxx.psd.norm());
   CHECK(pxy.segments == pxx.segments);
 }
 

@@ -22,7 +22,7 @@
 using namespace flexloop;
 using flexloop_msgs::sensor_sample_t;
 
-TEST_CASE("LCM URLs: group, port and receive buffer are read; a bad URL is refused") {
+TEST_CASE("LCM URLs: group, port and receive buffer are read, a bad URL is refused") {
   const rt::UdpmAddress a =
       rt::parse_udpm_url("udpm://239.255.76.67:7667?ttl=0&recv_buf_size=2097152");
   CHECK(a.group == "239.255.76.67");

@@ -54,7 +54,7 @@ double held_disagreement(Plant& plant, test::PlantReference ref, int steps) {
 }  // namespace
 
 TEST_CASE(
-    "held inputs: dense and modal metrology plant give C x + D [w; h_prev] of a dynamic-size "
+    "held inputs: dense and modal metrology plant give C x + D [w, h_prev] of a dynamic-size "
     "reference to rounding over 10^4 samples",
     "[runtime][dense][modal][held][metrology]") {
   const auto& d = test::metrology().s.plant;

