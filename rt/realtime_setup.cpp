@@ -1,5 +1,7 @@
 #include "rt/realtime_setup.hpp"
 
+#include "rt/denormals.hpp"
+
 #include <alloca.h>
 #include <dirent.h>
 #include <fcntl.h>
@@ -148,7 +150,7 @@ CpuDmaLatencyHold::~CpuDmaLatencyHold() {
 
 std::string RealtimeReport::describe() const {
   std::string s;
-  for (const SetupStatus* st : {&affinity, &memory, &priority})
+  for (const SetupStatus* st : {&affinity, &memory, &priority, &denormals})
     if (!st->message.empty()) s += (st->ok ? "  ok    " : "  WARN  ") + st->message + "\n";
   return s;
 }
@@ -167,6 +169,7 @@ RealtimeReport apply_realtime_setup(const RealtimeOptions& options) {
                                                          : std::string("SCHED_OTHER (asked); ");
     r.priority = {options.fifo_priority == 0 && slack.ok, normal + slack.message};
   }
+  r.denormals = flush_denormals_to_zero();
   return r;
 }
 

@@ -1,9 +1,9 @@
 #pragma once
 // Small single-purpose helpers that make a thread fit for a hard-rate loop: CPU affinity,
-// memory locking with a prefaulted stack, SCHED_FIFO priority when permitted, and holding
-// /dev/cpu_dma_latency at 0 (as cyclictest does). They run before the loop, may allocate, and
-// never throw for a refused privilege: each returns a SetupStatus whose message says what was
-// done or why not, so a process can carry on without real-time rights and say so.
+// memory locking with a prefaulted stack, SCHED_FIFO priority when permitted, denormals flushed
+// to zero, and holding /dev/cpu_dma_latency at 0 (as cyclictest does). They run before the loop,
+// may allocate, and never throw for a refused privilege: each returns a SetupStatus whose message
+// says what was done or why not, so a process can carry on without real-time rights and say so.
 //
 // Start-up order (DESIGN.md §11): non-real-time set-up (open files, LCM, allocate buffers), then
 // pin, mlockall, prefault the stack, and only then raise the priority -- apply_realtime_setup()
@@ -86,13 +86,15 @@ struct RealtimeReport {
   SetupStatus affinity;
   SetupStatus memory;
   SetupStatus priority;
+  SetupStatus denormals;  ///< always applied: rt/denormals.hpp
   /// True when SCHED_FIFO was asked for and granted.
   bool fifo = false;
   /// One line per step, e.g. for a process's start-up banner.
   std::string describe() const;
 };
 
-/// Pin, lock and prefault, then raise the priority, for the calling thread, in that order.
+/// Pin, lock and prefault, then raise the priority, for the calling thread, in that order; and
+/// flush denormals to zero (rt/denormals.hpp).
 RealtimeReport apply_realtime_setup(const RealtimeOptions& options);
 
 }  // namespace flexloop::rt

@@ -5,8 +5,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 
 #include "common/input_error.hpp"
+#include "offline/pipeline/numerical_health.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "offline/report/csv_writer.hpp"
 #include "offline/report/plot.hpp"
@@ -48,38 +50,26 @@ std::pair<double, double> peak(const Eigen::MatrixXd& sv, const std::vector<doub
 
 }  // namespace
 
-void analyse_scene(const std::string& scene_path, const std::string& out_dir,
-                   const FrequencyGrid& grid) {
-  const scene::Scene sc = scene::load_scene(scene_path);
-  const scene::ScenePlant p = scene::build_scene_plant(sc);
-  std::filesystem::create_directories(out_dir);
-  const std::string dir = out_dir + "/";
+nlohmann::json static_stability_json(const plant::lti::StaticStability& s) {
+  const double lc = s.critical_multiplier;
+  return {{"stable", s.stable()},
+          {"divergent_modes", s.divergent},
+          {"flutter_modes", s.flutter},
+          {"growth_rate_1_per_s", s.growth_rate},
+          {"preloaded", s.preloaded},
+          {"critical_buckling_multiplier", lc >= 0 ? nlohmann::json(lc) : nlohmann::json(nullptr)},
+          {"preload_over_first_buckling_load",
+           lc > 0 ? nlohmann::json(1.0 / lc) : nlohmann::json(nullptr)},
+          {"message", plant::lti::to_string(s)}};
+}
 
-  std::printf("scene %s: model %s, %ld states, %ld inputs, %ld outputs\n", sc.name.c_str(),
-              sc.model_path.c_str(), static_cast<long>(p.plant.nx()),
-              static_cast<long>(p.plant.nu()), static_cast<long>(p.plant.ny()));
-  nlohmann::json j;
-  std::printf("passive natural frequencies%s [Hz]:",
-              sc.gravity_preload ? " with the gravity preload" : "");
-  for (Eigen::Index i = 0; i < p.natural_frequencies_hz.size(); ++i)
-    std::printf(" %.4f", p.natural_frequencies_hz(i));
-  std::printf("\n");
-  j["natural_frequencies_hz"] = to_vector(p.natural_frequencies_hz);
-  if (sc.gravity_preload) {
-    // The same scene unloaded, to show what the preload (G-bar) does to each mode.
-    scene::Scene unloaded = sc;
-    unloaded.gravity_preload = false;
-    const auto u = scene::build_scene_plant(unloaded);
-    std::printf("gravity preload: static equilibrium in %d Newton steps; shift per mode [Hz]:",
-                p.equilibrium_iterations);
-    const Eigen::VectorXd shift = p.natural_frequencies_hz - u.natural_frequencies_hz;
-    for (Eigen::Index i = 0; i < shift.size(); ++i) std::printf(" %+.3e", shift(i));
-    std::printf("\n");
-    j["natural_frequencies_unloaded_hz"] = to_vector(u.natural_frequencies_hz);
-    j["gravity_frequency_shift_hz"] = to_vector(shift);
-  }
+namespace {
 
-  const auto& c = sc.controller;
+// The PI design, the continuous loop's poles and stability, and the loop as it runs (sampled):
+// printed and put into j. Returns the sampled loop's spectral radius when it was formed.
+std::optional<double> analyse_loop(const scene::ScenePlant& p, nlohmann::json& j) {
+  std::optional<double> loop_radius;
+  const auto& c = p.scene.controller;
   std::printf("PI force feedback: omega_d = 2 pi x %g Hz, zeta = %g, leak %s\n", c.omega_d_hz,
               c.zeta, c.leak_hz > 0 ? (std::to_string(c.leak_hz) + " Hz").c_str() : "none");
   print_matrix("K_P", p.gains.K_P);
@@ -115,7 +105,7 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   if (min_leak && *min_leak > 0)
     std::printf(
         "; needs leak_hz > %.4g (has %g)%s\n", *min_leak, c.leak_hz,
-        sc.gravity_preload ? ": the gravity preload's geometric stiffness is negative" : "");
+        p.scene.gravity_preload ? ": the gravity preload's geometric stiffness is negative" : "");
   else if (min_leak)
     std::printf(p.loop.stable() ? " without a leak\n"
                                 : "; it would be without a leak: check omega_d_hz and zeta\n");
@@ -129,6 +119,7 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
     const scene::SampledLoop s = scene::sampled_loop(p);
     const auto& st = s.stability;
     sampled_stable = st.stable();
+    loop_radius = st.spectral_radius;
     const int delay = s.hardware.feedthrough_delay;
     std::printf(
         "sampled loop at %g Hz (%s, the PI as it runs, the held command%s): spectral "
@@ -184,9 +175,76 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   j["floor_integrator_states"] = floor_states;
   j["minimum_stable_leak_hz"] = min_leak ? nlohmann::json(*min_leak) : nlohmann::json(nullptr);
   j["closed_loop_poles"] = pj;
+  return loop_radius;
+}
+
+}  // namespace
+
+void analyse_scene(const std::string& scene_path, const std::string& out_dir,
+                   const FrequencyGrid& grid) {
+  const scene::Scene sc = scene::load_scene(scene_path);
+  const scene::ScenePlant p = scene::build_scene_plant(sc);
+  std::filesystem::create_directories(out_dir);
+  const std::string dir = out_dir + "/";
+
+  std::printf("scene %s: model %s, %ld states, %ld inputs, %ld outputs\n", sc.name.c_str(),
+              sc.model_path.c_str(), static_cast<long>(p.plant.nx()),
+              static_cast<long>(p.plant.nu()), static_cast<long>(p.plant.ny()));
+  nlohmann::json j;
+  const auto write_analysis_json = [&] {
+    j["provenance"] = make_provenance(scene_path, "flexloop analyse");
+    j["provenance"]["model"] = make_provenance(sc.model_path, "flexloop analyse");
+    lti::write_json_atomically(dir + "analysis.json", j);
+  };
+  std::printf("passive natural frequencies%s [Hz]:",
+              sc.gravity_preload ? " with the gravity preload" : "");
+  for (Eigen::Index i = 0; i < p.natural_frequencies_hz.size(); ++i)
+    std::printf(" %.4f", p.natural_frequencies_hz(i));
+  std::printf("\n");
+  j["natural_frequencies_hz"] = to_vector(p.natural_frequencies_hz);
+  if (sc.gravity_preload) {
+    // The same scene unloaded, to show what the preload (G-bar) does to each mode.
+    scene::Scene unloaded = sc;
+    unloaded.gravity_preload = false;
+    const auto u = scene::build_scene_plant(unloaded);
+    std::printf("gravity preload: static equilibrium in %d Newton steps; shift per mode [Hz]:",
+                p.equilibrium_iterations);
+    const Eigen::VectorXd shift = p.natural_frequencies_hz - u.natural_frequencies_hz;
+    for (Eigen::Index i = 0; i < shift.size(); ++i) std::printf(" %+.3e", shift(i));
+    std::printf("\n");
+    j["natural_frequencies_unloaded_hz"] = to_vector(u.natural_frequencies_hz);
+    j["gravity_frequency_shift_hz"] = to_vector(shift);
+  }
+  j["static_stability"] = static_stability_json(p.statics);
+  if (!p.statics.stable()) {
+    // The loop commands refuse this plant (scene::require_stable_loop): no loop to analyse.
+    std::printf("passive plant: UNSTABLE: %s\n", plant::lti::to_string(p.statics).c_str());
+    std::printf("build, sim, plant, controller and hil refuse this scene; no loop analysed\n");
+    j["open_loop"] = lti::to_json(p.plant);
+    write_analysis_json();
+    std::printf("wrote %sanalysis.json\n", dir.c_str());
+    return;
+  }
+  std::printf("passive plant: %s\n", plant::lti::to_string(p.statics).c_str());
+
+  const bool controlled = scene::has_controller(p);
+  std::optional<double> loop_radius;
+  if (controlled)
+    loop_radius = analyse_loop(p, j);
+  else
+    std::printf("controller: none (the passive plant alone: no design, no closed loop)\n");
   j["open_loop"] = lti::to_json(p.plant);
-  j["controller"] = lti::to_json(p.controller);
-  j["closed_loop"] = lti::to_json(p.closed_loop);
+  if (controlled) {
+    j["controller"] = lti::to_json(p.controller);
+    j["closed_loop"] = lti::to_json(p.closed_loop);
+  }
+  try {
+    const auto health = numerical_health(p, scene::sample_scene(p).plant, loop_radius);
+    print_health(health);
+    j["numerical_health"] = health_json(health);
+  } catch (const InputError& e) {
+    std::printf("numerical health: the plant is not sampled: %s\n", e.what());
+  }
 
   // Singular values of the passive floor -> frame path G11 and of the closed loop T.
   const auto f = lti::log_frequency_grid_hz(grid.f_min_hz, grid.f_max_hz, grid.points);
@@ -197,8 +255,11 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   g11.inputs.resize(static_cast<std::size_t>(p.partition.disturbances));
   g11.outputs.resize(static_cast<std::size_t>(p.partition.performance));
   const auto G = lti::frequency_response(g11, f);
-  const auto T = lti::frequency_response(p.closed_loop, f);
-  const Eigen::MatrixXd sv_open = lti::singular_values(G), sv_closed = lti::singular_values(T);
+  // The closed loop's responses only when there is one (a scene without a controller: the
+  // passive machine alone).
+  const auto T = controlled ? lti::frequency_response(p.closed_loop, f) : decltype(G)();
+  const Eigen::MatrixXd sv_open = lti::singular_values(G);
+  const Eigen::MatrixXd sv_closed = controlled ? lti::singular_values(T) : Eigen::MatrixXd();
 
   std::vector<std::string> header{"frequency_hz"};
   std::vector<std::vector<double>> cols{f};
@@ -210,12 +271,13 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
       cols.push_back(col);
     }
   report::write_csv_columns(dir + "singular_values.csv", header, cols);
+  std::vector<report::SigmaSeries> systems{{"open loop (passive)", f, sv_open, "lines lw 2 dt 1"}};
+  if (controlled)
+    systems.push_back({"closed loop (PI force feedback)", f, sv_closed, "lines lw 2 dt 2"});
   report::plot_singular_values(
       {sc.name + ": floor acceleration -> frame acceleration, singular values", "", "", true,
        false},
-      {{"open loop (passive)", f, sv_open, "lines lw 2 dt 1"},
-       {"closed loop (PI force feedback)", f, sv_closed, "lines lw 2 dt 2"}},
-      dir + "singular_values.png");
+      systems, dir + "singular_values.png");
 
   // Per channel: disturbance i -> performance output i.
   const Eigen::Index n = std::min(p.partition.disturbances, p.partition.performance);
@@ -224,52 +286,58 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   std::vector<report::Series> series;
   nlohmann::json peaks = nlohmann::json::array();
   for (Eigen::Index i = 0; i < n; ++i) {
-    const std::string name = p.closed_loop.outputs[i] + " / " + p.closed_loop.inputs[i];
-    std::vector<double> open, closed;
-    for (std::size_t k = 0; k < f.size(); ++k)
-      open.push_back(db(std::abs(G[k](i, i)))), closed.push_back(db(std::abs(T[k](i, i))));
-    th.push_back(name + " open [dB]");
-    th.push_back(name + " closed [dB]");
-    tc.push_back(open);
-    tc.push_back(closed);
+    const std::string name = g11.outputs[i] + " / " + g11.inputs[i];
     const std::string colour = " lc " + std::to_string(i + 1);
+    std::vector<double> open;
+    for (std::size_t k = 0; k < f.size(); ++k) open.push_back(db(std::abs(G[k](i, i))));
+    th.push_back(name + " open [dB]");
+    tc.push_back(open);
     series.push_back({name + " open", f, open, "lines lw 2 dt 1" + colour});
+    if (!controlled) continue;
+    std::vector<double> closed;
+    for (std::size_t k = 0; k < f.size(); ++k) closed.push_back(db(std::abs(T[k](i, i))));
+    th.push_back(name + " closed [dB]");
+    tc.push_back(closed);
     series.push_back({name + " closed", f, closed, "lines lw 2 dt 2" + colour});
   }
   report::write_csv_columns(dir + "transmissibility.csv", th, tc);
-  report::plot_lines({sc.name + ": per-channel floor -> frame transmissibility (solid open, "
-                                "dashed closed)",
+  report::plot_lines({sc.name + (controlled ? ": per-channel floor -> frame transmissibility "
+                                              "(solid open, dashed closed)"
+                                            : ": per-channel floor -> frame transmissibility"),
                       "frequency [Hz]", "|T_ii| [dB]", true, false, 1200, 700},
                      series, dir + "transmissibility.png");
 
-  // What the controller does at each passive resonance (responses evaluated exactly there).
-  std::vector<double> fr(p.natural_frequencies_hz.data(),
-                         p.natural_frequencies_hz.data() + p.natural_frequencies_hz.size());
-  const Eigen::MatrixXd at_open = lti::singular_values(lti::frequency_response(g11, fr));
-  const Eigen::MatrixXd at_closed =
-      lti::singular_values(lti::frequency_response(p.closed_loop, fr));
-  std::printf("at the passive resonances: largest singular value open -> closed loop\n");
-  nlohmann::json at = nlohmann::json::array();
-  for (std::size_t i = 0; i < fr.size(); ++i) {
-    const double o = db(at_open(static_cast<Eigen::Index>(i), 0)),
-                 cl = db(at_closed(static_cast<Eigen::Index>(i), 0));
-    std::printf("  %8.3f Hz  %7.1f dB -> %7.1f dB  (%+.1f dB)\n", fr[i], o, cl, cl - o);
-    at.push_back({{"frequency_hz", fr[i]}, {"open_db", o}, {"closed_db", cl}});
-  }
-  j["sigma_max_at_resonances"] = at;
   const auto [open_peak, open_f] = peak(sv_open, f);
-  const auto [closed_peak, closed_f] = peak(sv_closed, f);
-  std::printf(
-      "largest singular value: open loop peak %.1f dB at %.2f Hz, closed loop peak %.1f "
-      "dB at %.2f Hz\n",
-      db(open_peak), open_f, db(closed_peak), closed_f);
-  j["sigma_max_peak"] = {{"open_db", db(open_peak)},
-                         {"open_hz", open_f},
-                         {"closed_db", db(closed_peak)},
-                         {"closed_hz", closed_f}};
-  j["provenance"] = make_provenance(scene_path, "flexloop analyse");
-  j["provenance"]["model"] = make_provenance(sc.model_path, "flexloop analyse");
-  lti::write_json_atomically(dir + "analysis.json", j);
+  if (!controlled) {
+    std::printf("largest singular value: peak %.1f dB at %.2f Hz\n", db(open_peak), open_f);
+    j["sigma_max_peak"] = {{"open_db", db(open_peak)}, {"open_hz", open_f}};
+  } else {
+    // What the controller does at each passive resonance (responses evaluated exactly there).
+    std::vector<double> fr(p.natural_frequencies_hz.data(),
+                           p.natural_frequencies_hz.data() + p.natural_frequencies_hz.size());
+    const Eigen::MatrixXd at_open = lti::singular_values(lti::frequency_response(g11, fr));
+    const Eigen::MatrixXd at_closed =
+        lti::singular_values(lti::frequency_response(p.closed_loop, fr));
+    std::printf("at the passive resonances: largest singular value open -> closed loop\n");
+    nlohmann::json at = nlohmann::json::array();
+    for (std::size_t i = 0; i < fr.size(); ++i) {
+      const double o = db(at_open(static_cast<Eigen::Index>(i), 0)),
+                   cl = db(at_closed(static_cast<Eigen::Index>(i), 0));
+      std::printf("  %8.3f Hz  %7.1f dB -> %7.1f dB  (%+.1f dB)\n", fr[i], o, cl, cl - o);
+      at.push_back({{"frequency_hz", fr[i]}, {"open_db", o}, {"closed_db", cl}});
+    }
+    j["sigma_max_at_resonances"] = at;
+    const auto [closed_peak, closed_f] = peak(sv_closed, f);
+    std::printf(
+        "largest singular value: open loop peak %.1f dB at %.2f Hz, closed loop peak %.1f "
+        "dB at %.2f Hz\n",
+        db(open_peak), open_f, db(closed_peak), closed_f);
+    j["sigma_max_peak"] = {{"open_db", db(open_peak)},
+                           {"open_hz", open_f},
+                           {"closed_db", db(closed_peak)},
+                           {"closed_hz", closed_f}};
+  }
+  write_analysis_json();
   std::printf(
       "wrote %s{analysis.json, singular_values.csv, singular_values.png, "
       "transmissibility.csv, transmissibility.png}\n",

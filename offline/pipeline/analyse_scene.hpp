@@ -1,9 +1,17 @@
 #pragma once
 // `flexloop analyse SCENE`: the passive machine, the PI force-feedback design and the closed
-// loop of a scene (DESIGN.md §4), printed and written to a directory.
+// loop of a scene (DESIGN.md §4), printed and written to a directory. A statically unstable
+// plant (a preload beyond buckling) is reported with its modes and nothing further.
+#include <nlohmann/json.hpp>
 #include <string>
 
+#include "plant/lti/modal_analysis.hpp"
+
 namespace flexloop::cli {
+
+/// analysis.json's "static_stability" (both analyse paths): the verdict, its figures and the
+/// sentence plant::lti::to_string prints.
+nlohmann::json static_stability_json(const plant::lti::StaticStability& s);
 
 struct FrequencyGrid {
   double f_min_hz, f_max_hz;

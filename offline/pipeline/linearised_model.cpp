@@ -10,7 +10,7 @@ namespace flexloop::cli {
 LinearisedModel linearise_model_file(const std::string& path, std::vector<std::string> inputs,
                                      std::vector<std::string> outputs) {
   namespace model = plant::model;
-  LinearisedModel r{model::load_model(path), {}, {}, {}, {}, 0, {}};
+  LinearisedModel r{model::load_model(path), {}, {}, {}, {}, 0, {}, {}};
   const model::Model& m = r.model;
   if (inputs.empty()) {
     for (int i = m.nd(); i < m.nq(); ++i) inputs.push_back("acc:" + m.generalised[i]);
@@ -34,6 +34,7 @@ LinearisedModel linearise_model_file(const std::string& path, std::vector<std::s
   const auto modes = plant::lti::natural_modes(c.M, c.K + c.G);
   r.natural_frequencies_hz = modes.frequencies_hz;
   r.mode_shapes = c.T * modes.shapes;  // back from the massive coordinates to q_d
+  r.statics = plant::lti::static_stability(modes, dd(r.lin.K), dd(r.lin.G));
   return r;
 }
 

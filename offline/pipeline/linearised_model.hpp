@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/state_space.hpp"
 #include "plant/lti/state_space_builder.hpp"
 #include "plant/model/linearisation.hpp"
@@ -21,6 +22,7 @@ struct LinearisedModel {
   Eigen::MatrixXd mode_shapes;  // columns over the dynamic coordinates, mass-normalised
   int massless_condensed = 0;   // dynamic directions without mass, condensed for the frequencies
   plant::lti::Condensation condensation;  // what the state space condensed (the same directions)
+  plant::lti::StaticStability statics;    // of those modes, with the buckling multipliers
 };
 
 /// Channels: defaults when empty (every prescribed coordinate as acc:, every actuated

@@ -85,9 +85,11 @@ ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& option
   p.lin = model::linearise(m, op);
   const int nd = m.nd();
   const Eigen::MatrixXd Mdd = p.lin.M.topLeftCorner(nd, nd);
-  p.natural_frequencies_hz =
-      plant::lti::natural_modes(Mdd, (p.lin.K + p.lin.N + p.lin.G).topLeftCorner(nd, nd))
-          .frequencies_hz;
+  const auto modes =
+      plant::lti::natural_modes(Mdd, (p.lin.K + p.lin.N + p.lin.G).topLeftCorner(nd, nd));
+  p.natural_frequencies_hz = modes.frequencies_hz;
+  p.statics = plant::lti::static_stability(modes, p.lin.K.topLeftCorner(nd, nd),
+                                           p.lin.G.topLeftCorner(nd, nd));
 
   try {
     p.plant = plant::lti::build_state_space(m, p.lin, concat(scene.disturbances, scene.actuators),
@@ -196,6 +198,14 @@ SampledLoopRemedy stable_sampled_loop_remedy(const ScenePlant& p) {
 }
 
 void require_stable_loop(const ScenePlant& p) {
+  // The plant first: a divergent passive mode grows in every run (sim runs the controller off too).
+  if (!p.statics.stable())
+    throw InputError(scene_place(p.scene, "scene", "model"),
+                     "[scene]: model " + p.scene.model_path +
+                         (p.scene.gravity_preload ? " with the gravity preload: " : ": ") +
+                         plant::lti::to_string(p.statics) +
+                         "; a statically unstable plant is neither built nor run (flexloop "
+                         "analyse shows its modes)");
   const auto& c = p.scene.controller;
   if (!has_controller(p)) return;  // nothing closes a loop
   if (p.loop.stable()) {

@@ -14,6 +14,7 @@
 #include "offline/scene/scene.hpp"
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/feedback_interconnection.hpp"
+#include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/state_space.hpp"
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model.hpp"
@@ -26,6 +27,7 @@ struct ScenePlant {
   plant::model::Linearisation lin;
   int equilibrium_iterations = 0;          ///< Newton steps to the gravity-loaded equilibrium
   Eigen::VectorXd natural_frequencies_hz;  ///< undamped, about the operating point
+  plant::lti::StaticStability statics;     ///< of those modes; the buckling multiplier of the load
   plant::lti::StateSpace plant;            ///< G: [w; u] -> [z; y]
   plant::lti::LoopPartition partition;     ///< sizes of w and z
   controller::design::PiGains gains;       ///< designed even when the controller is disabled
@@ -78,6 +80,8 @@ SampledLoopRemedy stable_sampled_loop_remedy(const ScenePlant& p);
 
 /// For the commands that run the loop (sim, plant, controller, hil), before any run: throws
 /// flexloop::InputError
+/// - at the scene's [scene] model when the plant itself is statically unstable (p.statics: a
+///   preload beyond buckling, named by its buckling multiplier), with or without a controller;
 /// - at the scene's [controller] leak_hz (or table) when the continuous loop is unstable, saying
 ///   how fast it diverges and which leak would make it stable;
 /// - at the scene's [discretisation] rate_hz (or table) when the sampled loop (sampled_loop) is

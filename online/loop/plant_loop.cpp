@@ -26,6 +26,9 @@ PlantLoopResult run_plant_loop(const LoopOptions& o, const artefact::LoopArtefac
     detail::run_plant_preloaded(loop, o, url, r);
   else
     detail::run_plant_general(loop, o, url, r);
+  if (r.divergence.happened())
+    r.divergence_message =
+        "plant: the loop " + plant::runtime::describe(r.divergence, loop.channels);
   return r;
 }
 
@@ -53,7 +56,9 @@ nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o,
                       {"publish_failures", r.publish_failures},
                       {"cpu", o.realtime.cpu},
                       {"fifo", r.fifo},
-                      {"plant_setup", r.setup}};
+                      {"plant_setup", r.setup},
+                      {"divergence", r.divergence.happened() ? nlohmann::json(r.divergence_message)
+                                                             : nlohmann::json(nullptr)}};
   if (with_bins)
     j["histograms"] = {{"round_trip_ns", bins_json(*a.round_trip)},
                        {"wakeup_lateness_ns", bins_json(*a.wakeup_lateness)}};

@@ -18,6 +18,7 @@
 #include "artefact/loop_artefact.hpp"
 #include "online/loop/loop_accounts.hpp"
 #include "online/loop/loop_options.hpp"
+#include "plant/runtime/divergence.hpp"
 #include "rt/message_validation.hpp"
 
 namespace flexloop::hil {
@@ -38,6 +39,10 @@ struct PlantLoopResult {
   rt::DropCounts drops;
   std::string setup;  ///< set-up report, one line per step
   bool fifo = false;
+  /// The loop stops at a sample whose outputs and command leave the stated range
+  /// (plant/runtime/divergence.hpp); `divergence_message` then says when and where.
+  plant::runtime::Divergence divergence;
+  std::string divergence_message;
 };
 
 /// Runs the plant loop of the artefact (options.loop_path and rate_hz unused).

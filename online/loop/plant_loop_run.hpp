@@ -14,6 +14,7 @@
 #include "online/loop/plant_station.hpp"
 #include "online/loop/stop_signal.hpp"
 #include "online/sim/loop_hardware.hpp"
+#include "plant/runtime/divergence.hpp"
 #include "plant/runtime/runtime_sizes.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
@@ -57,6 +58,7 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   const auto answered = [&] { return station->answered(); };
   std::int64_t published_ns = 0;
   LoopCounts counts;
+  long samples = 0;
   clock.start();
   stats.start(rt::monotonic_now_ns());
   while (clock.schedule().periods_elapsed() < periods && !stop_requested()) {
@@ -69,6 +71,12 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
       a.controller_compute->record(answer->controller_compute_ns);
     }
     const auto& sample = station->sample(t0);
+    if (plant::runtime::beyond_range(station->hardware().performance(), station->command())) {
+      r.divergence = plant::runtime::locate_divergence(
+          samples, 1.0 / loop.rate_hz, station->hardware().performance(), station->command());
+      break;
+    }
+    ++samples;
     published_ns = rt::monotonic_now_ns();
     a.plant_compute->record(published_ns - t0);
     sensor.publish(sample);

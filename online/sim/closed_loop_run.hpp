@@ -10,12 +10,17 @@
 // The loop runs in chunks (progress is reported between chunks, never inside one); inside a
 // chunk a step allocates nothing, takes no lock and makes no system call. The log (every
 // `log_every`-th sample) and the RMS accumulators are sized before the loop.
+//
+// A loop that diverges stops at the first sample whose performance outputs and command leave
+// the stated range (plant/runtime/divergence.hpp): RunResult::divergence says when and where, and
+// the caller reports it as a failure instead of printing meaningless RMS values.
 #include <Eigen/Core>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <functional>
 
+#include "plant/runtime/divergence.hpp"
 #include "plant/runtime/simulated_hardware.hpp"
 
 namespace flexloop::sim {
@@ -27,12 +32,16 @@ struct RunSettings {
   int chunks = 20;     ///< progress granularity
 };
 
+using plant::runtime::Divergence;
+using plant::runtime::kDivergenceLimit;
+
 struct RunResult {
   Eigen::VectorXd rms_performance;  ///< RMS of each true performance output z_i
   Eigen::VectorXd rms_command;      ///< RMS of each actuator command
   /// Rows: t, floor (NW), performance (NZ), performance sensors (NZ), sensors (NS), commands (NC).
   Eigen::MatrixXd log;
   double loop_seconds = 0;  ///< wall time of the stepping alone
+  Divergence divergence;    ///< the RMS values cover the samples up to it
 };
 
 /// Log columns of a run, for the header of a CSV file.
@@ -58,13 +67,19 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
   Command sum_u2 = Command::Zero(nc), u = Command::Zero(nc);
   long row = 0;
 
+  long done = s.steps;
   const auto start = std::chrono::steady_clock::now();
-  for (int c = 0; c < s.chunks; ++c) {
+  for (int c = 0; c < s.chunks && done == s.steps; ++c) {
     const long begin = s.steps * c / s.chunks, end = s.steps * (c + 1) / s.chunks;
     for (long k = begin; k < end; ++k) {
       const auto& reading = hw.sample();
       if constexpr (plant::runtime::kPresent<Controller>) u = controller.step(reading.sensors);
       hw.apply(u);
+      if (plant::runtime::beyond_range(hw.performance(), u)) {
+        r.divergence = plant::runtime::locate_divergence(k, s.dt, hw.performance(), u);
+        done = k + 1;
+        break;
+      }
       sum_z2 += hw.performance().cwiseAbs2();
       sum_u2 += u.cwiseAbs2();
       if (s.log_every > 0 && k % s.log_every == 0) {
@@ -77,10 +92,10 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
         line.segment(1 + nw + 2 * nz + ns, nc) = u.transpose().template cast<double>();
       }
     }
-    if (progress) progress(end, s.steps);
+    if (progress && done == s.steps) progress(end, s.steps);
   }
   r.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double n = static_cast<double>(std::max(s.steps, 1L));
+  const double n = static_cast<double>(std::max(r.divergence.happened() ? done - 1 : done, 1L));
   r.rms_performance = (sum_z2.template cast<double>() / n).cwiseSqrt();
   r.rms_command = (sum_u2.template cast<double>() / n).cwiseSqrt();
   return r;

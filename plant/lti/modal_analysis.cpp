@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <limits>
 #include <numeric>
 #include <sstream>
@@ -201,6 +202,73 @@ Eigen::VectorXd buckling_multipliers(const Eigen::MatrixXd& K, const Eigen::Matr
     return std::abs(a) < std::abs(b) || (std::abs(a) == std::abs(b) && a < b);
   });
   return Eigen::Map<const Eigen::VectorXd>(lambda.data(), static_cast<Eigen::Index>(lambda.size()));
+}
+
+StaticStability static_stability(const Modes& modes, const Eigen::MatrixXd& K,
+                                 const Eigen::MatrixXd& G) {
+  require_square_pair("static_stability", "K", K, "G", G);
+  StaticStability s;
+  for (Eigen::Index i = 0; i < modes.frequencies_hz.size(); ++i) {
+    if (!(modes.frequencies_hz(i) < 0.0)) continue;  // natural_modes: f < 0 flags an unstable mode
+    const cd w2 = modes.omega_squared(i);
+    ++(w2.real() < 0.0 ? s.divergent : s.flutter);
+    // q ~ e^{s t} with s^2 = -w^2: the principal root is the growing one.
+    s.growth_rate = std::max(s.growth_rate, std::sqrt(-w2).real());
+  }
+  s.preloaded = G.norm() > 1e-12 * K.norm();
+  if (!s.preloaded) return s;
+  try {
+    s.buckling_multipliers = buckling_multipliers(K, G);
+  } catch (const std::invalid_argument&) {
+    // Sizes and finiteness were checked above: K + lambda G is singular for every lambda (a
+    // mechanism of K that G does not load), so no multiplier measures the load.
+    return s;
+  }
+  for (const double l : s.buckling_multipliers)
+    if (l >= 0.0 && (s.critical_multiplier < 0.0 || l < s.critical_multiplier))
+      s.critical_multiplier = l;
+  return s;
+}
+
+std::string to_string(const StaticStability& s) {
+  const double lc = s.critical_multiplier;
+  char load[160] = "";
+  // 3 significant digits, 6 within 0.5 % of buckling (where 3 would print "1").
+  const int digits = std::abs(lc - 1.0) < 5e-3 ? 6 : 3;
+  if (s.preloaded && lc > 0.0)
+    std::snprintf(load, sizeof load,
+                  "the preload is %.*g times the first buckling load (buckling multiplier %.*g)",
+                  digits, 1.0 / lc, digits, lc);
+  else if (s.preloaded && lc == 0.0)
+    std::snprintf(
+        load, sizeof load,
+        "the preload loads a mechanism of the unloaded structure (buckling multiplier 0)");
+  if (s.stable()) {
+    if (!s.preloaded) return "statically stable (no preload)";
+    if (lc < 0.0) return "statically stable: no buckling load in the preload's direction";
+    return std::string("statically stable: ") + load;
+  }
+  std::string prefix;
+  // With K positive definite, K + G turns indefinite only past a multiplier in (0, 1]; otherwise
+  // the unloaded stiffness itself is to blame.
+  if (!s.preloaded)
+    prefix = "no preload, yet the stiffness is not positive definite: ";
+  else if (lc >= 0.0 && lc <= 1.0)
+    prefix = std::string(load) + ": ";
+  else if (lc > 1.0)
+    prefix = std::string(load) + ", yet the unloaded stiffness is not positive definite: ";
+  char modes[300];
+  const int n = s.divergent + s.flutter;
+  std::snprintf(modes, sizeof modes,
+                "the linearised model is statically unstable, %d divergent mode%s%s%s growing as "
+                "e^(%.3g t) (a disturbance doubles every %.3g s)",
+                s.divergent, s.divergent == 1 ? "" : "s",
+                s.flutter > 0 ? (" and " + std::to_string(s.flutter) +
+                                 (s.flutter == 1 ? " flutter mode" : " flutter modes"))
+                                    .c_str()
+                              : "",
+                n > 1 ? ", the fastest" : "", s.growth_rate, std::log(2.0) / s.growth_rate);
+  return prefix + modes;
 }
 
 Eigen::VectorXcd poles(const StateSpace& sys) {

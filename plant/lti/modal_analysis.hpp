@@ -26,6 +26,7 @@
 //
 // Poles: eigenvalues of A.
 #include <Eigen/Dense>
+#include <string>
 
 #include "plant/lti/state_space.hpp"
 
@@ -54,6 +55,37 @@ Modes natural_modes(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K);
 /// @throws std::invalid_argument on size mismatch, non-finite entries, or a singular pencil
 ///         (K + lambda G singular for every lambda).
 Eigen::VectorXd buckling_multipliers(const Eigen::MatrixXd& K, const Eigen::MatrixXd& G);
+
+/// Static stability of an undamped linearised model (DESIGN.md §9, near-buckling preload). At a
+/// stationary configuration a mode diverges where the total stiffness K + N + G (condensed, when
+/// massless coordinates were) has a negative eigenvalue: w^2 < 0, f < 0 in Modes; a mode with a
+/// complex w^2 (non-symmetric stiffness) flutters. With a preload (G not negligible against K)
+/// the first buckling multiplier lambda_cr of det(K + lambda G) = 0 says how far the load is from
+/// buckling: the preload is 1/lambda_cr times the first buckling load, beyond it for lambda_cr < 1.
+struct StaticStability {
+  int divergent = 0;         ///< modes with a real w^2 < 0
+  int flutter = 0;           ///< modes with a complex w^2
+  double growth_rate = 0.0;  ///< [1/s] of the fastest unstable mode, max Re sqrt(-w^2); 0: stable
+  bool preloaded = false;    ///< |G| > 1e-12 |K|
+  /// buckling_multipliers(K, G) when preloaded; empty without a preload, when none is finite and
+  /// real, or when K + lambda G is singular for every lambda (a mechanism the preload leaves).
+  Eigen::VectorXd buckling_multipliers;
+  /// The smallest non-negative of them (0: the unloaded structure is a mechanism there); negative
+  /// when there is none.
+  double critical_multiplier = -1.0;
+  bool stable() const { return divergent == 0 && flutter == 0; }
+};
+
+/// From the modes of (M, K + N + G) and the passive stiffness K and geometric stiffness G of the
+/// same dynamic coordinates (uncondensed: buckling is static, the mass plays no role).
+StaticStability static_stability(const Modes& modes, const Eigen::MatrixXd& K,
+                                 const Eigen::MatrixXd& G);
+
+/// One sentence. Unstable, e.g.: "the preload is 1.49 times the first buckling load (buckling
+/// multiplier 0.672): the linearised model is statically unstable, 1 divergent mode growing as
+/// e^(25.3 t) (a disturbance doubles every 0.0274 s)"; stable: "statically stable" and the
+/// buckling multiplier, or "no preload".
+std::string to_string(const StaticStability& s);
 
 /// Eigenvalues of sys.A sorted by |imag| ascending, then real ascending, then imag ascending
 /// (so a conjugate pair appears as p, conj(p) with negative imaginary part first).

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "plant/runtime/pole_precision.hpp"
+
 namespace flexloop::plant::runtime {
 
 namespace {
@@ -121,6 +123,7 @@ GeneralModalPlant<Scalar> GeneralModalPlant<Scalar>::from_modal_form(
   while (k + 1 < n && Lambda_minus_I(k, k + 1) != 0) {
     require(off_block_zero(k, 2), who + ": Lambda - I is not block-diagonal at rows " +
                                       std::to_string(k) + ", " + std::to_string(k + 1));
+    require_pole_kept_inside<Scalar>(Lambda_minus_I(k, k), Lambda_minus_I(k, k + 1), k, who);
     p.d_(k) = static_cast<Scalar>(Lambda_minus_I(k, k));
     p.d_(k + 1) = static_cast<Scalar>(Lambda_minus_I(k + 1, k + 1));
     p.o_(k) = static_cast<Scalar>(Lambda_minus_I(k, k + 1));
@@ -132,6 +135,7 @@ GeneralModalPlant<Scalar> GeneralModalPlant<Scalar>::from_modal_form(
     require(off_block_zero(k, 1),
             who + ": Lambda - I is not real block-diagonal with its 2x2 blocks first (row " +
                 std::to_string(k) + ")");
+    require_pole_kept_inside<Scalar>(Lambda_minus_I(k, k), 0.0, k, who);
     p.d_(k) = static_cast<Scalar>(Lambda_minus_I(k, k));
   }
   const Eigen::MatrixXd Lambda = Lambda_minus_I + Eigen::MatrixXd::Identity(n, n);

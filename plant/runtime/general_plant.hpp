@@ -120,8 +120,9 @@ class GeneralModalPlant : public GeneralStateOutput<Scalar> {
 
  public:
   /// Start-up: Λ - I, Bm, Cm, D and T of plant::lti::ModalForm; the last `held_inputs` inputs
-  /// are held. @throws std::invalid_argument for inconsistent sizes, non-finite entries, or a
-  /// Λ - I that is not real block-diagonal with its 2x2 blocks first.
+  /// are held. @throws std::invalid_argument for inconsistent sizes, non-finite entries, a
+  /// Λ - I that is not real block-diagonal with its 2x2 blocks first, or a decaying pole that
+  /// Scalar cannot keep inside the unit circle (pole_precision.hpp).
   static GeneralModalPlant from_modal_form(const Eigen::MatrixXd& Lambda_minus_I,
                                            const Eigen::MatrixXd& Bm, const Eigen::MatrixXd& Cm,
                                            const Eigen::MatrixXd& D, const Eigen::MatrixXd& T,

@@ -31,6 +31,7 @@
 
 #include "online/numeric/column_product.hpp"
 #include "online/numeric/fixed_size_matrix.hpp"
+#include "plant/runtime/pole_precision.hpp"
 #include "plant/runtime/state_output.hpp"
 
 namespace flexloop::plant::runtime {
@@ -41,8 +42,9 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY, NH> {
 
  public:
   /// Start-up only: Λ - I, Bm, Cm, D and T of plant::lti::ModalForm, rounded to Scalar.
-  /// @throws std::invalid_argument for a size other than (NX, NU, NY), a non-finite entry, or a
-  /// Λ - I that is not real block-diagonal with 1x1 and 2x2 blocks.
+  /// @throws std::invalid_argument for a size other than (NX, NU, NY), a non-finite entry, a
+  /// Λ - I that is not real block-diagonal with 1x1 and 2x2 blocks, or a decaying pole that
+  /// Scalar cannot keep inside the unit circle (pole_precision.hpp).
   static ModalPlant from_modal_form(const Eigen::MatrixXd& Lambda_minus_I,
                                     const Eigen::MatrixXd& Bm, const Eigen::MatrixXd& Cm,
                                     const Eigen::MatrixXd& D, const Eigen::MatrixXd& T);
@@ -133,6 +135,7 @@ ModalPlant<Scalar, NX, NU, NY, NH> ModalPlant<Scalar, NX, NU, NY, NH>::from_moda
     d(i) = L(i, i);
     outside(i, i) = 0;
     const bool pair = i + 1 < NX && (L(i, i + 1) != 0 || L(i + 1, i) != 0);
+    require_pole_kept_inside<Scalar>(L(i, i), pair ? L(i, i + 1) : 0.0, i, "ModalPlant");
     if (!pair) {
       i += 1;
       continue;

@@ -49,6 +49,24 @@ PY
 for f in analysis.json singular_values.csv singular_values.png transmissibility.png; do
   [[ -s "$tmp/metro/$f" ]] || fail "analyse scene did not write $f"
 done
+# Every shipped scene, with a controller or without one: analyse exits 0 and reports the numerical
+# health (printed and in analysis.json).
+for scene in "$root"/tools/scenes/*.toml; do
+  name=$(basename "$scene" .toml)
+  out=$("$flexloop" analyse "$scene" --points 20 --out-dir "$tmp/analyse_$name" 2>&1) || fail "analyse $name: $out"
+  [[ "$out" == *"numerical health:"* ]] || fail "analyse $name prints no numerical health: $out"
+  grep -q '"numerical_health"' "$tmp/analyse_$name/analysis.json" || fail "analyse $name: analysis.json lacks numerical_health"
+done
+# A column beyond buckling: build refuses it at the scene's model line, naming the buckling
+# multiplier, and writes nothing; analyse reports it.
+column="$root/tests/fixtures/buckled_column.toml"
+line=$(grep -n '^model' "$column" | cut -d: -f1)
+out=$("$flexloop" build "$column" -o "$tmp/column.json" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"buckled_column.toml:$line"* && "$out" == *"buckling multiplier"* && "$out" == *"statically unstable"* ]] ||
+  fail "column beyond buckling: exit $rc ($out)"
+[[ ! -e "$tmp/column.json" ]] || fail "column beyond buckling left an artefact"
+out=$("$flexloop" analyse "$column" --points 20 --out-dir "$tmp/column" 2>&1) || fail "analyse column: $out"
+[[ "$out" == *"passive plant: UNSTABLE"* ]] || fail "analyse column does not report the instability: $out"
 sed 's/^zeta = 0.5/zeta = -1/' "$root/tools/scenes/metrology_frame.toml" >"$tmp/bad_scene.toml"
 sed -i "s#\.\./models/#$root/tools/models/#" "$tmp/bad_scene.toml"
 out=$("$flexloop" analyse "$tmp/bad_scene.toml" --out-dir "$tmp/bad_scene" 2>&1); rc=$?
@@ -98,4 +116,4 @@ grep -q '"spectral_radius"' "$tmp/strut_analyse/analysis.json" || fail "analysis
 for cmd in version linearise analyse discretise fit-metrology sim hil plant controller baseline; do
   "$flexloop" $cmd --help | grep -q "Example" || fail "$cmd --help has no example"
 done
-echo "cli contract: 19 checks passed"
+echo "cli contract: 21 checks passed"

@@ -41,4 +41,22 @@ for reason in ("decode_failure", "channel_count", "non_finite"):
     assert r["dropped_messages"][reason] == 0, reason
 PY
 grep -q "answered" "$tmp/controller.txt" || fail "controller summary: $(cat "$tmp/controller.txt")"
-echo "online programs: 8 checks passed"
+
+# A plant that diverges (the payload's Ad scaled by 1.01 by hand, no controller): the plant
+# process stops at the sample where its outputs leave the stated range, says when and where,
+# writes its figures with the divergence and exits 1.
+"$flexloop" build "$root/tools/scenes/payload_bipods.toml" -o "$tmp/bipods.json" >/dev/null ||
+  fail "flexloop build payload_bipods"
+python3 - "$tmp/bipods.json" <<'PY' || fail "scaling the artefact's plant"
+import json, sys
+a = json.load(open(sys.argv[1]))
+a["plant"]["A"] = [[1.01 * v for v in row] for row in a["plant"]["A"]]
+json.dump(a, open(sys.argv[1], "w"))
+PY
+out=$("$root/tools/netns-run" -- "$plant" "$tmp/bipods.json" --cpu -1 --priority 0 --duration 2 \
+  --json "$tmp/diverged.json" 2>&1); rc=$?
+[[ $rc -eq 1 && "$out" == *"diverged at t = "*" s (sample "*"performance output"* ]] ||
+  fail "diverging plant: exit $rc ($out)"
+grep -q '"divergence": *"plant: the loop diverged' "$tmp/diverged.json" ||
+  fail "diverging plant's figures: $(cat "$tmp/diverged.json")"
+echo "online programs: 10 checks passed"

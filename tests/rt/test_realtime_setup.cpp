@@ -5,8 +5,10 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <thread>
 
+#include "rt/denormals.hpp"
 #include "rt/realtime_setup.hpp"
 
 using namespace flexloop::rt;
@@ -74,4 +76,24 @@ TEST_CASE("process_thread_ids sees a thread appear and go") {
   std::thread t([&] { during = process_thread_ids().size(); });
   t.join();
   CHECK(during == before.size() + 1);
+}
+
+TEST_CASE("apply_realtime_setup flushes denormals on the loop thread, and only there") {
+  // volatile: the compiler must not fold the products at compile time (no FTZ there).
+  volatile float tiny = 1e-30f, subnormal = 1e-40f;  // 1e-40f is below FLT_MIN (1.18e-38)
+  REQUIRE(std::fpclassify(subnormal) == FP_SUBNORMAL);
+  std::thread t([&] {
+    CHECK_FALSE(denormals_flushed());
+    CHECK(tiny * 1e-10f != 0.0f);  // gradual underflow: a subnormal result
+    const RealtimeReport r = apply_realtime_setup({.lock_memory = false, .fifo_priority = 0});
+    CHECK(r.denormals.ok);
+    CHECK_THAT(r.describe(), Catch::Contains("denormals flushed to zero"));
+    CHECK(denormals_flushed());
+    CHECK(tiny * 1e-10f == 0.0f);                           // FTZ: a subnormal result becomes 0
+    CHECK(subnormal * 1.0f == 0.0f);                        // DAZ: a subnormal operand is read as 0
+    std::thread child([] { CHECK(denormals_flushed()); });  // inherited by threads it creates
+    child.join();
+  });
+  t.join();
+  CHECK_FALSE(denormals_flushed());  // the test runner's own thread is untouched
 }

@@ -10,6 +10,7 @@
 
 #include "plant/lti/modal_form.hpp"
 #include "plant/runtime/runtime_sizes.hpp"
+#include "tests/support/dense_modal.hpp"
 #include "tests/support/discrete_systems.hpp"
 #include "tests/support/metrology.hpp"
 
@@ -17,36 +18,7 @@ using namespace flexloop;
 using plant::runtime::DensePlant;
 using plant::runtime::ModalPlant;
 
-namespace {
-
-// max_k |y_dense - y_modal|_inf / max_k |y_dense|_inf over `steps` steps of a seeded N(0,1) input;
-// also checks the final states, |x_dense - T z| <= state_tolerance |x_dense|.
-template <int NX, int NU, int NY>
-double dense_modal_disagreement(const plant::lti::DiscreteStateSpace& d,
-                                const plant::lti::ModalForm& m, int steps, double state_tolerance) {
-  auto dense = DensePlant<double, NX, NU, NY>::from_matrices(d.sys.A, d.sys.B, d.sys.C, d.sys.D);
-  auto modal = ModalPlant<double, NX, NU, NY>::from_modal_form(m);
-  std::mt19937 rng(11);
-  std::normal_distribution<double> n01;
-  Eigen::Matrix<double, NU, 1> u;
-  double diff = 0, scale = 0, state_diff = 0, state_scale = 0;
-  for (int k = 0; k < steps; ++k) {
-    for (int i = 0; i < NU; ++i) u(i) = n01(rng);
-    const auto y = dense.output(u);
-    diff = std::max(diff, (y - modal.output(u)).cwiseAbs().maxCoeff());
-    scale = std::max(scale, y.cwiseAbs().maxCoeff());
-    dense.advance(u);
-    modal.advance(u);
-  }
-  state_diff = (dense.state() - modal.physical_state()).cwiseAbs().maxCoeff();
-  state_scale = dense.state().cwiseAbs().maxCoeff();
-  INFO(std::scientific << "final state: |x_dense - T z| = " << state_diff
-                       << ", |x| = " << state_scale);
-  CHECK(state_diff <= state_tolerance * state_scale);
-  return diff / scale;
-}
-
-}  // namespace
+using test::dense_modal_disagreement;
 
 TEST_CASE(
     "modal form: repeated pair, real poles and integrators, dense and modal agree to 1e-11 "

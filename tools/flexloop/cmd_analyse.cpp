@@ -55,17 +55,16 @@ void run(const AnalyseArgs& a) {
   std::printf("):\n");
   for (Eigen::Index i = 0; i < r.natural_frequencies_hz.size(); ++i)
     std::printf("  mode %2ld  %12.6g Hz\n", static_cast<long>(i + 1), r.natural_frequencies_hz(i));
-  const Eigen::MatrixXd Kdd = r.lin.K.topLeftCorner(nd, nd), Gdd = r.lin.G.topLeftCorner(nd, nd);
-  Eigen::VectorXd buckling;
-  if (Gdd.norm() > 1e-12 * std::max(Kdd.norm(), 1e-300)) {
-    buckling = lti::buckling_multipliers(Kdd, Gdd);
+  const Eigen::VectorXd& buckling = r.statics.buckling_multipliers;
+  if (r.statics.preloaded) {
     std::printf("buckling multipliers (det(K + lambda G) = 0, load = lambda x present preload):");
     for (Eigen::Index i = 0; i < std::min<Eigen::Index>(buckling.size(), 6); ++i)
       std::printf(" %.6g", buckling(i));
-    std::printf("\n");
+    std::printf(buckling.size() == 0 ? " none finite and real\n" : "\n");
   } else {
     std::printf("no preload: geometric stiffness is zero, no buckling multipliers\n");
   }
+  std::printf("%s%s\n", r.statics.stable() ? "" : "UNSTABLE: ", lti::to_string(r.statics).c_str());
 
   // Frequency response and singular values.
   const auto f = lti::log_frequency_grid_hz(a.f_min, a.f_max, a.points);
@@ -108,6 +107,7 @@ void run(const AnalyseArgs& a) {
                            r.natural_frequencies_hz.data() + r.natural_frequencies_hz.size())},
       {"buckling_multipliers",
        std::vector<double>(buckling.data(), buckling.data() + buckling.size())},
+      {"static_stability", static_stability_json(r.statics)},
       {"state_space", lti::to_json(ss)},
       {"provenance", make_provenance(a.model, "flexloop analyse")}};
   nlohmann::json shapes = nlohmann::json::array();

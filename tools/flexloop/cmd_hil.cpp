@@ -9,6 +9,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "offline/report/hil_report.hpp"
@@ -40,10 +42,18 @@ void print_written(const std::vector<std::string>& paths) {
   for (const auto& p : paths) std::printf("wrote %s\n", p.c_str());
 }
 
+// A loop that diverged (plant/runtime/divergence.hpp): its report is written (it says when and
+// where), and the command fails.
+void require_bounded(const nlohmann::json& report) {
+  const auto d = report.find("divergence");
+  if (d != report.end() && d->is_string()) throw std::runtime_error(d->get<std::string>());
+}
+
 void run_one(const HilArgs& a, hil::HilOptions o) {
   const nlohmann::json report = hil::run_hil(o, load_hil_loop(o));
   hil::print_hil_summary(report);
   print_written(hil::write_hil_report(report, a.report));
+  require_bounded(report);
 }
 
 void run_sweep(const HilArgs& a, hil::HilOptions o) {
@@ -58,6 +68,7 @@ void run_sweep(const HilArgs& a, hil::HilOptions o) {
     char suffix[32];
     std::snprintf(suffix, sizeof suffix, "_%.6ghz.json", rate);
     print_written(hil::write_hil_report(reports.back(), stem + suffix));
+    require_bounded(reports.back());
   }
   nlohmann::json all = {{"sweep", nlohmann::json::array()}};
   for (auto r : reports) {

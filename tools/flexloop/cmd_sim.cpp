@@ -10,6 +10,8 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 
@@ -133,6 +135,15 @@ void plot_runs(const artefact::LoopArtefact& a, const BothRuns& r, long log_ever
       sp, dir + "/spectra.png");
 }
 
+// A run that left the stated range (online/sim/closed_loop_run.hpp): what, when and where. Its RMS
+// values would be meaningless, so nothing is printed or written after it.
+void require_bounded(const artefact::LoopArtefact& a, const sim::RunResult& r, const char* run) {
+  const sim::Divergence& d = r.divergence;
+  if (!d.happened()) return;
+  throw std::runtime_error("the loop with the controller " + std::string(run) + " " +
+                           plant::runtime::describe(d, a.channels) + "; nothing written");
+}
+
 void run(const SimArgs& args) {
   const artefact::LoopArtefact a = scene::load_loop(
       args.scene, {.rate_hz = 0, .form = args.form, .duration_s = args.duration_s});
@@ -162,6 +173,8 @@ void run(const SimArgs& args) {
                                        {args.path == "general", plots || (log && !on),
                                         plots || (log && on), progress_lines(s.steps)});
 
+  for (const auto* run : {&r.off, &r.on})
+    if (run == &r.off || r.controlled) require_bounded(a, *run, run == &r.off ? "off" : "on");
   std::printf("RMS of the performance outputs   controller off   controller on   change\n");
   for (Eigen::Index i = 0; i < r.off.rms_performance.size(); ++i) {
     const auto& c = a.channels.performance[static_cast<std::size_t>(i)];

@@ -6,6 +6,7 @@
 // the end. Refuses to run outside the private network namespace (exit 1).
 #include <cstdio>
 #include <memory>
+#include <stdexcept>
 
 #include "common/json_document.hpp"
 #include "online/loop/latency_json.hpp"
@@ -41,6 +42,7 @@ void run(const PlantArgs& a, const LoopSource& source) {
     write_json_atomically(a.json, hil::plant_result_json(r, o, false));
     std::printf("wrote %s\n", a.json.c_str());
   }
+  if (r.divergence.happened()) throw std::runtime_error(r.divergence_message);
 }
 
 }  // namespace

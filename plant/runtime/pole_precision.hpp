@@ -1,0 +1,43 @@
+#pragma once
+// Whether a pole keeps its distance from the unit circle once the modal runtime stores it in
+// Scalar. The modal plant keeps Λ - I: a pole z = 1 + a ± jb as the entries a and b. Its squared
+// modulus is |z|² = 1 + m with m = 2a + a² + b² (m < 0: inside the circle, decaying). Rounding a
+// and b to float moves m by up to about 2^-24 (2|a| + 2b²); a lightly damped fast mode, or any
+// mode whose 1 - |z| is below that, ends up on or outside the circle in float: a plant that
+// decays in double would ring forever or grow. Start-up refuses it (ModalPlant,
+// GeneralModalPlant); `flexloop analyse` reports each pole's headroom.
+#include <Eigen/Core>
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace flexloop::plant::runtime {
+
+struct PoleMargin {
+  double exact;   ///< m = |z|² - 1 from a, b in double
+  double stored;  ///< the same from a, b rounded to Scalar (computed in double)
+};
+
+template <typename Scalar>
+PoleMargin pole_margin(double a, double b) noexcept {
+  const auto m = [](double x, double y) { return 2 * x + x * x + y * y; };
+  return {m(a, b), m(static_cast<Scalar>(a), static_cast<Scalar>(b))};
+}
+
+/// @throws std::invalid_argument naming `who`, the row and both margins when the pole 1 + a ± jb
+/// is inside the unit circle in double but not once stored as Scalar.
+template <typename Scalar>
+void require_pole_kept_inside(double a, double b, Eigen::Index row, const std::string& who) {
+  const PoleMargin p = pole_margin<Scalar>(a, b);
+  if (!(p.exact < 0) || p.stored < 0) return;
+  std::ostringstream os;
+  os.precision(3);
+  os << who << ": the pole at row " << row << ", z = 1 + (" << a << (b < 0 ? " - " : " + ")
+     << std::abs(b)
+     << "j), is closer to the unit circle than float resolves (|z|^2 - 1 = " << p.exact
+     << " in double, " << p.stored << " in float): the plant would not decay; run it in double";
+  throw std::invalid_argument(os.str());
+}
+
+}  // namespace flexloop::plant::runtime
