@@ -66,9 +66,9 @@ nlohmann::json static_stability_json(const plant::lti::StaticStability& s) {
 namespace {
 
 // The PI design, the continuous loop's poles and stability, and the loop as it runs (sampled):
-// printed and put into j. Returns the sampled loop's spectral radius when it was formed.
-std::optional<double> analyse_loop(const scene::ScenePlant& p, nlohmann::json& j) {
-  std::optional<double> loop_radius;
+// printed and put into j. Returns the sampled loop's stability when it was formed.
+std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlohmann::json& j) {
+  std::optional<SampledLoopStability> sampled;
   const auto& c = p.scene.controller;
   std::printf("PI force feedback: omega_d = 2 pi x %g Hz, zeta = %g, leak %s\n", c.omega_d_hz,
               c.zeta, c.leak_hz > 0 ? (std::to_string(c.leak_hz) + " Hz").c_str() : "none");
@@ -119,7 +119,7 @@ std::optional<double> analyse_loop(const scene::ScenePlant& p, nlohmann::json& j
     const scene::SampledLoop s = scene::sampled_loop(p);
     const auto& st = s.stability;
     sampled_stable = st.stable();
-    loop_radius = st.spectral_radius;
+    sampled = st;
     const int delay = s.hardware.feedthrough_delay;
     std::printf(
         "sampled loop at %g Hz (%s, the PI as it runs, the held command%s): spectral "
@@ -175,7 +175,7 @@ std::optional<double> analyse_loop(const scene::ScenePlant& p, nlohmann::json& j
   j["floor_integrator_states"] = floor_states;
   j["minimum_stable_leak_hz"] = min_leak ? nlohmann::json(*min_leak) : nlohmann::json(nullptr);
   j["closed_loop_poles"] = pj;
-  return loop_radius;
+  return sampled;
 }
 
 }  // namespace
@@ -228,9 +228,9 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   std::printf("passive plant: %s\n", plant::lti::to_string(p.statics).c_str());
 
   const bool controlled = scene::has_controller(p);
-  std::optional<double> loop_radius;
+  std::optional<SampledLoopStability> sampled_loop;
   if (controlled)
-    loop_radius = analyse_loop(p, j);
+    sampled_loop = analyse_loop(p, j);
   else
     std::printf("controller: none (the passive plant alone: no design, no closed loop)\n");
   j["open_loop"] = lti::to_json(p.plant);
@@ -239,7 +239,7 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
     j["closed_loop"] = lti::to_json(p.closed_loop);
   }
   try {
-    const auto health = numerical_health(p, scene::sample_scene(p).plant, loop_radius);
+    const auto health = numerical_health(p, scene::sample_scene(p).plant, sampled_loop);
     print_health(health);
     j["numerical_health"] = health_json(health);
   } catch (const InputError& e) {

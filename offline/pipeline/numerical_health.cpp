@@ -8,6 +8,7 @@
 
 #include "plant/lti/balanced_exponential.hpp"
 #include "plant/lti/modal_form.hpp"
+#include "plant/model/massless_condensation.hpp"
 #include "plant/runtime/pole_precision.hpp"
 
 namespace flexloop::cli {
@@ -16,26 +17,32 @@ namespace {
 
 // The largest ‖A T‖_1 the stiff-exponential tests cover (tests/discretise).
 constexpr double kTestedNormAT = 1e8;
-// Mass eigenvalues below this fraction of the largest are massless (condensed).
-constexpr double kMasslessFraction = 1e-12;
 
 std::string text(const std::ostringstream& os) {
   return os.str();
 }
 
+bool is_hold(plant::lti::DiscretisationMethod m) {
+  return m == plant::lti::DiscretisationMethod::kZeroOrderHold ||
+         m == plant::lti::DiscretisationMethod::kFirstOrderHold;
+}
+
 HealthCheck exponential(const scene::ScenePlant& p, const plant::lti::DiscreteStateSpace& d) {
-  const Eigen::MatrixXd AT = p.plant.A * d.dt;
-  const double raw = plant::lti::induced_norm_1(AT);
-  const bool holds = d.method == plant::lti::DiscretisationMethod::kZeroOrderHold ||
-                     d.method == plant::lti::DiscretisationMethod::kFirstOrderHold;
   std::ostringstream f;
   f.precision(3);
-  f << "|A T|_1 = " << raw;
-  if (holds) f << ", balanced " << plant::lti::induced_norm_1(plant::lti::balance(AT).balanced);
-  HealthCheck c{"exponential", text(f), "", raw <= kTestedNormAT};
-  c.verdict = holds ? "exponential of the balanced augmented matrix (powers of two), Eigen's Pade"
-                    : to_string(d.method) + ": no exponential (LU solves)";
-  if (!c.ok) c.verdict += "; beyond the tested range (|A T| <= 1e8): check the result";
+  if (!is_hold(d.method)) {
+    f << "|A T|_1 = " << plant::lti::induced_norm_1(p.plant.A * d.dt);
+    return {"exponential", text(f), to_string(d.method) + ": no exponential (LU solves)", true};
+  }
+  // The matrix the hold exponentiates, as discretise builds it, before and after balancing.
+  const Eigen::MatrixXd hold = plant::lti::hold_matrix(p.plant, d.method, d.dt);
+  const double raw = plant::lti::induced_norm_1(hold);
+  f << "|" << to_string(d.method) << " matrix|_1 = " << raw << ", balanced "
+    << plant::lti::induced_norm_1(plant::lti::balance(hold).balanced);
+  HealthCheck c{"exponential", text(f),
+                "Eigen's Pade exponential of the matrix balanced by powers of two",
+                raw <= kTestedNormAT};
+  if (!c.ok) c.verdict += "; beyond the tested range (<= 1e8): check the result";
   return c;
 }
 
@@ -52,8 +59,7 @@ HealthCheck above_nyquist(const scene::ScenePlant& p, const plant::lti::Discrete
   f.precision(4);
   f << count << " of " << p.natural_frequencies_hz.size() << " modes above " << nyquist << " Hz";
   if (count > 0) f << " (highest " << highest << " Hz, " << highest / nyquist << " x Nyquist)";
-  const bool holds = d.method == plant::lti::DiscretisationMethod::kZeroOrderHold ||
-                     d.method == plant::lti::DiscretisationMethod::kFirstOrderHold;
+  const bool holds = is_hold(d.method);
   std::string verdict = count == 0 ? "none"
                         : holds    ? "sampled exactly (aliased, as hardware sees them)"
                                    : "warped into the band by " + to_string(d.method);
@@ -77,7 +83,8 @@ HealthCheck mass_matrix(const scene::ScenePlant& p) {
   int massless = 0;
   double smallest = std::numeric_limits<double>::infinity();
   for (double m : mu) {
-    if (m <= kMasslessFraction * largest)
+    // The builder's own threshold (build_state_space condenses these directions).
+    if (m <= plant::model::CondensationOptions{}.relative_mass_tolerance * largest)
       ++massless;
     else
       smallest = std::min(smallest, m);
@@ -92,32 +99,34 @@ HealthCheck mass_matrix(const scene::ScenePlant& p) {
   return {"mass matrix", text(f), verdict, ok};
 }
 
-HealthCheck sampled_loop(std::optional<double> radius) {
-  if (!radius) return {"sampled loop", "no controller", "plant alone", true};
+HealthCheck sampled_loop(bool controlled, const std::optional<SampledLoopStability>& loop) {
+  if (!controlled) return {"sampled loop", "no controller", "plant alone", true};
+  if (!loop) return {"sampled loop", "not formed", "see the sampled loop's line above", false};
   std::ostringstream f;
   f.precision(6);
-  f << "spectral radius " << *radius;
-  const bool ok = *radius <= 1 + 1e-9;
-  return {"sampled loop", text(f), ok ? "stable" : "unstable: the loop commands refuse it", ok};
+  f << "spectral radius " << loop->spectral_radius;
+  return {"sampled loop", text(f),
+          loop->stable() ? "stable" : "unstable: the loop commands refuse it", loop->stable()};
 }
 
 HealthCheck float_headroom(const plant::lti::DiscreteStateSpace& d) {
   plant::lti::ModalForm m;
   try {
     m = plant::lti::to_modal_form(d);
-  } catch (const std::invalid_argument&) {
-    return {"float", "no modal form (defective Ad)", "dense form only; run in double", true};
+  } catch (const std::invalid_argument& e) {
+    return {"float", "no modal form: " + std::string(e.what()), "float not assessed", true};
   }
   double headroom = std::numeric_limits<double>::infinity();
   int lost = 0, decaying = 0;
   for (Eigen::Index i = 0, b = 0; b < static_cast<Eigen::Index>(m.block_sizes.size()); ++b) {
-    const bool pair = m.block_sizes[b] == 2;
-    const double a = m.Lambda_minus_I(i, i), im = pair ? m.Lambda_minus_I(i, i + 1) : 0.0;
-    i += m.block_sizes[b];
+    const int size = m.block_sizes[static_cast<std::size_t>(b)];
+    const double a = m.Lambda_minus_I(i, i), im = size == 2 ? m.Lambda_minus_I(i, i + 1) : 0.0;
+    i += size;
     const auto margin = plant::runtime::pole_margin<float>(a, im);
-    if (!(margin.exact < 0)) continue;  // on the circle (integrators, undamped): marginal anyway
-    ++decaying;
-    if (margin.stored >= 0) ++lost;
+    // On the circle (integrators, undamped modes): marginal in double already.
+    if (!(margin.exact < 0) || plant::runtime::on_unit_circle(a, im, margin.exact)) continue;
+    decaying += size;
+    if (margin.stored >= 0) lost += size;
     const double shift = std::abs(margin.stored - margin.exact);
     if (shift > 0) headroom = std::min(headroom, -margin.exact / shift);
   }
@@ -127,7 +136,8 @@ HealthCheck float_headroom(const plant::lti::DiscreteStateSpace& d) {
     << " (distance to |z| = 1 over float's shift of it)";
   return {"float", text(f),
           lost == 0 ? "float keeps every decaying pole inside"
-                    : std::to_string(lost) + " poles would not decay in float: run in double",
+                    : std::to_string(lost) +
+                          " poles would not decay in float: the float modal plant refuses them",
           lost == 0};
 }
 
@@ -135,9 +145,13 @@ HealthCheck float_headroom(const plant::lti::DiscreteStateSpace& d) {
 
 std::vector<HealthCheck> numerical_health(const scene::ScenePlant& p,
                                           const plant::lti::DiscreteStateSpace& sampled_plant,
-                                          std::optional<double> sampled_loop_radius) {
-  return {statics(p),     exponential(p, sampled_plant),     above_nyquist(p, sampled_plant),
-          mass_matrix(p), sampled_loop(sampled_loop_radius), float_headroom(sampled_plant)};
+                                          const std::optional<SampledLoopStability>& loop) {
+  return {statics(p),
+          exponential(p, sampled_plant),
+          above_nyquist(p, sampled_plant),
+          mass_matrix(p),
+          sampled_loop(scene::has_controller(p), loop),
+          float_headroom(sampled_plant)};
 }
 
 void print_health(const std::vector<HealthCheck>& checks) {

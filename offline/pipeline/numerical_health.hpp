@@ -6,16 +6,19 @@
 // stability guard, the float plants' start-up, to_modal_form).
 //
 // - static stability: divergent modes, and how far a preload is from buckling (its multiplier).
-// - exponential: ‖A T‖_1 of the plant at the scene's rate, before and after the power-of-two
-//   balancing that ZOH/FOH apply (plant/lti/balanced_exponential.hpp); tested up to 1e8.
+// - exponential: the 1-norm of the matrix ZOH/FOH exponentiate ([A B; 0 0] T, plant/lti/
+//   discretise.hpp hold_matrix) before and after its power-of-two balancing
+//   (plant/lti/balanced_exponential.hpp); tested up to 1e8.
 // - modes above Nyquist: natural frequencies above rate/2 (ZOH/FOH sample them exactly, aliased
 //   as the hardware would see them; Tustin warps them into the band).
 // - mass matrix: condition number of the dynamic coordinates' mass matrix M̄dd over its massive
 //   directions, and the massless directions that are condensed.
-// - sampled loop: the spectral radius of the loop as it runs (when the scene has a controller).
+// - sampled loop: the spectral radius of the loop as it runs and its verdict (the one the loop
+//   commands use), when the scene has a controller.
 // - float: for each decaying pole of the modal plant, its distance to the unit circle against
 //   what rounding Λ - I to float moves it by (plant/runtime/pole_precision.hpp); the smallest
-//   ratio is the headroom, below 1 the float plant refuses to start.
+//   ratio is the headroom. A float modal plant refuses a pole that float puts on or outside the
+//   circle.
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -32,10 +35,12 @@ struct HealthCheck {
   bool ok = true;       ///< false: the user should act (the verdict says how)
 };
 
-/// `sampled_loop_radius`: the sampled loop's spectral radius when one was formed.
+using controller::design::SampledLoopStability;
+
+/// `loop`: the sampled loop's stability when it was formed (scenes with a controller).
 std::vector<HealthCheck> numerical_health(const scene::ScenePlant& p,
                                           const plant::lti::DiscreteStateSpace& sampled_plant,
-                                          std::optional<double> sampled_loop_radius);
+                                          const std::optional<SampledLoopStability>& loop);
 
 /// Printed as "numerical health:" and one line per check.
 void print_health(const std::vector<HealthCheck>& checks);

@@ -71,6 +71,9 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
       a.controller_compute->record(answer->controller_compute_ns);
     }
     const auto& sample = station->sample(t0);
+    // The plant's outputs with the command its actuators hold (the answer to the previous
+    // sample): sim checks the same outputs with the command that answers them, so a divergence
+    // driven by the command can show one sample apart.
     if (plant::runtime::beyond_range(station->hardware().performance(), station->command())) {
       r.divergence = plant::runtime::locate_divergence(
           samples, 1.0 / loop.rate_hz, station->hardware().performance(), station->command());

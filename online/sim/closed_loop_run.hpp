@@ -67,9 +67,8 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
   Command sum_u2 = Command::Zero(nc), u = Command::Zero(nc);
   long row = 0;
 
-  long done = s.steps;
   const auto start = std::chrono::steady_clock::now();
-  for (int c = 0; c < s.chunks && done == s.steps; ++c) {
+  for (int c = 0; c < s.chunks && !r.divergence.happened(); ++c) {
     const long begin = s.steps * c / s.chunks, end = s.steps * (c + 1) / s.chunks;
     for (long k = begin; k < end; ++k) {
       const auto& reading = hw.sample();
@@ -77,7 +76,6 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
       hw.apply(u);
       if (plant::runtime::beyond_range(hw.performance(), u)) {
         r.divergence = plant::runtime::locate_divergence(k, s.dt, hw.performance(), u);
-        done = k + 1;
         break;
       }
       sum_z2 += hw.performance().cwiseAbs2();
@@ -92,10 +90,13 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
         line.segment(1 + nw + 2 * nz + ns, nc) = u.transpose().template cast<double>();
       }
     }
-    if (progress && done == s.steps) progress(end, s.steps);
+    if (progress && !r.divergence.happened()) progress(end, s.steps);
   }
   r.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  const double n = static_cast<double>(std::max(r.divergence.happened() ? done - 1 : done, 1L));
+  if (r.divergence.happened()) r.log.conservativeResize(row, Eigen::NoChange);  // the rows written
+  // Samples 0 .. step-1 were summed when it diverged at `step`.
+  const double n =
+      static_cast<double>(std::max(r.divergence.happened() ? r.divergence.step : s.steps, 1L));
   r.rms_performance = (sum_z2.template cast<double>() / n).cwiseSqrt();
   r.rms_command = (sum_u2.template cast<double>() / n).cwiseSqrt();
   return r;

@@ -11,6 +11,25 @@
 
 namespace flexloop::plant::lti {
 
+Eigen::MatrixXd hold_matrix(const StateSpace& c, DiscretisationMethod method, double dt) {
+  const Eigen::Index n = c.nx(), m = c.nu();
+  if (method == DiscretisationMethod::kZeroOrderHold) {
+    Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(n + m, n + m);
+    aug.topLeftCorner(n, n) = c.A * dt;
+    aug.topRightCorner(n, m) = c.B * dt;
+    return aug;
+  }
+  if (method == DiscretisationMethod::kFirstOrderHold) {
+    // [A B 0; 0 0 I/T; 0 0 0]·T: the middle block is the input, the last its slope over the step.
+    Eigen::MatrixXd aug = Eigen::MatrixXd::Zero(n + 2 * m, n + 2 * m);
+    aug.block(0, 0, n, n) = c.A * dt;
+    aug.block(0, n, n, m) = c.B * dt;
+    aug.block(n, n + m, m, m).setIdentity();
+    return aug;
+  }
+  return {};
+}
+
 namespace {
 
 using Eigen::Index;
@@ -104,10 +123,7 @@ Eigen::PartialPivLU<MatrixXd> factor(const MatrixXd& A, double alpha, const std:
 
 void zero_order_hold(const StateSpace& c, double dt, StateSpace& d) {
   const Index n = c.nx(), m = c.nu();
-  MatrixXd aug = MatrixXd::Zero(n + m, n + m);
-  aug.topLeftCorner(n, n) = c.A * dt;
-  aug.topRightCorner(n, m) = c.B * dt;
-  const MatrixXd e = balanced_exponential(aug);
+  const MatrixXd e = balanced_exponential(hold_matrix(c, DiscretisationMethod::kZeroOrderHold, dt));
   d.A = e.topLeftCorner(n, n);
   d.B = e.topRightCorner(n, m);
   d.C = c.C;
@@ -116,12 +132,8 @@ void zero_order_hold(const StateSpace& c, double dt, StateSpace& d) {
 
 void first_order_hold(const StateSpace& c, double dt, StateSpace& d) {
   const Index n = c.nx(), m = c.nu();
-  // [A B 0; 0 0 I/T; 0 0 0]·T: the middle block is the input, the last its slope over the step.
-  MatrixXd aug = MatrixXd::Zero(n + 2 * m, n + 2 * m);
-  aug.block(0, 0, n, n) = c.A * dt;
-  aug.block(0, n, n, m) = c.B * dt;
-  aug.block(n, n + m, m, m).setIdentity();
-  const MatrixXd e = balanced_exponential(aug);
+  const MatrixXd e =
+      balanced_exponential(hold_matrix(c, DiscretisationMethod::kFirstOrderHold, dt));
   const MatrixXd phi = e.block(0, 0, n, n);
   const MatrixXd g1 = e.block(0, n, n, m);
   const MatrixXd g2 = e.block(0, n + m, n, m);

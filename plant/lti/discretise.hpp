@@ -79,6 +79,10 @@ struct DiscreteStateSpace {
 /// stable plant made unstable.
 DiscreteStateSpace discretise(const StateSpace& c, const DiscretisationOptions& o);
 
+/// The matrix ZOH ([A B; 0 0]·T) or FOH ([A B 0; 0 0 I/T; 0 0 0]·T) exponentiates (balanced,
+/// balanced_exponential.hpp); empty for the methods without an exponential.
+Eigen::MatrixXd hold_matrix(const StateSpace& c, DiscretisationMethod method, double dt);
+
 /// The induced 1-norm of m (its largest absolute column sum), the norm Eigen's LU rcond() is
 /// relative to.
 double induced_norm_1(const Eigen::MatrixXd& m);

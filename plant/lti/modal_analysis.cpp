@@ -211,7 +211,11 @@ StaticStability static_stability(const Modes& modes, const Eigen::MatrixXd& K,
   for (Eigen::Index i = 0; i < modes.frequencies_hz.size(); ++i) {
     if (!(modes.frequencies_hz(i) < 0.0)) continue;  // natural_modes: f < 0 flags an unstable mode
     const cd w2 = modes.omega_squared(i);
-    ++(w2.real() < 0.0 ? s.divergent : s.flutter);
+    // natural_modes' "complex" (sqrt(eps) of the largest |w^2|): an oscillation that grows.
+    const double scale = modes.omega_squared.cwiseAbs().maxCoeff();
+    const bool complex =
+        std::abs(w2.imag()) > std::sqrt(std::numeric_limits<double>::epsilon()) * scale;
+    ++(complex ? s.flutter : s.divergent);
     // q ~ e^{s t} with s^2 = -w^2: the principal root is the growing one.
     s.growth_rate = std::max(s.growth_rate, std::sqrt(-w2).real());
   }

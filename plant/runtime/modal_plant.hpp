@@ -135,8 +135,8 @@ ModalPlant<Scalar, NX, NU, NY, NH> ModalPlant<Scalar, NX, NU, NY, NH>::from_moda
     d(i) = L(i, i);
     outside(i, i) = 0;
     const bool pair = i + 1 < NX && (L(i, i + 1) != 0 || L(i + 1, i) != 0);
-    require_pole_kept_inside<Scalar>(L(i, i), pair ? L(i, i + 1) : 0.0, i, "ModalPlant");
     if (!pair) {
+      require_pole_kept_inside<Scalar>(L(i, i), 0.0, i, "ModalPlant");
       i += 1;
       continue;
     }
@@ -148,6 +148,7 @@ ModalPlant<Scalar, NX, NU, NY, NH> ModalPlant<Scalar, NX, NU, NY, NH>::from_moda
                                   std::to_string(i) +
                                   " starts at an odd index; put the complex pairs first "
                                   "(plant::lti::to_modal_form does)");
+    require_pole_kept_inside<Scalar>(L(i, i), L(i, i + 1), i, "ModalPlant");
     d(i + 1) = L(i + 1, i + 1);
     o(i) = L(i, i + 1);
     o(i + 1) = L(i + 1, i);

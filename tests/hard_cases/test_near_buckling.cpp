@@ -16,15 +16,16 @@
 // - mode mismatch: w1^2(alpha) is concave in alpha (the smallest eigenvalue of a pencil affine in
 //   alpha), 0 at alpha = 1, so 1 <= r(alpha) <= r(1) = (phi_b^T K phi_b / phi_b^T M phi_b) / w10^2
 //   with phi_b the discrete buckling mode; it is 1 when the discrete vibration and buckling modes
-//   coincide. Measured r - 1: 2.7e-8 (0.5), 4.8e-8 (0.9), 5.3e-8 (0.99), 3.5e-8 (0.999).
+//   coincide. Measured r - 1: 2.7e-8 (0.5), 4.8e-8 (0.9), 5.3e-8 (0.99), 3.5e-8 (0.999), 5.8e-8
+//   (0.9995, the largest).
 // - rounding: the eigensolver resolves w^2 to about eps w_max^2 absolute, so r carries
 //   ~ eps (w_max / w1(0))^2 / (1 - alpha) = 1e-11 / (1 - alpha) here (f_max = 1265 Hz); measured
 //   r - 1 = -1.4e-8 at 0.9999, -2.9e-7 at 0.99999. (With 40 beams, w_max^2 is 250 times larger:
 //   r - 1 = 2.2e-5 at 0.9999, and from 0.99999 natural_modes reports f1 = 0, the first mode's w^2
 //   being then below its rounding threshold 100 n eps w_max^2: zero within rounding.)
 // Bound: |r - 1| <= 1e-6 at every alpha tested up to 0.9999 and beyond buckling (measured largest
-// 5.3e-8). The discretisation itself, against the continuous column: P_cr 8.25e-3 above Euler's
-// load (bound 1e-2), f1(0) 1.27e-3 below w_10 / 2 pi (bound 2e-3).
+// 5.8e-8, at 0.9995). The discretisation itself, against the continuous column: P_cr 8.25e-3 above
+// Euler's load (bound 1e-2), f1(0) 1.27e-3 below w_10 / 2 pi (bound 2e-3).
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
