@@ -127,7 +127,9 @@ void register_hil(CLI::App& app) {
       "  tools/netns-run -- flexloop hil tools/scenes/metrology_frame.toml --rate 10000 \\\n"
       "      --wait hybrid --duration 10 --report out/hil/10khz.json --lcm-log out/hil/run.lcmlog\n"
       "  flexloop hil tools/scenes/metrology_frame.toml --netns --sweep --duration 5 \\\n"
-      "      --report out/hil/sweep.json");
+      "      --report out/hil/sweep.json\n"
+      "Exit: 1 also when the plant diverged (|[z; u]| > 1e12 or not finite); the report is "
+      "written and says when and on which channel (\"divergence\").");
   cmd->callback([args] { run(*args); });
 }
 

@@ -244,7 +244,9 @@ void register_sim(CLI::App& app) {
                   "Directory for time_series.png and spectra.png (controller off and on)");
   cmd->footer(
       "Example:\n  flexloop sim tools/scenes/metrology_frame.toml --duration 10 --log "
-      "out/sim/metrology.csv --plots out/sim");
+      "out/sim/metrology.csv --plots out/sim\n"
+      "Exit: 0 done; 2 bad input or a loop the checks refuse (file:line says why); 1 a run that "
+      "diverged (|[z; u]| > 1e12 or not finite: when and on which channel), nothing written.");
   cmd->callback([args] { run(*args); });
 }
 

@@ -63,7 +63,9 @@ void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
       "  " +
       source.prefix + "plant " + source.example +
       " --rate 1000 --duration 10\n"
-      "  kill %1");
+      "  kill %1\n"
+      "Exit: 1 also when the plant diverged (|[z; u]| > 1e12 or not finite); --json is written "
+      "and says when and on which channel (\"divergence\").");
   cmd->callback([args, source] { run(*args, source); });
 }
 
