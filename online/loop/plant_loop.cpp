@@ -14,18 +14,9 @@ PlantLoopResult run_plant_loop(const LoopOptions& o, const artefact::LoopArtefac
   const std::string url = loop_lcm_url(o.url, o.link);
   install_stop_handlers();
   PlantLoopResult r;
-  // One translation unit per compiled plant size, each with every effect combination.
-  // The metrology frame (12 states, and 24 under gravity preload; 6 channels of each kind) on
-  // its compiled fast path; every other plant on the general path, sized at start-up.
-  const Eigen::Index nx = loop.plant.A.rows();
-  const bool metrology_io = loop.disturbances() == kChannels && loop.actuators() == kChannels &&
-                            loop.performance() == kChannels && loop.sensors() == kChannels;
-  if (metrology_io && nx == 12)
-    detail::run_plant_metrology(loop, o, url, r);
-  else if (metrology_io && nx == 24)
-    detail::run_plant_preloaded(loop, o, url, r);
-  else
-    detail::run_plant_general(loop, o, url, r);
+  // A loop with a compiled fast path runs on it; every other one on the general path, sized at
+  // start-up.
+  if (!detail::run_plant_compiled(loop, o, url, r)) detail::run_plant_general(loop, o, url, r);
   if (r.divergence.happened())
     r.divergence_message =
         "plant: the loop " + plant::runtime::describe(r.divergence, loop.channels);

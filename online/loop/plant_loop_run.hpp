@@ -1,8 +1,8 @@
 #pragma once
 // The plant loop's body (online/loop/plant_loop.hpp) for one composed hardware type, and its
-// instantiation per compiled plant size with the artefact's effects (online/sim/loop_hardware.hpp).
-// Each size lives in its own translation unit (plant_loop_metrology.cpp, plant_loop_preloaded.cpp)
-// so that the effect combinations compile in parallel.
+// instantiations with the artefact's effects (online/sim/loop_hardware.hpp): the compiled loops
+// (plant_loop_compiled.cpp) and the general path (plant_loop_general.cpp), in separate
+// translation units so that the effect combinations compile in parallel.
 #include <unistd.h>
 
 #include <cstdio>
@@ -15,7 +15,6 @@
 #include "online/loop/stop_signal.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "plant/runtime/divergence.hpp"
-#include "plant/runtime/runtime_sizes.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
 
@@ -107,21 +106,10 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   r.publish_failures = sensor.failures();
 }
 
-/// The loop on the dense plant of NX states with the artefact's hardware effects.
-template <int NX>
-void run_plant_of_size(const artefact::LoopArtefact& loop, const LoopOptions& o,
-                       const std::string& url, PlantLoopResult& r) {
-  const auto& d = loop.plant;
-  const auto plant = plant::runtime::DensePlant<double, NX, 2 * kChannels, 2 * kChannels,
-                                                kChannels>::from_matrices(d.A, d.B, d.C, d.D);
-  sim::with_hardware<kChannels, kChannels>(
-      loop, plant, [&](auto hw) { run_plant_with(std::move(hw), loop, o, url, r); });
-}
-
-void run_plant_metrology(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
-                         PlantLoopResult&);  // 12 states
-void run_plant_preloaded(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
-                         PlantLoopResult&);  // 24 states (gravity preload)
+/// The loop on the fixed-size kernels of the compiled loop that matches the artefact
+/// (online/numeric/compiled_loops.hpp), with its hardware effects: false when none matches.
+bool run_plant_compiled(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
+                        PlantLoopResult&);
 void run_plant_general(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
                        PlantLoopResult&);  // any size, sized at start-up
 

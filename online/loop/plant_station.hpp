@@ -38,10 +38,6 @@
 
 namespace flexloop::hil {
 
-/// The metrology frame's channels of each kind (its compiled fast path).
-inline constexpr int kChannels = 6;
-using ChannelVector = Eigen::Matrix<double, kChannels, 1>;
-
 struct PlantStationSettings {
   int safe_after = 10;     ///< consecutive missed answers before the safe command, >= 1
   std::int64_t epoch = 1;  ///< this plant run's id (sensor_sample_t.plant_epoch)

@@ -19,11 +19,14 @@
 
 #include "artefact/loop_artefact.hpp"
 #include "common/input_error.hpp"
+#include "online/numeric/compiled_loops.hpp"
+#include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/effects/floor_generator.hpp"
 #include "plant/runtime/effects/piezo_actuator.hpp"
 #include "plant/runtime/effects/sample_delay.hpp"
 #include "plant/runtime/effects/sensor_chain.hpp"
 #include "plant/runtime/effects/white_floor.hpp"
+#include "plant/runtime/modal_plant.hpp"
 #include "plant/runtime/simulated_hardware.hpp"
 
 namespace flexloop::sim {
@@ -33,6 +36,29 @@ using artefact::has_effects;
 using plant::runtime::NoEffect;
 
 using artefact::kFloorFilterOrder;
+
+/// The artefact's counts and plant form, as the dispatch to a compiled loop compares them.
+inline plant::runtime::LoopCounts loop_counts(const artefact::LoopArtefact& a) {
+  return {.states = a.plant.A.rows(),
+          .disturbances = a.disturbances(),
+          .actuators = a.actuators(),
+          .performance = a.performance(),
+          .sensors = a.sensors(),
+          .form = a.plant.form == "modal" ? plant::runtime::PlantForm::kModal
+                                          : plant::runtime::PlantForm::kDense};
+}
+
+/// The artefact's plant on the fixed-size kernels of a compiled loop (its counts match Loop).
+template <class Loop>
+auto make_compiled_plant(const artefact::LoopArtefact& a) {
+  const auto& d = a.plant;
+  if constexpr (Loop::kForm == plant::runtime::PlantForm::kModal)
+    return plant::runtime::ModalPlant<double, Loop::NX, Loop::NU, Loop::NY,
+                                      Loop::NH>::from_modal_form(d.modal);
+  else
+    return plant::runtime::DensePlant<double, Loop::NX, Loop::NU, Loop::NY,
+                                      Loop::NH>::from_matrices(d.A, d.B, d.C, d.D);
+}
 
 template <int N>
 fx::SensorParameters<N> sensor_parameters(const artefact::SensorEffect& e, Eigen::Index n = N) {
@@ -146,14 +172,14 @@ decltype(auto) with_hardware(const artefact::LoopArtefact& a, const Plant& plant
   return with_floor<NW>(a, with_actuator);
 }
 
-/// The plant with the artefact's floor and no other effect (the compiled sizes other than the
-/// metrology frame are built without the effect combinations, to keep the build short).
-/// @throws flexloop::InputError naming the artefact when it carries effects.
+/// The plant with the artefact's floor and no other effect (a bare loop: one composition instead
+/// of every effect combination). @throws flexloop::InputError naming the artefact when it carries
+/// effects.
 template <int NW, int NC, int NS = NC, class Plant, class F>
 decltype(auto) with_bare_hardware(const artefact::LoopArtefact& a, const Plant& plant, F&& f) {
   if (has_effects(a.effects))
     throw InputError(a.source,
-                     "[effects]: this compiled plant size runs without hardware effects; the "
+                     "[effects]: this bare loop runs without hardware effects; the "
                      "general path runs them (flexloop sim --runtime-path general)");
   return with_floor<NW>(a, [&](auto floor) -> decltype(auto) {
     return f(plant::runtime::SimulatedHardware<Plant, NW, NC, decltype(floor), NoEffect, NoEffect,

@@ -1,10 +1,11 @@
 #pragma once
 // `flexloop sim`'s runs of a loop artefact: the same floor and hardware (same seeds) once with the
-// controller off and once on (a loop without a controller runs once). An artefact whose sizes have
-// a compiled fast path (the metrology frame) runs on it; every other one runs on the general
-// path, sized at start-up. The combinations of plant size, form and effects live in separate
-// translation units (scene_runs_*.cpp) so that they build in parallel.
+// controller off and once on (a loop without a controller runs once). An artefact whose counts
+// and form have a compiled fast path (online/numeric/compiled_loops.hpp) runs on it; every other
+// one runs on the general path, sized at start-up. The compiled loops and the general path live
+// in separate translation units (scene_runs_*.cpp) so that they build in parallel.
 #include <functional>
+#include <optional>
 #include <string>
 
 #include "artefact/loop_artefact.hpp"
@@ -31,13 +32,10 @@ BothRuns run_artefact(const artefact::LoopArtefact& a, const RunSettings& s,
                       const SceneRunOptions& o);
 
 namespace detail {
-// One per translation unit: the dense metrology plant (12 states) and its gravity-preloaded
-// variant (24 states) with every effect combination; the other compiled sizes with the floor
-// only; the general path with everything.
-BothRuns run_metrology(const artefact::LoopArtefact&, const RunSettings&, const SceneRunOptions&);
-BothRuns run_metrology_preloaded(const artefact::LoopArtefact&, const RunSettings&,
-                                 const SceneRunOptions&);
-BothRuns run_bare(const artefact::LoopArtefact&, const RunSettings&, const SceneRunOptions&);
+// One per translation unit: the compiled loop that matches the artefact (nothing when none does),
+// and the general path; each with every effect combination.
+std::optional<BothRuns> run_compiled(const artefact::LoopArtefact&, const RunSettings&,
+                                     const SceneRunOptions&);
 BothRuns run_general(const artefact::LoopArtefact&, const RunSettings&, const SceneRunOptions&);
 }  // namespace detail
 

@@ -10,10 +10,10 @@ BothRuns run_general(const artefact::LoopArtefact& a, const RunSettings& s,
   constexpr int kAny = Eigen::Dynamic;
   const auto& d = a.plant;
   if (d.form == "modal")
-    return run_both<kAny, kAny, true>(
+    return run_both<kAny, kAny, kAny>(
         plant::runtime::GeneralModalPlant<double>::from_modal_form(d.modal, a.actuators()), a, s,
         o);
-  return run_both<kAny, kAny, true>(
+  return run_both<kAny, kAny, kAny>(
       plant::runtime::GeneralDensePlant<double>::from_matrices(d.A, d.B, d.C, d.D, a.actuators()),
       a, s, o);
 }

@@ -8,9 +8,10 @@
 #include <random>
 #include <type_traits>
 
-#include "controller/runtime/pi_controller_sizes.hpp"
+#include "controller/runtime/pi_controller.hpp"
 #include "plant/lti/modal_form.hpp"
-#include "plant/runtime/runtime_sizes.hpp"
+#include "plant/runtime/dense_plant.hpp"
+#include "plant/runtime/modal_plant.hpp"
 #include "tests/support/allocation_counter.hpp"
 #include "tests/support/closed_loop.hpp"
 #include "tests/support/metrology.hpp"

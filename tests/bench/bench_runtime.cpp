@@ -26,9 +26,10 @@
 #include <random>
 #include <vector>
 
-#include "controller/runtime/pi_controller_sizes.hpp"
+#include "controller/runtime/pi_controller.hpp"
 #include "plant/lti/modal_form.hpp"
-#include "plant/runtime/runtime_sizes.hpp"
+#include "plant/runtime/dense_plant.hpp"
+#include "plant/runtime/modal_plant.hpp"
 #include "tests/bench/bench_inputs.hpp"
 #include "tests/support/closed_loop.hpp"
 #include "tests/support/metrology.hpp"

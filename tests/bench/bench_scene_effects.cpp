@@ -5,12 +5,12 @@
 //   tools/bench --benchmark_filter=Effect
 #include <benchmark/benchmark.h>
 
-#include "controller/runtime/pi_controller_sizes.hpp"
+#include "controller/runtime/pi_controller.hpp"
+#include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/effects/piezo_actuator.hpp"
 #include "plant/runtime/effects/sample_delay.hpp"
 #include "plant/runtime/effects/sensor_chain.hpp"
 #include "plant/runtime/effects/white_floor.hpp"
-#include "plant/runtime/runtime_sizes.hpp"
 #include "plant/runtime/simulated_hardware.hpp"
 #include "tests/support/metrology.hpp"
 

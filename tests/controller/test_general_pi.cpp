@@ -8,7 +8,7 @@
 #include <random>
 
 #include "controller/runtime/general_pi_controller.hpp"
-#include "controller/runtime/pi_controller_sizes.hpp"
+#include "controller/runtime/pi_controller.hpp"
 #include "plant/lti/discretise.hpp"
 #include "tests/discretise/reference.hpp"
 #include "tests/support/dynamic_reference.hpp"

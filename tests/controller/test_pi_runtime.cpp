@@ -6,10 +6,10 @@
 
 #include <random>
 
-#include "controller/runtime/pi_controller_sizes.hpp"
+#include "controller/runtime/pi_controller.hpp"
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/modal_form.hpp"
-#include "plant/runtime/runtime_sizes.hpp"
+#include "plant/runtime/dense_plant.hpp"
 #include "tests/discretise/reference.hpp"
 #include "tests/support/closed_loop.hpp"
 #include "tests/support/discrete_systems.hpp"

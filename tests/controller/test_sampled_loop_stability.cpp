@@ -14,7 +14,7 @@
 
 #include "common/input_error.hpp"
 #include "controller/design/sampled_loop_stability.hpp"
-#include "controller/runtime/pi_controller_sizes.hpp"
+#include "controller/runtime/pi_controller.hpp"
 #include "offline/scene/pi_parameters.hpp"
 #include "offline/scene/scene_plant.hpp"
 #include "plant/lti/feedback_interconnection.hpp"

@@ -9,8 +9,8 @@
 #include "online/loop/controller_station.hpp"
 #include "online/loop/loop_controller.hpp"
 #include "online/loop/plant_station.hpp"
+#include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/effects/white_floor.hpp"
-#include "plant/runtime/runtime_sizes.hpp"
 #include "plant/runtime/simulated_hardware.hpp"
 #include "tests/support/metrology.hpp"
 
@@ -25,6 +25,14 @@ inline const artefact::LoopArtefact& hil_scene() {
   static const artefact::LoopArtefact s =
       scene::load_loop(metrology_scene_path(), {.rate_hz = 1000, .form = "", .duration_s = 0});
   return s;
+}
+
+using HilController = controller::runtime::PiController<double, 6>;
+using ChannelVector = Eigen::Matrix<double, 6, 1>;  // one value per strut
+
+/// The metrology frame's PI on its compiled six channels.
+inline HilController hil_controller(const artefact::LoopArtefact& a = hil_scene()) {
+  return HilController::from_parameters(a.pi);
 }
 
 inline HilPlant hil_plant() {
@@ -52,12 +60,12 @@ auto deliver(rt::MessageInbox<Msg>& inbox, const Msg& m, std::int64_t received_n
 
 struct StationPair {
   hil::PlantStation<HilHardware> plant;
-  hil::ControllerStation<controller::runtime::PiController<double, hil::kChannels>> controller;
+  hil::ControllerStation<HilController> controller;
   std::int64_t k = 0;  // next cycle
 
   explicit StationPair(int safe_after = 5, std::int64_t epoch = 7)
       : plant(hil_hardware(), {.safe_after = safe_after, .epoch = epoch, .period_ns = kPeriod}),
-        controller(hil::make_loop_controller(hil_scene()), safe_after) {}
+        controller(hil_controller(), safe_after) {}
 
   /// One cycle; the controller answers when `answer` (returns where the settled command came from).
   hil::CommandSource cycle(bool answer = true) {

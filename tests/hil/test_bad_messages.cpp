@@ -10,7 +10,6 @@
 
 using namespace flexloop;
 using namespace flexloop::test;
-using hil::ChannelVector;
 using hil::CommandSource;
 
 namespace {

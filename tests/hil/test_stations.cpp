@@ -10,14 +10,13 @@
 
 using namespace flexloop;
 using namespace flexloop::test;
-using hil::ChannelVector;
 using hil::CommandSource;
 
 TEST_CASE("hil stations: answers in time reproduce the in-process closed loop exactly") {
   StationPair pair;
   // The in-process loop of online/sim (same convention, written out here).
   HilPlant plant = hil_plant();
-  auto controller = hil::make_loop_controller(hil_scene());
+  auto controller = hil_controller();
   auto noise = plant::runtime::effects::GaussianNoise<double, 6>::from_seed(kFloorSeed);
   HilPlant::Input in = HilPlant::Input::Zero();
   double largest = 0;
@@ -79,7 +78,7 @@ TEST_CASE("hil stations: without the bumpless restart the first answer after the
   // The same stop, but a controller that does not know the plant went safe (safe_after far
   // above the gap): its first answer is far from the zero force the plant holds.
   StationPair pair(5);
-  hil::ControllerStation unaware(hil::make_loop_controller(hil_scene()), 1'000'000);
+  hil::ControllerStation unaware(hil_controller(), 1'000'000);
   std::swap(pair.controller, unaware);
   for (int k = 0; k < 500; ++k) pair.cycle();
   pair.cycle(false);

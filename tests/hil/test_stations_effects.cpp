@@ -27,13 +27,13 @@ TEST_CASE(
     // The in-process run, every sample logged: t, floor (6), performance (6), performance
     // sensors (6), sensors (6), commands (6).
     const sim::RunResult reference =
-        sim::run_closed_loop(hw, hil::make_loop_controller(scene),
+        sim::run_closed_loop(hw, hil_controller(scene),
                              {.steps = kSteps, .dt = scene.dt(), .log_every = 1, .chunks = 1}, {});
     const Eigen::Index z0 = 1 + 6, u0 = 1 + 6 + 3 * 6;
     hil::PlantStation<decltype(hw)> station(hw,
                                             {.safe_after = 5, .epoch = 3, .period_ns = kPeriod});
-    hil::ControllerStation controller(hil::make_loop_controller(scene), 5);
-    hil::ChannelVector sum_u2 = hil::ChannelVector::Zero();
+    hil::ControllerStation controller(hil_controller(scene), 5);
+    ChannelVector sum_u2 = ChannelVector::Zero();
     double z_differ = 0, u_differ = 0;  // largest |stations - in-process| over every sample
     for (long k = 0; k < kSteps; ++k) {
       const std::int64_t due = k * kPeriod;
@@ -42,7 +42,7 @@ TEST_CASE(
       REQUIRE_FALSE(deliver(controller.samples(), s, due + kTransit).has_value());
       auto& cmd = controller.answer(*controller.samples().take());
       cmd.t_ns = due + kAnswerAfter;
-      const Eigen::Map<const hil::ChannelVector> u(cmd.commands.data());
+      const Eigen::Map<const ChannelVector> u(cmd.commands.data());
       sum_u2 += u.cwiseAbs2();
       // Sample k's performance is the plant's output after the command of sample k - 1 acted.
       z_differ = std::max(z_differ, (station.hardware().performance().transpose() -
@@ -53,7 +53,7 @@ TEST_CASE(
           u_differ, (u.transpose() - reference.log.row(k).segment(u0, 6)).cwiseAbs().maxCoeff());
       REQUIRE_FALSE(deliver(station.commands(), cmd, due + kAnswerAfter + kTransit).has_value());
     }
-    const hil::ChannelVector rms_u = (sum_u2 / kSteps).cwiseSqrt();
+    const ChannelVector rms_u = (sum_u2 / kSteps).cwiseSqrt();
     INFO("largest difference over " << kSteps << " samples: performance " << z_differ
                                     << ", command " << u_differ);
     CHECK(z_differ == 0);

@@ -5,7 +5,8 @@
 
 #include <random>
 
-#include "plant/runtime/runtime_sizes.hpp"
+#include "online/numeric/compiled_loops.hpp"
+#include "plant/runtime/dense_plant.hpp"
 #include "tests/support/discrete_systems.hpp"
 #include "tests/support/dynamic_reference.hpp"
 
@@ -58,16 +59,51 @@ TEST_CASE("dense plant: an artefact of another size is a start-up error naming b
   CHECK_NOTHROW(Plant32::from_matrices(d.sys.A, d.sys.B, d.sys.C, d.sys.D));
 }
 
-TEST_CASE("runtime sizes: the dispatch finds each compiled size and lists them otherwise",
+TEST_CASE("compiled loops: the dispatch finds each entry of the typed list, and nothing else",
           "[runtime][sizes]") {
-  const auto nx_of = [](long nx, long nu, long ny) {
-    return plant::runtime::with_runtime_size(nx, nu, ny, [](auto size) {
-      return decltype(size)::NX * 10000 + decltype(size)::NU * 100 + decltype(size)::NY;
-    });
+  using plant::runtime::LoopCounts;
+  using plant::runtime::PlantForm;
+  // A number that names the entry: states, each channel count and the form.
+  const auto id_of = [](const LoopCounts& n) {
+    return plant::runtime::with_compiled_loop(
+        n,
+        [](auto loop) {
+          using L = decltype(loop);
+          return L::NX * 100000 + L::NW * 10000 + L::NC * 1000 + L::NZ * 100 + L::NS * 10 +
+                 (L::kForm == PlantForm::kModal ? 1 : 0);
+        },
+        [] { return -1; });
   };
-  CHECK(nx_of(12, 12, 12) == 121212);
-  CHECK(nx_of(24, 12, 12) == 241212);
-  CHECK(nx_of(2, 2, 2) == 20202);
-  CHECK_THROWS_WITH(nx_of(12, 12, 6), Catch::Contains("12 states, 12 inputs and 6 outputs") &&
-                                          Catch::Contains("12/12/12 24/12/12 2/2/2"));
+  const LoopCounts metrology{.states = 12,
+                             .disturbances = 6,
+                             .actuators = 6,
+                             .performance = 6,
+                             .sensors = 6,
+                             .form = PlantForm::kDense};
+  CHECK(id_of(metrology) == 1266660);
+  LoopCounts modal = metrology;
+  modal.form = PlantForm::kModal;
+  CHECK(id_of(modal) == 1266661);
+  LoopCounts preloaded = metrology;
+  preloaded.states = 24;
+  CHECK(id_of(preloaded) == 2466660);
+  // Any count that differs from every entry goes to the general path.
+  for (auto LoopCounts::*count :
+       {&LoopCounts::states, &LoopCounts::disturbances, &LoopCounts::actuators,
+        &LoopCounts::performance, &LoopCounts::sensors}) {
+    LoopCounts other = metrology;
+    other.*count += 1;
+    CHECK(id_of(other) == -1);
+  }
+  LoopCounts preloaded_modal = preloaded;  // floor states: the modal form refuses them
+  preloaded_modal.form = PlantForm::kModal;
+  CHECK(id_of(preloaded_modal) == -1);
+  // What a controller sees: its actuator and sensor counts.
+  const auto channels_of = [](Eigen::Index nc, Eigen::Index ns) {
+    return plant::runtime::with_compiled_channels(
+        nc, ns, [](auto loop) { return decltype(loop)::NC; }, [] { return -1; });
+  };
+  CHECK(channels_of(6, 6) == 6);
+  CHECK(channels_of(6, 5) == -1);
+  CHECK(channels_of(2, 2) == -1);
 }

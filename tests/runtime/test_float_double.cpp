@@ -6,7 +6,8 @@
 #include <random>
 
 #include "plant/lti/modal_form.hpp"
-#include "plant/runtime/runtime_sizes.hpp"
+#include "plant/runtime/dense_plant.hpp"
+#include "plant/runtime/modal_plant.hpp"
 #include "tests/support/float_error_bound.hpp"
 #include "tests/support/metrology.hpp"
 

@@ -9,7 +9,8 @@
 #include <random>
 
 #include "plant/lti/modal_form.hpp"
-#include "plant/runtime/runtime_sizes.hpp"
+#include "plant/runtime/dense_plant.hpp"
+#include "plant/runtime/modal_plant.hpp"
 #include "tests/support/discrete_systems.hpp"
 #include "tests/support/dynamic_reference.hpp"
 #include "tests/support/metrology.hpp"

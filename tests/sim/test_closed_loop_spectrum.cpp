@@ -7,7 +7,7 @@
 
 #include <cmath>
 
-#include "controller/runtime/pi_controller_sizes.hpp"
+#include "controller/runtime/pi_controller.hpp"
 #include "offline/scene/loop_artefact_builder.hpp"
 #include "offline/scene/scene_plant.hpp"
 #include "online/sim/closed_loop_run.hpp"
@@ -15,7 +15,7 @@
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/vibration_criterion.hpp"
 #include "plant/lti/welch.hpp"
-#include "plant/runtime/runtime_sizes.hpp"
+#include "plant/runtime/dense_plant.hpp"
 
 using namespace flexloop;
 

@@ -1,0 +1,18 @@
+// The compiled fast paths of `flexloop sim`: every entry of the typed list of compiled loops
+// (online/numeric/compiled_loops.hpp), each with every effect combination.
+#include "online/sim/run_both.hpp"
+
+namespace flexloop::sim::detail {
+
+std::optional<BothRuns> run_compiled(const artefact::LoopArtefact& a, const RunSettings& s,
+                                     const SceneRunOptions& o) {
+  return plant::runtime::with_compiled_loop(
+      loop_counts(a),
+      [&](auto loop) -> std::optional<BothRuns> {
+        using Loop = decltype(loop);
+        return run_both<Loop::NW, Loop::NC, Loop::NS>(make_compiled_plant<Loop>(a), a, s, o);
+      },
+      [] { return std::optional<BothRuns>{}; });
+}
+
+}  // namespace flexloop::sim::detail
