@@ -7,13 +7,12 @@
 
 #include "common/input_error.hpp"
 #include "plant/lti/vibration_criterion.hpp"
-#include "plant/model/toml_reader.hpp"
+#include "common/toml_reader.hpp"
 
 namespace flexloop::scene {
 
 namespace {
 
-using plant::model::TomlReader;
 
 std::vector<std::string> names(const TomlReader& r, const char* key) {
   std::vector<std::string> out;
@@ -56,7 +55,7 @@ const toml::table* table(const TomlReader& top, const toml::table& root, const c
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& file) {
-  const toml::table root = plant::model::parse_toml(text, file);
+  const toml::table root = parse_toml(text, file);
   Scene s;
   s.file = file;
   TomlReader top(root, file, "scene file");
@@ -194,7 +193,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
 }
 
 Scene load_scene(const std::string& path) {
-  return parse_scene(plant::model::read_input_file(path, "scene file"), path);
+  return parse_scene(read_input_file(path, "scene file"), path);
 }
 
 bool is_scene_file(const std::string& path) {

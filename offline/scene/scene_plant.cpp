@@ -9,7 +9,7 @@
 #include "plant/lti/state_space_builder.hpp"
 #include "plant/model/model_parser.hpp"
 #include "plant/model/static_equilibrium.hpp"
-#include "plant/model/toml_reader.hpp"
+#include "common/toml_reader.hpp"
 
 namespace flexloop::scene {
 
@@ -27,10 +27,10 @@ std::vector<std::string> concat(std::vector<std::string> a, const std::vector<st
 std::string scene_place(const Scene& sc, const char* table, const char* key) {
   try {
     const toml::table root =
-        plant::model::parse_toml(plant::model::read_input_file(sc.file, "scene file"), sc.file);
+        parse_toml(read_input_file(sc.file, "scene file"), sc.file);
     const auto* t = root.get(table);
     if (!t || !t->as_table()) return sc.file;
-    const plant::model::TomlReader r(*t->as_table(), sc.file, table);
+    const TomlReader r(*t->as_table(), sc.file, table);
     return r.place(r.get(key));
   } catch (const std::exception&) {
     return sc.file;

@@ -18,16 +18,13 @@
 #include <string>
 #include <vector>
 
+#include "common/source_ref.hpp"
 #include "plant/model/element_kinematics.hpp"
 
 namespace flexloop::plant::model {
 
 /// Where something was written in the model file, for error messages.
-struct SourceRef {
-  std::string file;
-  int line = 0;
-  std::string str() const { return line > 0 ? file + ":" + std::to_string(line) : file; }
-};
+using flexloop::SourceRef;
 
 enum class ElementType { kTruss, kPlanarBeam, kSpatialBeam };
 enum class DeformationKind { kRigid, kFlexible, kReleased };

@@ -10,7 +10,7 @@
 
 #include "common/input_error.hpp"
 #include "plant/model/element_properties.hpp"
-#include "plant/model/toml_reader.hpp"
+#include "common/toml_reader.hpp"
 
 namespace flexloop::plant::model {
 

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "common/input_error.hpp"
-#include "plant/model/model.hpp"
+#include "common/source_ref.hpp"
 
-namespace flexloop::plant::model {
+namespace flexloop {
 
 class TomlReader {
  public:
@@ -129,4 +129,4 @@ inline std::string read_input_file(const std::string& path, const std::string& w
   return ss.str();
 }
 
-}  // namespace flexloop::plant::model
+}  // namespace flexloop
