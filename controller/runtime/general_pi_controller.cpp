@@ -14,8 +14,8 @@ GeneralPiController<Scalar> GeneralPiController<Scalar>::from_parameters(const P
                                 std::to_string(plant::runtime::kMaxChannels));
   const PiStepGains g = pi_step_gains(p, n, who);
   GeneralPiController c;
-  c.G_f_ = g.G_f.cast<Scalar>();
-  c.G_x_ = g.G_x.cast<Scalar>();
+  c.G_f_ = plant::runtime::padded_matrix<Scalar>(g.G_f);
+  c.G_x_ = plant::runtime::padded_matrix<Scalar>(g.G_x);
   c.G_x_inv_ = g.G_x_inv.cast<Scalar>();
   c.D22_ = g.D22.cast<Scalar>();
   c.identity_feedthrough_ = g.identity_feedthrough;
@@ -25,7 +25,8 @@ GeneralPiController<Scalar> GeneralPiController<Scalar>::from_parameters(const P
   c.history_.assign(kHistory, Vector::Zero(n));
   c.u_min_ = g.u_min.cast<Scalar>();
   c.u_max_ = g.u_max.cast<Scalar>();
-  c.s_ = c.f_ = c.v_ = c.u_ = c.g_ = Vector::Zero(n);
+  c.f_ = c.u_ = Vector::Zero(n);
+  c.s_ = c.v_ = c.g_ = Vector::Zero(plant::runtime::padded_row_count<Scalar>(n));
   return c;
 }
 

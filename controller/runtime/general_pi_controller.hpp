@@ -1,18 +1,21 @@
 #pragma once
 // The discrete PI force feedback on the general path: any channel count 1 .. kMaxChannels, sized
 // at start-up. The same law, start-up checks and gains as the compiled PiController<Scalar, N>
-// (pi_controller.hpp has the law; pi_step_gains.hpp the shared start-up), written with Eigen's
-// no-alias products into storage sized once:
+// (pi_controller.hpp has the law; pi_step_gains.hpp the shared start-up), with the products of
+// online/numeric/dynamic_product.hpp on matrices whose rows are padded to whole SIMD packets, into
+// storage sized once:
 //
 //   f = y - D22 u_{k-1-d},  v = G_f f + s,  u = clamp(v),  s += u - v,  s = a s + b G_x (f + D22 u)
 //
 // step() never allocates, locks, throws or makes a system call (tests/alloc checks it).
 #include <Eigen/Core>
+#include <algorithm>
 #include <vector>
 
 #include "controller/runtime/pi_parameters.hpp"
 #include "controller/runtime/pi_step_gains.hpp"
 #include "online/numeric/channel_limits.hpp"
+#include "online/numeric/dynamic_product.hpp"
 
 namespace flexloop::controller::runtime {
 
@@ -26,21 +29,28 @@ class GeneralPiController {
   /// outside the range.
   static GeneralPiController from_parameters(const PiParameters& p, Eigen::Index n);
 
-  Eigen::Index channels() const noexcept { return s_.size(); }
+  Eigen::Index channels() const noexcept { return u_.size(); }
 
   /// One sample: y = the measured forces (any vector expression of channels() entries). Returns
   /// the (saturated) command to hold until the next sample.
   template <typename Y>
   const Vector& step(const Eigen::MatrixBase<Y>& y) noexcept {
-    f_ = y;
-    subtract_feedthrough(measured_command());
-    v_ = s_;
-    v_.noalias() += G_f_ * f_;
-    u_ = v_.cwiseMax(u_min_).cwiseMin(u_max_);
-    s_ += u_ - v_;  // exactly zero while no channel saturates
-    subtract_feedthrough(-u_);
-    g_.noalias() = G_x_ * f_;
-    s_ = a_ * s_ + b_ * g_;
+    // Entry by entry on raw storage: for a handful of channels Eigen's dynamic-size loops (size
+    // checks, peeling for alignment) cost more than the arithmetic.
+    const Eigen::Index n = u_.size();
+    Scalar *f = f_.data(), *u = u_.data(), *s = s_.data();
+    read_measured(y);
+    add_feedthrough(measured_command(), Scalar(-1));
+    plant::runtime::product(G_f_.data(), n, f, G_f_.rows(), s, v_.data());  // v = G_f f + s
+    const Scalar *v = v_.data(), *lo = u_min_.data(), *hi = u_max_.data();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      u[i] = std::min(std::max(v[i], lo[i]), hi[i]);
+      s[i] += u[i] - v[i];  // exactly zero while no channel saturates
+    }
+    add_feedthrough(u_, Scalar(1));
+    plant::runtime::product(G_x_.data(), n, f, G_x_.rows(), nullptr, g_.data());  // g = G_x f
+    const Scalar* g = g_.data();
+    for (Eigen::Index i = 0; i < s_.size(); ++i) s[i] = a_ * s[i] + b_ * g[i];
     remember(u_);
     return u_;
   }
@@ -49,17 +59,17 @@ class GeneralPiController {
   void start(const Vector& y_now, const Vector& u_now) noexcept {
     for (auto& h : history_) h = u_now;
     f_ = y_now;
-    subtract_feedthrough(u_now);
-    s_ = u_now;
-    s_.noalias() -= G_f_ * f_;
+    add_feedthrough(u_now, Scalar(-1));
+    s_.head(u_.size()) = u_now;
+    s_.head(u_.size()).noalias() -= G_f_.topRows(u_.size()) * f_;
   }
   /// When the actuator reports that it applied something else (e.g. a safe command).
   void set_previous_command(const Vector& u) noexcept { history_[head_] = u; }
   const Vector& previous_command() const noexcept { return history_[head_]; }
   /// The integrator state x = G_x^-1 s (allocates nothing; not used in a step).
   Vector state() const noexcept {
-    Vector x(s_.size());
-    x.noalias() = G_x_inv_ * s_;
+    Vector x(u_.size());
+    x.noalias() = G_x_inv_ * s_.head(u_.size());
     return x;
   }
   void set_state(const Vector& x) noexcept { s_.noalias() = G_x_ * x; }
@@ -71,13 +81,30 @@ class GeneralPiController {
  private:
   GeneralPiController() = default;
 
-  // f <- f - D22 u (D22 = I: force sensors in series with the actuators).
-  template <typename U>
-  void subtract_feedthrough(const Eigen::MatrixBase<U>& u) noexcept {
-    if (identity_feedthrough_)
-      f_ -= u;
-    else
+  // f <- y. y was usually written just before as part of a longer vector (the plant's output, by
+  // whole SIMD packets): read entry by entry, because a wider load that spans two of those stores
+  // cannot be forwarded from the store buffer and waits for them to reach the cache. A run-time
+  // stride keeps the compiler from widening the loop.
+  template <typename Y>
+  void read_measured(const Eigen::MatrixBase<Y>& y) noexcept {
+    if constexpr (requires { y.derived().data(); }) {
+      const Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>, 0, Eigen::InnerStride<>>
+          entries(y.derived().data(), y.size(), Eigen::InnerStride<>(y.derived().innerStride()));
+      for (Eigen::Index i = 0; i < entries.size(); ++i) f_.data()[i] = entries.coeff(i);
+    } else {
+      f_ = y;
+    }
+  }
+
+  // f <- f + sign D22 u, sign = ±1 (D22 = I: force sensors in series with the actuators).
+  void add_feedthrough(const Vector& u, Scalar sign) noexcept {
+    if (identity_feedthrough_) {
+      for (Eigen::Index i = 0; i < u.size(); ++i) f_.data()[i] += sign * u.data()[i];
+    } else if (sign < 0) {
       f_.noalias() -= D22_ * u;
+    } else {
+      f_.noalias() += D22_ * u;
+    }
   }
   const Vector& measured_command() const noexcept {
     const int i = head_ - delay_;
@@ -85,16 +112,20 @@ class GeneralPiController {
   }
   void remember(const Vector& u) noexcept {
     head_ = head_ + 1 == kHistory ? 0 : head_ + 1;
-    history_[static_cast<std::size_t>(head_)] = u;
+    std::copy_n(u.data(), u.size(), history_[static_cast<std::size_t>(head_)].data());
   }
 
   static constexpr int kHistory = kMaxFeedthroughDelay + 1;
-  Matrix G_f_, G_x_, G_x_inv_, D22_;
+  Matrix G_f_, G_x_;  // rows padded to whole SIMD packets (zeros below)
+  Matrix G_x_inv_, D22_;
   bool identity_feedthrough_ = true;
   Scalar a_ = 1, b_ = 0;
   int delay_ = 0, head_ = 0;
   std::vector<Vector> history_;  // history_[head_]: the last command
-  Vector u_min_, u_max_, s_, f_, v_, u_, g_;
+  Vector u_min_, u_max_, f_, u_;
+  // The integral command s and the products' sums v = G_f f + s and g = G_x f, with padded rows
+  // (the padding zero), as the products write them.
+  Vector s_, v_, g_;
 };
 
 extern template class GeneralPiController<double>;

@@ -6,13 +6,12 @@
 #include <tuple>
 
 #include "common/input_error.hpp"
-#include "plant/lti/vibration_criterion.hpp"
 #include "common/toml_reader.hpp"
+#include "plant/lti/vibration_criterion.hpp"
 
 namespace flexloop::scene {
 
 namespace {
-
 
 std::vector<std::string> names(const TomlReader& r, const char* key) {
   std::vector<std::string> out;

@@ -5,11 +5,11 @@
 #include <numbers>
 
 #include "common/input_error.hpp"
+#include "common/toml_reader.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/state_space_builder.hpp"
 #include "plant/model/model_parser.hpp"
 #include "plant/model/static_equilibrium.hpp"
-#include "common/toml_reader.hpp"
 
 namespace flexloop::scene {
 
@@ -26,8 +26,7 @@ std::vector<std::string> concat(std::vector<std::string> a, const std::vector<st
 // alone when neither is there or the file cannot be read again, e.g. a scene parsed from text).
 std::string scene_place(const Scene& sc, const char* table, const char* key) {
   try {
-    const toml::table root =
-        parse_toml(read_input_file(sc.file, "scene file"), sc.file);
+    const toml::table root = parse_toml(read_input_file(sc.file, "scene file"), sc.file);
     const auto* t = root.get(table);
     if (!t || !t->as_table()) return sc.file;
     const TomlReader r(*t->as_table(), sc.file, table);

@@ -9,8 +9,8 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
-#include "plant/model/element_properties.hpp"
 #include "common/toml_reader.hpp"
+#include "plant/model/element_properties.hpp"
 
 namespace flexloop::plant::model {
 

@@ -24,21 +24,12 @@ void require_finite(const std::string& what, const Eigen::MatrixXd& m) {
               what + "(" + std::to_string(i) + "," + std::to_string(j) + ") is not finite");
 }
 
-/// [top; bottom] in double.
-Eigen::MatrixXd stacked(const Eigen::MatrixXd& top, const Eigen::MatrixXd& bottom) {
-  Eigen::MatrixXd m(top.rows() + bottom.rows(), top.cols());
-  m << top, bottom;
-  return m;
-}
-
 }  // namespace
 
 template <typename Scalar>
-Eigen::MatrixXd GeneralStateOutput<Scalar>::load_output(const std::string& who,
-                                                        const Eigen::MatrixXd& B,
-                                                        const Eigen::MatrixXd& C,
-                                                        const Eigen::MatrixXd& D,
-                                                        Eigen::Index held_inputs) {
+void GeneralStateOutput<Scalar>::load_output(const std::string& who, const Eigen::MatrixXd& B,
+                                             const Eigen::MatrixXd& C, const Eigen::MatrixXd& D,
+                                             Eigen::Index held_inputs) {
   const Eigen::Index nx = B.rows(), nu = B.cols(), ny = C.rows();
   require(nx >= 1, who + ": the plant has no state");
   require(C.cols() == nx, who + ": C is " + size_of(C) + ", expected " + std::to_string(ny) + "x" +
@@ -60,17 +51,22 @@ Eigen::MatrixXd GeneralStateOutput<Scalar>::load_output(const std::string& who,
   require_finite(who + ": D", D);
   const Eigen::Index ns = nu - held_inputs;
   nu_ = nu;
-  C_ = C.cast<Scalar>();
-  D_held_ = D.rightCols(held_inputs).cast<Scalar>();
-  D_sampled_ = D.leftCols(ns).cast<Scalar>();
+  C_ = padded_matrix<Scalar>(C);
+  D_held_ = padded_matrix<Scalar>(D.rightCols(held_inputs));
+  D_sampled_ = padded_matrix<Scalar>(D.leftCols(ns));
   x_ = State::Zero(nx);
-  next_ = State::Zero(nx + ny);
+  next_ = State::Zero(padded_row_count<Scalar>(nx));
   held_ = Held::Zero(held_inputs);
-  cx_ = Output::Zero(ny);
-  y_ = Output::Zero(ny);
+  w_ = decltype(w_)::Zero(ns);
+  u_ = Input::Zero(nu);
+  cx_ = decltype(cx_)::Zero(padded_row_count<Scalar>(ny));
+  // The padded rows of the output's storage start (and, written from cx_'s zero padding, stay)
+  // zero.
+  y_ = Output::Zero(kMaxOutputs);
+  y_.conservativeResize(ny);
   Eigen::MatrixXd from_input = C * B;
   from_input.rightCols(held_inputs) += D.rightCols(held_inputs);
-  return from_input;
+  out_from_u_ = padded_matrix<Scalar>(from_input);
 }
 
 template <typename Scalar>
@@ -86,11 +82,11 @@ GeneralDensePlant<Scalar> GeneralDensePlant<Scalar>::from_matrices(const Eigen::
   require_finite(who + ": Ad", Ad);
   require_finite(who + ": Bd", Bd);
   GeneralDensePlant p;
-  const Eigen::MatrixXd from_input = p.load_output(who, Bd, Cd, Dd, held_inputs);
-  const Eigen::MatrixXd increment = Ad - Eigen::MatrixXd::Identity(Ad.rows(), Ad.cols());
+  p.load_output(who, Bd, Cd, Dd, held_inputs);
   // The products in double, rounded to Scalar once.
-  p.from_x_ = stacked(increment, Cd * Ad).cast<Scalar>();
-  p.from_u_ = stacked(Bd, from_input).cast<Scalar>();
+  p.increment_from_x_ = padded_matrix<Scalar>(Ad - Eigen::MatrixXd::Identity(Ad.rows(), Ad.cols()));
+  p.increment_from_u_ = padded_matrix<Scalar>(Bd);
+  p.out_from_x_ = padded_matrix<Scalar>(Cd * Ad);
   return p;
 }
 
@@ -109,7 +105,7 @@ GeneralModalPlant<Scalar> GeneralModalPlant<Scalar>::from_modal_form(
   require_finite(who + ": Bm", Bm);
   require_finite(who + ": T", T);
   GeneralModalPlant p;
-  const Eigen::MatrixXd from_input = p.load_output(who, Bm, Cm, D, held_inputs);
+  p.load_output(who, Bm, Cm, D, held_inputs);
   // Block structure: 2x2 blocks [[d, b], [-b, d]] at even indices first, then 1x1 blocks.
   p.d_.resize(n);
   p.o_.setZero(n);
@@ -143,8 +139,8 @@ GeneralModalPlant<Scalar> GeneralModalPlant<Scalar>::from_modal_form(
     p.d_(k) = static_cast<Scalar>(Lambda_minus_I(k, k));
   }
   const Eigen::MatrixXd Lambda = Lambda_minus_I + Eigen::MatrixXd::Identity(n, n);
-  p.from_u_ = stacked(Bm, from_input).cast<Scalar>();
-  p.cm_lambda_ = (Cm * Lambda).cast<Scalar>();
+  p.bm_ = padded_matrix<Scalar>(Bm);
+  p.out_from_x_ = padded_matrix<Scalar>(Cm * Lambda);
   p.T_ = T;
   return p;
 }

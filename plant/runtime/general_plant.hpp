@@ -7,20 +7,25 @@
 //   output(w)   = C x + D_s w + D_h h          h: the held inputs of the last advance()
 //   advance(u):   x <- x + ((Ad - I) x + Bd u),  C x + D_h h of the new state, h = held part of u
 //
-// Dense form (GeneralDensePlant): the stacked products [Ad - I; C Ad] x and [Bd; C Bd + [0 D_h]] u,
-// (NX + NY)(NX + NU) multiply-adds. Modal form (GeneralModalPlant, from plant::lti::ModalForm):
-// z <- z + ((Λ - I) z + Bm u) with Λ - I applied block by block (2x2 pairs first, then 1x1), and
-// the next output from (Cm Λ) z and (Cm Bm + [0 D_h]) u: O(NX (NU + NY)) instead of O(NX²).
+// Dense form (GeneralDensePlant): the increment (Ad - I) x + Bd u and the next output's
+// (C Ad) x + (C Bd + [0 D_h]) u, (NX + NY)(NX + NU) multiply-adds. Modal form (GeneralModalPlant,
+// from plant::lti::ModalForm): z <- z + ((Λ - I) z + Bm u) with Λ - I applied block by block (2x2
+// pairs first, then 1x1), and the next output from (Cm Λ) z and (Cm Bm + [0 D_h]) u:
+// O(NX (NU + NY)) instead of O(NX²).
 //
-// Storage: the matrices and the state are allocated at start-up (from_matrices, from_modal_form);
-// the channel vectors are bounded (inline). output() and advance() only write into that storage
-// through Eigen's no-alias products: they never allocate, lock, throw or make a system call
+// Storage: the matrices and the state are allocated at start-up (from_matrices, from_modal_form),
+// with their rows padded to whole SIMD packets for the step's products
+// (online/numeric/dynamic_product.hpp); the channel vectors are bounded (inline). output() and
+// advance() only write into that storage: they never allocate, lock, throw or make a system call
 // (tests/alloc checks it at several sizes).
 #include <Eigen/Core>
+#include <algorithm>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "online/numeric/channel_limits.hpp"
+#include "online/numeric/dynamic_product.hpp"
 
 namespace flexloop::plant::runtime {
 
@@ -44,8 +49,9 @@ class GeneralStateOutput {
   /// y = C x + D [w; h]; w: the sampled inputs (a vector or a segment of one).
   template <typename W>
   const Output& output(const Eigen::MatrixBase<W>& w) noexcept {
-    y_ = cx_;
-    y_.noalias() += D_sampled_ * w;
+    // Writes the padded rows too: y_'s inline storage holds kMaxOutputs >= padded rows.
+    product(D_sampled_.data(), D_sampled_.cols(), contiguous(w, w_), D_sampled_.rows(), cx_.data(),
+            y_.data());
     return y_;
   }
 
@@ -66,25 +72,50 @@ class GeneralStateOutput {
  protected:
   GeneralStateOutput() = default;
 
-  /// Start-up: sizes and C, D (the plant's coordinates), checked. Returns C B + [0 D_h] for the
-  /// stacked input product (B in the plant's coordinates).
+  /// Start-up: sizes and C, D (the plant's coordinates), checked, and the next output's product
+  /// from u, C B + [0 D_h] (B in the plant's coordinates).
   /// @throws std::invalid_argument naming `who` and the matrix for inconsistent sizes, channel
   /// counts beyond the limits, or non-finite entries.
-  Eigen::MatrixXd load_output(const std::string& who, const Eigen::MatrixXd& B,
-                              const Eigen::MatrixXd& C, const Eigen::MatrixXd& D,
-                              Eigen::Index held_inputs);
-  /// Within a step: x += the increment (rows 0 .. NX-1 of next_), C x + D_h h = its last NY rows.
-  template <typename U>
-  void take_next(const Eigen::MatrixBase<U>& u) noexcept {
-    cx_ = next_.tail(cx_.size());
-    held_ = u.tail(held_.size());
+  void load_output(const std::string& who, const Eigen::MatrixXd& B, const Eigen::MatrixXd& C,
+                   const Eigen::MatrixXd& D, Eigen::Index held_inputs);
+  /// v's entries, contiguous: v's own storage where it has one (a vector or a segment of one),
+  /// else copied into `buffer`.
+  template <typename V, typename Buffer>
+  static const Scalar* contiguous(const Eigen::MatrixBase<V>& v, Buffer& buffer) noexcept {
+    if constexpr (std::is_same_v<typename V::Scalar, Scalar> && V::InnerStrideAtCompileTime == 1 &&
+                  requires { v.derived().data(); }) {
+      return v.derived().data();
+    } else {
+      buffer = v;
+      return buffer.data();
+    }
   }
 
+  /// Within a step, before x changes: C x + D_h h of the next state from the present one,
+  /// (C Ad) x + (C Bd + [0 D_h]) u (dense; modal: Cm Λ and Cm Bm), and the held inputs. Returns
+  /// u's entries, contiguous, for the rest of the step.
+  template <typename U>
+  const Scalar* next_output(const Eigen::MatrixBase<U>& u) noexcept {
+    const Scalar* in = contiguous(u, u_);
+    product_sum(out_from_x_.data(), x_.size(), x_.data(), out_from_u_.data(), nu_, in,
+                out_from_x_.rows(), nullptr, cx_.data());
+    std::copy_n(in + (nu_ - held_.size()), held_.size(), held_.data());
+    return in;
+  }
+
+  using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
   Eigen::Index nu_ = 0;
-  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> C_, D_held_, D_sampled_;
-  State x_, next_;  // next_: the stacked sums of advance(), NX + NY rows
+  // Rows padded to whole SIMD packets (zeros below): C, D_h and D_s as loaded, and the next
+  // output's products from x and from u.
+  Matrix C_, D_held_, D_sampled_, out_from_x_, out_from_u_;
+  State x_, next_;  // next_: the increment of x in advance(), padded rows
   Held held_;
-  Output cx_, y_;  // C x + D_h h, and the last output
+  BoundedVector<Scalar, kMaxChannels> w_;  // the sampled inputs, contiguous for the product
+  Input u_;                                // the inputs, where they are not contiguous
+  // C x + D_h h with padded rows (the padding zero), and the last output, whose inline storage
+  // also takes the padded rows output() writes.
+  BoundedVector<Scalar, kMaxOutputs> cx_;
+  Output y_;
 };
 
 /// Dense form: x <- x + ([Ad - I] x + Bd u).
@@ -101,16 +132,16 @@ class GeneralDensePlant : public GeneralStateOutput<Scalar> {
 
   template <typename U>
   void advance(const Eigen::MatrixBase<U>& u) noexcept {
-    this->next_.noalias() = from_x_ * this->x_;
-    this->next_.noalias() += from_u_ * u;
-    this->x_ += this->next_.head(this->x_.size());
-    this->take_next(u);
+    const Scalar* in = this->next_output(u);
+    auto& x = this->x_;
+    product_sum(increment_from_x_.data(), x.size(), x.data(), increment_from_u_.data(), this->nu_,
+                in, increment_from_x_.rows(), nullptr, this->next_.data());
+    x += this->next_.head(x.size());
   }
 
  private:
   GeneralDensePlant() = default;
-  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> from_x_;  // [Ad - I; C Ad]
-  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> from_u_;  // [Bd; C Bd + [0 D_h]]
+  typename Base::Matrix increment_from_x_, increment_from_u_;  // Ad - I, Bd (padded rows)
 };
 
 /// Modal form: z <- z + ((Λ - I) z + Bm u), Λ real block-diagonal (2x2 blocks first).
@@ -134,19 +165,23 @@ class GeneralModalPlant : public GeneralStateOutput<Scalar> {
 
   template <typename U>
   void advance(const Eigen::MatrixBase<U>& u) noexcept {
+    const Scalar* in = this->next_output(u);
     auto& z = this->x_;
     auto& next = this->next_;
     const Eigen::Index n = z.size();
-    next.noalias() = from_u_ * u;
-    next.tail(this->cx_.size()).noalias() += cm_lambda_ * z;
-    // Pairs: [[a, b], [-b, a]] - I as d = a - 1 on the diagonal, o = ±b off it.
+    product(bm_.data(), this->nu_, in, bm_.rows(), nullptr, next.data());
+    // Pairs: [[a, b], [-b, a]] - I as d = a - 1 on the diagonal, o = ±b off it. On raw
+    // pointers that cannot alias, so that the compiler may take several pairs per instruction.
+    Scalar* __restrict zp = z.data();
+    const Scalar* __restrict dp = d_.data();
+    const Scalar* __restrict op = o_.data();
+    const Scalar* __restrict np = next.data();
     for (Eigen::Index k = 0; k < 2 * pairs_; k += 2) {
-      const Scalar z0 = z(k), z1 = z(k + 1);
-      z(k) += (d_(k) * z0 + o_(k) * z1) + next(k);
-      z(k + 1) += (d_(k + 1) * z1 + o_(k + 1) * z0) + next(k + 1);
+      const Scalar z0 = zp[k], z1 = zp[k + 1];
+      zp[k] = z0 + ((dp[k] * z0 + op[k] * z1) + np[k]);
+      zp[k + 1] = z1 + ((dp[k + 1] * z1 + op[k + 1] * z0) + np[k + 1]);
     }
-    for (Eigen::Index k = 2 * pairs_; k < n; ++k) z(k) += d_(k) * z(k) + next(k);
-    this->take_next(u);
+    for (Eigen::Index k = 2 * pairs_; k < n; ++k) zp[k] += dp[k] * zp[k] + np[k];
   }
 
   /// The physical state x = T z (start-up and tests; allocates).
@@ -155,9 +190,8 @@ class GeneralModalPlant : public GeneralStateOutput<Scalar> {
  private:
   GeneralModalPlant() = default;
   Eigen::Index pairs_ = 0;
-  Eigen::Matrix<Scalar, Eigen::Dynamic, 1> d_, o_;                   // Λ - I by blocks
-  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> from_u_;     // [Bm; Cm Bm + [0 D_h]]
-  Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> cm_lambda_;  // Cm Λ
+  Eigen::Matrix<Scalar, Eigen::Dynamic, 1> d_, o_;  // Λ - I by blocks
+  typename Base::Matrix bm_;                        // Bm (padded rows)
   Eigen::MatrixXd T_;
 };
 
