@@ -3,10 +3,12 @@
 // vectors (about a third of the actuator commands saturate), so branches and the data path see
 // a realistic mix; each result is the ns for one step of all six channels.
 //   Piezo / PiezoLagged: gain, limits, saturation flags (+ first-order lag)
-//   GainError, Noise (additive Gaussian, per-channel mt19937_64), Quantiser (16 bit), Delay (3 of
+//   GainError, Noise (additive Gaussian, per-channel xoshiro256++), Quantiser (16 bit), Delay (3 of
 //   at most 8 samples), Floor (order-9 VC-C shaping filter at 1 kHz, 6 channels)
 #include <benchmark/benchmark.h>
 
+#include <array>
+#include <boost/random/normal_distribution.hpp>
 #include <random>
 #include <vector>
 
@@ -17,6 +19,7 @@
 #include "plant/runtime/effects/piezo_actuator.hpp"
 #include "plant/runtime/effects/quantiser.hpp"
 #include "plant/runtime/effects/sample_delay.hpp"
+#include "plant/runtime/effects/xoshiro256.hpp"
 
 using namespace flexloop::plant::runtime::effects;
 
@@ -95,6 +98,22 @@ void BM_Floor(benchmark::State& state) {
 }
 
 }  // namespace
+
+// One standard normal draw per channel for 18 channels (the floor's 6 and two sensor chains of 6,
+// as the default scene draws them each sample), each channel with its own engine: the engine the
+// noise effects use against std::mt19937_64 (same-run baseline), both through Boost's ziggurat.
+template <class Engine>
+void BM_NormalDraws18(benchmark::State& s) {
+  std::array<Engine, 18> engines;
+  for (std::size_t c = 0; c < engines.size(); ++c) engines[c] = Engine(c + 1);
+  boost::random::normal_distribution<double> normal;
+  double sum = 0;
+  for (auto _ : s)
+    for (auto& e : engines) sum += normal(e);
+  benchmark::DoNotOptimize(sum);
+}
+BENCHMARK_TEMPLATE(BM_NormalDraws18, flexloop::plant::runtime::effects::Xoshiro256PlusPlus);
+BENCHMARK_TEMPLATE(BM_NormalDraws18, std::mt19937_64);
 
 BENCHMARK_TEMPLATE(BM_Piezo, double);
 BENCHMARK_TEMPLATE(BM_Piezo, float);

@@ -2,25 +2,24 @@
 // N independent standard normal sequences n_k (mean 0, variance 1), one per channel, for the
 // sensor noise and the floor generator.
 //
-// Channel c draws from its own std::mt19937_64, seeded at start-up through
-// std::seed_seq{seed mod 2^32, seed / 2^32, c}, and Boost.Random's normal_distribution<double>
-// (Marsaglia and Tsang's ziggurat: about 1.1 engine draws per normal, no logarithm or square root
-// on the usual path; about twice as fast as std::normal_distribution's polar method here). Cast
-// to Scalar, so float and double runs see the same numbers. Channel c's sequence depends only on
-// (seed, c), not on N. Reproducibility: the same seed gives the same sequence on every build and
-// platform (std::mt19937_64 is exactly specified by the standard, the ziggurat is Boost's code,
-// not the standard library's implementation-defined transform). Give every effect its own seed:
-// two effects with one seed get the same numbers.
-// Memory: one 2.5 kB engine per channel (for N = Eigen::Dynamic in a vector sized at start-up).
-// A draw costs no allocation and no system call.
+// Channel c draws from its own xoshiro256++ stream c of the seed (xoshiro256.hpp), and
+// Boost.Random's normal_distribution<double> (Marsaglia and Tsang's ziggurat: about 1.1 engine
+// draws per normal, no logarithm or square root on the usual path; about twice as fast as
+// std::normal_distribution's polar method here). Cast to Scalar, so float and double runs see the
+// same numbers. Channel c's sequence depends only on (seed, c), not on N. Reproducibility: the
+// same seed gives the same sequence on every build and platform (the engine is fully specified,
+// the ziggurat is Boost's code, not the standard library's implementation-defined transform).
+// Give every effect its own seed: two effects with one seed get the same numbers.
+// Memory: 32 bytes of engine state per channel (for N = Eigen::Dynamic in a vector sized at
+// start-up). A draw costs no allocation and no system call.
 #include <array>
 #include <boost/random/normal_distribution.hpp>
 #include <cstdint>
-#include <random>
 #include <type_traits>
 #include <vector>
 
 #include "plant/runtime/effects/channels.hpp"
+#include "plant/runtime/effects/xoshiro256.hpp"
 
 namespace flexloop::plant::runtime::effects {
 
@@ -37,11 +36,7 @@ class GaussianNoise {
       g.engines_.resize(static_cast<std::size_t>(g.n_));
       g.normals_.resize(static_cast<std::size_t>(g.n_));
     }
-    for (int c = 0; c < g.n_; ++c) {
-      std::seed_seq seq{static_cast<std::uint32_t>(seed), static_cast<std::uint32_t>(seed >> 32),
-                        static_cast<std::uint32_t>(c)};
-      g.engines_[c].seed(seq);
-    }
+    for (int c = 0; c < g.n_; ++c) g.engines_[c] = Xoshiro256PlusPlus(seed, c);
     return g;
   }
 
@@ -63,7 +58,7 @@ class GaussianNoise {
   using PerChannel = std::conditional_t<N == Eigen::Dynamic, std::vector<T>, std::array<T, N>>;
 
   GaussianNoise() = default;
-  PerChannel<std::mt19937_64> engines_;
+  PerChannel<Xoshiro256PlusPlus> engines_;
   PerChannel<boost::random::normal_distribution<double>> normals_;
   int n_ = 0;
 };
