@@ -87,7 +87,7 @@ class GeneralPiController {
   // stride keeps the compiler from widening the loop.
   template <typename Y>
   void read_measured(const Eigen::MatrixBase<Y>& y) noexcept {
-    if constexpr (requires { y.derived().data(); }) {
+    if constexpr (Y::ColsAtCompileTime == 1 && requires { y.derived().data(); }) {
       const Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>, 0, Eigen::InnerStride<>>
           entries(y.derived().data(), y.size(), Eigen::InnerStride<>(y.derived().innerStride()));
       for (Eigen::Index i = 0; i < entries.size(); ++i) f_.data()[i] = entries.coeff(i);

@@ -1,8 +1,9 @@
 #pragma once
 // The controller process's work for one sensor message, without sockets (so that tests can drive
-// it message by message): the PI force-feedback step on the sample's sensor channels (the
-// compiled PiController for the metrology frame's 6 channels, GeneralPiController for any other
-// count), and the actuator message that answers the sample.
+// it message by message): the PI force-feedback step on the sample's sensor channels (a compiled
+// PiController where the loop's channel counts have a compiled loop, online/numeric/
+// compiled_loops.hpp, GeneralPiController for any other count), and the actuator message that
+// answers the sample.
 //
 // Resynchronisation, decided from the sample's (plant_epoch, seq) alone:
 //   - first sample, or a new plant_epoch (the plant restarted, its state and held command are

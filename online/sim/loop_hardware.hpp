@@ -179,8 +179,8 @@ template <int NW, int NC, int NS = NC, class Plant, class F>
 decltype(auto) with_bare_hardware(const artefact::LoopArtefact& a, const Plant& plant, F&& f) {
   if (has_effects(a.effects))
     throw InputError(a.source,
-                     "[effects]: this bare loop runs without hardware effects; the "
-                     "general path runs them (flexloop sim --runtime-path general)");
+                     "[effects]: a bare loop runs without hardware effects; compose them "
+                     "with with_hardware");
   return with_floor<NW>(a, [&](auto floor) -> decltype(auto) {
     return f(plant::runtime::SimulatedHardware<Plant, NW, NC, decltype(floor), NoEffect, NoEffect,
                                                NoEffect, NoEffect, NS>(

@@ -1,6 +1,9 @@
 #pragma once
 // The body shared by the scene_runs_*.cpp translation units: controller off, then on, over the
 // artefact's hardware with every effect it carries.
+#include <string>
+
+#include "common/input_error.hpp"
 #include "controller/runtime/general_pi_controller.hpp"
 #include "controller/runtime/pi_controller.hpp"
 #include "online/sim/loop_hardware.hpp"
@@ -28,11 +31,18 @@ BothRuns run_both(const Plant& plant, const artefact::LoopArtefact& a, const Run
     return o.progress ? o.progress(what) : std::function<void(long, long)>{};
   };
   const bool controlled = a.controller == artefact::ControllerKind::kPiForceFeedback;
+  // The PI feeds back one sensor per actuator (the artefact's validation holds NS = NC already).
+  if constexpr (NS != NC)
+    if (controlled)
+      throw InputError(a.source,
+                       "[controller]: the PI force feedback needs one sensor per "
+                       "actuator; this loop has " +
+                           std::to_string(a.sensors()) + " sensors and " +
+                           std::to_string(a.actuators()) + " actuators");
   return with_hardware<NW, NC, NS>(a, plant, [&](auto hw) {
     BothRuns r;
     r.controlled = controlled;
     r.off = run_closed_loop(hw, plant::runtime::NoEffect{}, off, progress("controller off"));
-    // The PI feeds back one sensor per actuator (the artefact's validation holds NS = NC).
     if constexpr (NS == NC)
       if (controlled)
         r.on = run_closed_loop(hw, make_pi<NC>(a.pi, a.actuators()), on, progress("controller on"));

@@ -21,7 +21,7 @@ struct BothRuns {
 using ProgressFactory = std::function<std::function<void(long, long)>(const char* what)>;
 
 struct SceneRunOptions {
-  /// Run on the start-up-sized general path even where a compiled size matches (comparisons).
+  /// Run on the start-up-sized general path even where a compiled loop matches (comparisons).
   bool general = false;
   bool log_off = false, log_on = false;
   ProgressFactory progress;

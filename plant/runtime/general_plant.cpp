@@ -60,8 +60,8 @@ void GeneralStateOutput<Scalar>::load_output(const std::string& who, const Eigen
   w_ = decltype(w_)::Zero(ns);
   u_ = Input::Zero(nu);
   cx_ = decltype(cx_)::Zero(padded_row_count<Scalar>(ny));
-  // The padded rows of the output's storage start (and, written from cx_'s zero padding, stay)
-  // zero.
+  // output() writes the padded rows of y_'s inline storage too (never read; after a copy of the
+  // plant, which copies ny entries, they hold whatever the copy left until the next output()).
   y_ = Output::Zero(kMaxOutputs);
   y_.conservativeResize(ny);
   Eigen::MatrixXd from_input = C * B;

@@ -82,8 +82,10 @@ class GeneralStateOutput {
   /// else copied into `buffer`.
   template <typename V, typename Buffer>
   static const Scalar* contiguous(const Eigen::MatrixBase<V>& v, Buffer& buffer) noexcept {
-    if constexpr (std::is_same_v<typename V::Scalar, Scalar> && V::InnerStrideAtCompileTime == 1 &&
-                  requires { v.derived().data(); }) {
+    // A column vector at compile time: a one-row block of a matrix also has inner stride 1, but
+    // its entries are a column apart.
+    if constexpr (std::is_same_v<typename V::Scalar, Scalar> && V::ColsAtCompileTime == 1 &&
+                  V::InnerStrideAtCompileTime == 1 && requires { v.derived().data(); }) {
       return v.derived().data();
     } else {
       buffer = v;

@@ -24,7 +24,7 @@ namespace {
 // Worst deviation [dB] of the Welch spectrum of 600 s of simulated frame acceleration (1 kHz,
 // the scene's floor) from sum_j |T_ij(e^{jwT})|^2 S_w(f) over 1-200 Hz, S_w the floor's one-sided
 // PSD (white: 2 rms^2 / fs; VC: 2 dt |F(e^{jwT})|^2, F the discretised floor filter); NX the
-// plant's compiled size. Returns (dB, Hz).
+// plant's state count (12, or 24 under gravity preload). Returns (dB, Hz).
 template <int NX>
 std::pair<double, double> worst_spectrum_deviation(scene::Scene sc, double f_min_hz) {
   // 1 kHz keeps 600 s of log small; 1-200 Hz stays well below Nyquist.
