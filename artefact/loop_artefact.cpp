@@ -68,7 +68,15 @@ void require(bool ok, const std::string& place, const std::string& what) {
 }  // namespace
 
 std::string to_string(ControllerKind kind) {
-  return kind == ControllerKind::kPiForceFeedback ? "pi_force_feedback" : "none";
+  switch (kind) {
+    case ControllerKind::kPiForceFeedback:
+      return "pi_force_feedback";
+    case ControllerKind::kStateSpace:
+      return "state_space";
+    case ControllerKind::kNone:
+      break;
+  }
+  return "none";
 }
 
 std::vector<std::string> LoopArtefact::names(const std::vector<Channel>& kind_channels) const {
@@ -107,6 +115,18 @@ json to_json(const LoopArtefact& a) {
     controller["u_max"] = vector_json(a.pi.u_max);
     if (a.pi.feedthrough.size() > 0) controller["feedthrough"] = matrix_to_json(a.pi.feedthrough);
     controller["feedthrough_delay"] = a.pi.feedthrough_delay;
+  } else if (a.controller == ControllerKind::kStateSpace) {
+    const auto& c = a.state_space;
+    controller["states"] = c.A.rows();
+    controller["A"] = matrix_to_json(c.A);
+    controller["B"] = matrix_to_json(c.B);
+    controller["C"] = matrix_to_json(c.C);
+    controller["D"] = matrix_to_json(c.D);
+    controller["u_min"] = vector_json(c.u_min);
+    controller["u_max"] = vector_json(c.u_max);
+    controller["feedthrough"] = matrix_to_json(c.feedthrough);
+    controller["feedthrough_delay"] = c.feedthrough_delay;
+    controller["anti_windup"] = controller::runtime::to_string(c.anti_windup);
   }
   json floor = {{"spectrum", a.floor.spectrum}, {"seed", a.floor.seed}};
   if (a.floor.spectrum == "white")
@@ -229,10 +249,35 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
       a.pi.feedthrough = co.matrix("feedthrough", nc, nc, "sensor", "actuator");
     a.pi.feedthrough_delay = static_cast<int>(co.integer("feedthrough_delay", 0, kMaxDelaySamples));
     a.pi.dt = 1.0 / a.rate_hz;
+  } else if (type == "state_space") {
+    a.controller = ControllerKind::kStateSpace;
+    auto& c = a.state_space;
+    const auto nxc = static_cast<std::size_t>(
+        co.integer("states", 0, controller::runtime::kMaxControllerStates));
+    c.A = co.matrix("A", nxc, nxc, "controller state", "controller state");
+    c.B = co.matrix("B", nxc, ns, "controller state", "sensor");
+    c.C = co.matrix("C", nc, nxc, "actuator", "controller state");
+    c.D = co.matrix("D", nc, ns, "actuator", "sensor");
+    c.u_min = co.vector("u_min");
+    c.u_max = co.vector("u_max");
+    for (const char* key : {"u_min", "u_max"}) {
+      const auto n = static_cast<std::size_t>((key[2] == 'm' ? c.u_min : c.u_max).size());
+      require(n == 0 || n == 1 || n == nc, co.place(key),
+              "has " + std::to_string(n) + " values; expected none, one, or one per actuator (" +
+                  std::to_string(nc) + ")");
+    }
+    c.feedthrough = co.matrix("feedthrough", ns, nc, "sensor", "actuator");
+    c.feedthrough_delay = static_cast<int>(co.integer("feedthrough_delay", 0, kMaxDelaySamples));
+    try {
+      c.anti_windup = controller::runtime::parse_anti_windup(co.string("anti_windup"));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(co.place("anti_windup"), e.what());
+    }
+    c.dt = 1.0 / a.rate_hz;
   } else {
     throw InputError(co.place("type"), "is \"" + type +
-                                           "\"; this flexloop knows \"pi_force_feedback\" and "
-                                           "\"none\"");
+                                           "\"; this flexloop knows \"pi_force_feedback\", "
+                                           "\"state_space\" and \"none\"");
   }
 
   const JsonReader fl = r.object("floor");
@@ -294,26 +339,42 @@ void validate(const LoopArtefact& a) {
   const auto sized = [&](const char* name, const Eigen::MatrixXd& m, Eigen::Index r,
                          Eigen::Index c) {
     if (m.rows() != r || m.cols() != c)
-      fail(std::string("plant ") + name + " is " + std::to_string(m.rows()) + "x" +
-           std::to_string(m.cols()) + ", expected " + std::to_string(r) + "x" + std::to_string(c));
-    if (!m.allFinite()) fail(std::string("plant ") + name + " has an entry that is not finite");
+      fail(std::string(name) + " is " + std::to_string(m.rows()) + "x" + std::to_string(m.cols()) +
+           ", expected " + std::to_string(r) + "x" + std::to_string(c));
+    if (!m.allFinite()) fail(std::string(name) + " has an entry that is not finite");
   };
-  sized("A", a.plant.A, nx, nx);
-  sized("B", a.plant.B, nx, nu);
-  sized("C", a.plant.C, ny, nx);
-  sized("D", a.plant.D, ny, nu);
+  sized("plant A", a.plant.A, nx, nx);
+  sized("plant B", a.plant.B, nx, nu);
+  sized("plant C", a.plant.C, ny, nx);
+  sized("plant D", a.plant.D, ny, nu);
   if (a.plant.form == "modal") {
-    sized("modal Lambda_minus_I", a.plant.modal.Lambda_minus_I, nx, nx);
-    sized("modal B", a.plant.modal.B, nx, nu);
-    sized("modal C", a.plant.modal.C, ny, nx);
-    sized("modal D", a.plant.modal.D, ny, nu);
-    sized("modal T", a.plant.modal.T, nx, nx);
+    sized("plant modal Lambda_minus_I", a.plant.modal.Lambda_minus_I, nx, nx);
+    sized("plant modal B", a.plant.modal.B, nx, nu);
+    sized("plant modal C", a.plant.modal.C, ny, nx);
+    sized("plant modal D", a.plant.modal.D, ny, nu);
+    sized("plant modal T", a.plant.modal.T, nx, nx);
   } else if (a.plant.form != "dense") {
     fail("plant form \"" + a.plant.form + "\"; expected dense or modal");
   }
   if (!(std::isfinite(a.rate_hz) && a.rate_hz > 0)) fail("rate_hz must be finite and > 0");
   if (a.controller == ControllerKind::kPiForceFeedback && a.sensors() != a.actuators())
     fail("PI force feedback needs one sensor per actuator");
+  if (a.controller == ControllerKind::kStateSpace) {
+    const auto& c = a.state_space;
+    const Eigen::Index nxc = c.A.rows(), ns = a.sensors(), nc = a.actuators();
+    if (nxc > controller::runtime::kMaxControllerStates)
+      fail("controller: " + std::to_string(nxc) + " states; the runtime takes up to " +
+           std::to_string(controller::runtime::kMaxControllerStates));
+    const auto controller_sized = [&](const char* name, const Eigen::MatrixXd& m, Eigen::Index r,
+                                      Eigen::Index cols) {
+      sized((std::string("controller ") + name).c_str(), m, r, cols);
+    };
+    controller_sized("A", c.A, nxc, nxc);
+    controller_sized("B", c.B, nxc, ns);
+    controller_sized("C", c.C, nc, nxc);
+    controller_sized("D", c.D, nc, ns);
+    controller_sized("feedthrough", c.feedthrough, ns, nc);
+  }
   if (a.floor.spectrum != "white" && a.floor_filter.A.rows() != kFloorFilterOrder)
     fail("floor filter: expected the discrete filter of order " +
          std::to_string(kFloorFilterOrder));

@@ -17,6 +17,7 @@
 
 #include "artefact/hardware_settings.hpp"
 #include "controller/runtime/pi_parameters.hpp"
+#include "controller/runtime/state_space_parameters.hpp"
 
 namespace flexloop::artefact {
 
@@ -36,9 +37,9 @@ struct ChannelMap {
   std::vector<Channel> disturbances, actuators, performance, sensors;
 };
 
-enum class ControllerKind { kNone, kPiForceFeedback };
+enum class ControllerKind { kNone, kPiForceFeedback, kStateSpace };
 
-/// "none", "pi_force_feedback".
+/// "none", "pi_force_feedback", "state_space".
 std::string to_string(ControllerKind kind);
 
 struct Provenance {
@@ -76,6 +77,8 @@ struct LoopArtefact {
   DiscretePlant plant;
   ControllerKind controller = ControllerKind::kNone;
   controller::runtime::PiParameters pi;  ///< kPiForceFeedback: at dt = 1 / rate_hz
+  /// kStateSpace: discrete at dt = 1 / rate_hz, sensors in, actuators out (channel map order)
+  controller::runtime::StateSpaceParameters state_space;
   FloorSettings floor;
   FloorFilter floor_filter;  ///< empty for a white floor
   EffectsSettings effects;

@@ -21,22 +21,31 @@ std::vector<std::string> labels(Eigen::Index n, const char* stem) {
 
 }  // namespace
 
+LoopStability loop_stability(const plant::lti::StateSpace& g22,
+                             const plant::lti::StateSpace& controller, double reference_rad_s) {
+  if (g22.nu() != controller.ny() || g22.ny() != controller.nu())
+    throw std::invalid_argument(
+        "loop_stability: the feedback path has " + std::to_string(g22.nu()) + " inputs and " +
+        std::to_string(g22.ny()) + " outputs, the controller " + std::to_string(controller.nu()) +
+        " inputs and " + std::to_string(controller.ny()) + " outputs");
+  const plant::lti::StateSpace loop = plant::lti::close_loop(g22, controller, {0, 0});
+  LoopStability r;
+  r.poles = plant::lti::poles(loop);
+  const double tolerance = kUnstableTolerance * reference_rad_s;
+  r.largest_real_part = r.poles.size() ? r.poles.real().maxCoeff() : 0.0;
+  for (const auto& s : r.poles)
+    if (s.real() > tolerance) ++r.unstable;
+  return r;
+}
+
 LoopStability loop_stability(const plant::lti::StateSpace& g22, const PiGains& gains) {
   const Eigen::Index n = gains.K_P.rows();
   if (g22.nu() != n || g22.ny() != n)
     throw std::invalid_argument(
         "loop_stability: the feedback path has " + std::to_string(g22.nu()) + " inputs and " +
         std::to_string(g22.ny()) + " outputs, the controller " + std::to_string(n) + " channels");
-  const plant::lti::StateSpace c =
-      pi_state_space(gains, labels(n, "sensor "), labels(n, "actuator "));
-  const plant::lti::StateSpace loop = plant::lti::close_loop(g22, c, {0, 0});
-  LoopStability r;
-  r.poles = plant::lti::poles(loop);
-  const double tolerance = kUnstableTolerance * gains.settings.omega_d_rad_s;
-  r.largest_real_part = r.poles.size() ? r.poles.real().maxCoeff() : 0.0;
-  for (const auto& s : r.poles)
-    if (s.real() > tolerance) ++r.unstable;
-  return r;
+  return loop_stability(g22, pi_state_space(gains, labels(n, "sensor "), labels(n, "actuator ")),
+                        gains.settings.omega_d_rad_s);
 }
 
 std::optional<double> minimum_stable_leak_rad_s(const plant::lti::StateSpace& g22,

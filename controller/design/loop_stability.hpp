@@ -46,6 +46,12 @@ inline constexpr double kUnstableTolerance = 1e-8;
 /// ill-posed loop (plant::lti::close_loop).
 LoopStability loop_stability(const plant::lti::StateSpace& g22, const PiGains& gains);
 
+/// Poles of the loop g22 closed by any controller (sensors in, actuators out; the seed's positive
+/// feedback convention, u = C y); a pole counts as unstable when Re s > kUnstableTolerance *
+/// reference_rad_s. Same exceptions.
+LoopStability loop_stability(const plant::lti::StateSpace& g22,
+                             const plant::lti::StateSpace& controller, double reference_rad_s);
+
 /// The smallest leak w_l >= 0 [rad/s] for which the loop is stable: 0 when it is stable without
 /// one, nullopt when even w_l = w_max is unstable. Bisection to a relative width rel_tol.
 std::optional<double> minimum_stable_leak_rad_s(const plant::lti::StateSpace& g22,

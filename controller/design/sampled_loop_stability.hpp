@@ -46,7 +46,8 @@ struct SampledLoopHardware {
   double actuator_lag_s = 0;     ///< tau [s]; 0: no lag
   double sensor_gain_error = 0;  ///< eps of the force sensors, > -1
   /// F, the sensors' feedthrough of the command as the controller removes it (PiParameters::
-  /// feedthrough); empty: the identity, as the runtime PI takes it.
+  /// feedthrough; StateSpaceParameters::feedthrough); empty: the identity, as the runtime PI
+  /// takes it.
   Eigen::MatrixXd removed_feedthrough;
 };
 
@@ -77,5 +78,27 @@ Eigen::MatrixXd sampled_loop_matrix(const plant::lti::DiscreteStateSpace& g22, c
 SampledLoopStability sampled_loop_stability(const plant::lti::DiscreteStateSpace& g22,
                                             const PiGains& gains,
                                             const SampledLoopHardware& hardware);
+
+/// Any discrete controller x+ = Ac x + Bc y, u = Cc x + Dc y (ns sensors in, nc actuators out) as
+/// the runtime runs it (controller/runtime/state_space_controller.hpp): with m = nc actuators and
+/// ns sensors the loop is the one above with u_k = E (Cc xc_k + Dc f_k), E = (I - Dc F)^-1,
+/// xc_{k+1} = Ac xc_k + Bc (f_k + F u_k), and xc in place of xi. The PI is the controller
+/// Ac = a I, Bc = b I, Cc = -K_I, Dc = -K_P (pi_discrete_controller). F (removed_feedthrough)
+/// is ns x nc; empty means the identity (ns = nc). @throws std::invalid_argument for mismatched
+/// sizes or sample times, the hardware's refusals above, or I - Dc F singular.
+Eigen::MatrixXd sampled_loop_matrix(const plant::lti::DiscreteStateSpace& g22,
+                                    const plant::lti::DiscreteStateSpace& controller,
+                                    const SampledLoopHardware& hardware);
+
+/// Poles and verdict with any discrete controller; a pole counts as unstable when |z| >
+/// e^{kUnstableTolerance reference_rad_s T} (and never within kSampledRoundingTolerance).
+SampledLoopStability sampled_loop_stability(const plant::lti::DiscreteStateSpace& g22,
+                                            const plant::lti::DiscreteStateSpace& controller,
+                                            const SampledLoopHardware& hardware,
+                                            double reference_rad_s);
+
+/// The runtime PI as a discrete controller: Ac = a I, Bc = b I, Cc = -K_I, Dc = -K_P with
+/// a = e^{-w_l dt}, b = (1 - a)/w_l (dt when w_l = 0).
+plant::lti::DiscreteStateSpace pi_discrete_controller(const PiGains& gains, double dt);
 
 }  // namespace flexloop::controller::design

@@ -22,7 +22,7 @@ GeneralPiController<Scalar> GeneralPiController<Scalar>::from_parameters(const P
   c.a_ = static_cast<Scalar>(g.a);
   c.b_ = static_cast<Scalar>(g.b);
   c.delay_ = g.delay;
-  c.history_.assign(kHistory, Vector::Zero(n));
+  c.history_.resize(n);
   c.u_min_ = g.u_min.cast<Scalar>();
   c.u_max_ = g.u_max.cast<Scalar>();
   c.f_ = c.u_ = Vector::Zero(n);

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "controller/runtime/command_history.hpp"
 #include "controller/runtime/pi_parameters.hpp"
 #include "controller/runtime/pi_step_gains.hpp"
 #include "online/numeric/channel_limits.hpp"
@@ -30,6 +31,8 @@ class GeneralPiController {
   static GeneralPiController from_parameters(const PiParameters& p, Eigen::Index n);
 
   Eigen::Index channels() const noexcept { return u_.size(); }
+  Eigen::Index sensors() const noexcept { return u_.size(); }
+  Eigen::Index actuators() const noexcept { return u_.size(); }
 
   /// One sample: y = the measured forces (any vector expression of channels() entries). Returns
   /// the (saturated) command to hold until the next sample.
@@ -39,8 +42,8 @@ class GeneralPiController {
     // checks, peeling for alignment) cost more than the arithmetic.
     const Eigen::Index n = u_.size();
     Scalar *f = f_.data(), *u = u_.data(), *s = s_.data();
-    read_measured(y);
-    add_feedthrough(measured_command(), Scalar(-1));
+    plant::runtime::read_entries(y, f);  // entry by entry: see read_entries
+    add_feedthrough(history_.measured(delay_), Scalar(-1));
     plant::runtime::product(G_f_.data(), n, f, G_f_.rows(), s, v_.data());  // v = G_f f + s
     const Scalar *v = v_.data(), *lo = u_min_.data(), *hi = u_max_.data();
     for (Eigen::Index i = 0; i < n; ++i) {
@@ -51,21 +54,21 @@ class GeneralPiController {
     plant::runtime::product(G_x_.data(), n, f, G_x_.rows(), nullptr, g_.data());  // g = G_x f
     const Scalar* g = g_.data();
     for (Eigen::Index i = 0; i < s_.size(); ++i) s[i] = a_ * s[i] + b_ * g[i];
-    remember(u_);
+    history_.remember(u_);
     return u_;
   }
 
   /// Bumpless start: the next step(y_now) returns u_now.
   void start(const Vector& y_now, const Vector& u_now) noexcept {
-    for (auto& h : history_) h = u_now;
+    history_.fill(u_now);
     f_ = y_now;
     add_feedthrough(u_now, Scalar(-1));
     s_.head(u_.size()) = u_now;
     s_.head(u_.size()).noalias() -= G_f_.topRows(u_.size()) * f_;
   }
   /// When the actuator reports that it applied something else (e.g. a safe command).
-  void set_previous_command(const Vector& u) noexcept { history_[head_] = u; }
-  const Vector& previous_command() const noexcept { return history_[head_]; }
+  void set_previous_command(const Vector& u) noexcept { history_.replace_last(u); }
+  const Vector& previous_command() const noexcept { return history_.last(); }
   /// The integrator state x = G_x^-1 s (allocates nothing; not used in a step).
   Vector state() const noexcept {
     Vector x(u_.size());
@@ -75,26 +78,11 @@ class GeneralPiController {
   void set_state(const Vector& x) noexcept { s_.noalias() = G_x_ * x; }
   void reset() noexcept {
     s_.setZero();
-    for (auto& h : history_) h.setZero();
+    history_.fill(Vector::Zero(u_.size()));
   }
 
  private:
   GeneralPiController() = default;
-
-  // f <- y. y was usually written just before as part of a longer vector (the plant's output, by
-  // whole SIMD packets): read entry by entry, because a wider load that spans two of those stores
-  // cannot be forwarded from the store buffer and waits for them to reach the cache. A run-time
-  // stride keeps the compiler from widening the loop.
-  template <typename Y>
-  void read_measured(const Eigen::MatrixBase<Y>& y) noexcept {
-    if constexpr (Y::ColsAtCompileTime == 1 && requires { y.derived().data(); }) {
-      const Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>, 0, Eigen::InnerStride<>>
-          entries(y.derived().data(), y.size(), Eigen::InnerStride<>(y.derived().innerStride()));
-      for (Eigen::Index i = 0; i < entries.size(); ++i) f_.data()[i] = entries.coeff(i);
-    } else {
-      f_ = y;
-    }
-  }
 
   // f <- f + sign D22 u, sign = ±1 (D22 = I: force sensors in series with the actuators).
   void add_feedthrough(const Vector& u, Scalar sign) noexcept {
@@ -106,22 +94,13 @@ class GeneralPiController {
       f_.noalias() += D22_ * u;
     }
   }
-  const Vector& measured_command() const noexcept {
-    const int i = head_ - delay_;
-    return history_[static_cast<std::size_t>(i < 0 ? i + kHistory : i)];
-  }
-  void remember(const Vector& u) noexcept {
-    head_ = head_ + 1 == kHistory ? 0 : head_ + 1;
-    std::copy_n(u.data(), u.size(), history_[static_cast<std::size_t>(head_)].data());
-  }
 
-  static constexpr int kHistory = kMaxFeedthroughDelay + 1;
   Matrix G_f_, G_x_;  // rows padded to whole SIMD packets (zeros below)
   Matrix G_x_inv_, D22_;
   bool identity_feedthrough_ = true;
   Scalar a_ = 1, b_ = 0;
-  int delay_ = 0, head_ = 0;
-  std::vector<Vector> history_;  // history_[head_]: the last command
+  int delay_ = 0;
+  CommandHistory<Vector> history_;
   Vector u_min_, u_max_, f_, u_;
   // The integral command s and the products' sums v = G_f f + s and g = G_x f, with padded rows
   // (the padding zero), as the products write them.

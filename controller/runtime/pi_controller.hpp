@@ -103,6 +103,12 @@ class PiController {
   static constexpr Eigen::Index channels() noexcept {
     return N;
   }
+  static constexpr Eigen::Index sensors() noexcept {
+    return N;
+  }
+  static constexpr Eigen::Index actuators() noexcept {
+    return N;
+  }
 
   /// Bumpless start: the next step(y_now) returns u_now. See the header comment.
   void start(const Vector& y_now, const Vector& u_now) noexcept {

@@ -2,8 +2,9 @@
 
 #include <Eigen/LU>
 #include <cmath>
-#include <limits>
 #include <stdexcept>
+
+#include "controller/runtime/command_limits.hpp"
 
 namespace flexloop::controller::runtime {
 
@@ -22,17 +23,6 @@ const Eigen::MatrixXd& square(const Eigen::MatrixXd& m, Eigen::Index n, const st
   return m;
 }
 
-/// Limits as n values: none -> `none`, one -> broadcast.
-Eigen::VectorXd limit(const Eigen::VectorXd& v, Eigen::Index n, double none, const std::string& who,
-                      const char* name) {
-  if (v.size() == 0) return Eigen::VectorXd::Constant(n, none);
-  if (v.size() == 1) return Eigen::VectorXd::Constant(n, v(0));
-  require(v.size() == n, who,
-          std::string(name) + " has " + std::to_string(v.size()) + " values, expected 1 or " +
-              std::to_string(n));
-  return v;
-}
-
 }  // namespace
 
 PiStepGains pi_step_gains(const PiParameters& p, Eigen::Index n, const std::string& who) {
@@ -45,12 +35,10 @@ PiStepGains pi_step_gains(const PiParameters& p, Eigen::Index n, const std::stri
           "dt must be finite and > 0, got " + std::to_string(p.dt));
   require(std::isfinite(p.leak_rad_s) && p.leak_rad_s >= 0, who,
           "leak_rad_s must be finite and >= 0, got " + std::to_string(p.leak_rad_s));
-  const double inf = std::numeric_limits<double>::infinity();
   PiStepGains g;
-  g.u_min = limit(p.u_min, n, -inf, who, "u_min");
-  g.u_max = limit(p.u_max, n, inf, who, "u_max");
-  require(!g.u_min.hasNaN() && !g.u_max.hasNaN() && !(g.u_min.array() > g.u_max.array()).any(), who,
-          "u_min must be <= u_max in every channel");
+  const CommandLimits limits = command_limits(p.u_min, p.u_max, n, who);
+  g.u_min = limits.u_min;
+  g.u_max = limits.u_max;
 
   const Eigen::FullPivLU<M> loop(I + K_P * D22);
   require(loop.isInvertible(), who,

@@ -37,6 +37,12 @@ void print_matrix(const char* name, const Eigen::MatrixXd& m) {
   }
 }
 
+std::string rate_text(double hz) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%g Hz", hz);
+  return text;
+}
+
 double db(double v) {
   return 20 * std::log10(v);
 }
@@ -70,24 +76,45 @@ namespace {
 std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlohmann::json& j) {
   std::optional<SampledLoopStability> sampled;
   const auto& c = p.scene.controller;
-  std::printf("PI force feedback: omega_d = 2 pi x %g Hz, zeta = %g, leak %s\n", c.omega_d_hz,
-              c.zeta, c.leak_hz > 0 ? (std::to_string(c.leak_hz) + " Hz").c_str() : "none");
-  print_matrix("K_P", p.gains.K_P);
-  print_matrix("K_I [1/s]", p.gains.K_I);
-  j["K_P"] = lti::matrix_to_json(p.gains.K_P);
-  j["K_I"] = lti::matrix_to_json(p.gains.K_I);
-  j["controller_settings"] = {
-      {"omega_d_hz", c.omega_d_hz}, {"zeta", c.zeta}, {"leak_hz", c.leak_hz}};
+  const bool pi = scene::has_pi_controller(p), continuous = scene::has_continuous_loop(p);
+  if (pi) {
+    std::printf("PI force feedback: omega_d = 2 pi x %g Hz, zeta = %g, leak %s\n", c.omega_d_hz,
+                c.zeta, c.leak_hz > 0 ? (std::to_string(c.leak_hz) + " Hz").c_str() : "none");
+    print_matrix("K_P", p.gains.K_P);
+    print_matrix("K_I [1/s]", p.gains.K_I);
+    j["K_P"] = lti::matrix_to_json(p.gains.K_P);
+    j["K_I"] = lti::matrix_to_json(p.gains.K_I);
+    j["controller_settings"] = {
+        {"omega_d_hz", c.omega_d_hz}, {"zeta", c.zeta}, {"leak_hz", c.leak_hz}};
+  } else {
+    const auto& d = p.state_space->discrete;
+    std::printf(
+        "state-space controller %s: %ld states, %ld sensors -> %ld actuators, %s%s, "
+        "anti-windup %s\n",
+        c.file.c_str(), static_cast<long>(d.sys.nx()), static_cast<long>(d.sys.nu()),
+        static_cast<long>(d.sys.ny()),
+        continuous ? "continuous, discretised with " : "discrete at ",
+        continuous ? lti::to_string(d.method).c_str() : rate_text(1 / d.dt).c_str(),
+        c.anti_windup.c_str());
+    std::printf("controller poles (discrete, at the scene's rate): spectral radius %.6g\n",
+                d.spectral_radius);
+    j["controller_settings"] = {{"file", c.file},
+                                {"states", d.sys.nx()},
+                                {"time", continuous ? "continuous" : "discrete"},
+                                {"anti_windup", c.anti_windup},
+                                {"spectral_radius", d.spectral_radius}};
+  }
 
   // The loop's poles: the closed loop's without the floor's integrator states (at s = 0, driven
   // by the floor only, untouched by the controller).
   const Eigen::VectorXcd& poles = p.loop.poles;
-  const Eigen::Index floor_states = p.closed_loop.nx() - poles.size();
-  std::printf("closed-loop poles (%ld%s):\n", static_cast<long>(poles.size()),
-              floor_states > 0 ? (", besides " + std::to_string(floor_states) +
-                                  " floor integrator states at s = 0")
-                                     .c_str()
-                               : "");
+  const Eigen::Index floor_states = continuous ? p.closed_loop.nx() - poles.size() : 0;
+  if (continuous)
+    std::printf("closed-loop poles (%ld%s):\n", static_cast<long>(poles.size()),
+                floor_states > 0 ? (", besides " + std::to_string(floor_states) +
+                                    " floor integrator states at s = 0")
+                                       .c_str()
+                                 : "");
   nlohmann::json pj = nlohmann::json::array();
   for (const auto& s : poles) {
     const double w = std::abs(s);
@@ -96,20 +123,29 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
     pj.push_back({s.real(), s.imag()});
   }
   // Stability, and the leak that would give it (or the margin the present one has).
-  const auto min_leak = scene::minimum_stable_leak_hz(p);
-  if (p.loop.stable())
+  const auto min_leak = pi ? scene::minimum_stable_leak_hz(p) : std::optional<double>();
+  if (!continuous)
+    std::printf("continuous loop: none (the controller is given in discrete time)\n");
+  else if (!pi)
+    std::printf(p.loop.stable() ? "continuous loop: stable\n"
+                                : "continuous loop: UNSTABLE, %d poles in the right half plane "
+                                  "(fastest e^(%.3g t))\n",
+                p.loop.unstable, p.loop.largest_real_part);
+  else if (p.loop.stable())
     std::printf("continuous loop: stable");
   else
     std::printf("continuous loop: UNSTABLE, %d poles in the right half plane (fastest e^(%.3g t))",
                 p.loop.unstable, p.loop.largest_real_part);
-  if (min_leak && *min_leak > 0)
+  if (!pi)
+    ;  // the leak is the PI's
+  else if (min_leak && *min_leak > 0)
     std::printf(
         "; needs leak_hz > %.4g (has %g)%s\n", *min_leak, c.leak_hz,
         p.scene.gravity_preload ? ": the gravity preload's geometric stiffness is negative" : "");
   else if (min_leak)
     std::printf(p.loop.stable() ? " without a leak\n"
                                 : "; it would be without a leak: check omega_d_hz and zeta\n");
-  else
+  else if (pi)
     std::printf(p.loop.stable() ? " (no leak up to omega_d would be)\n"
                                 : "; no leak up to omega_d makes it stable\n");
   // The loop as it runs: sampled at the scene's rate (controller/design/sampled_loop_stability).
@@ -122,7 +158,7 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
     sampled = st;
     const int delay = s.hardware.feedthrough_delay;
     std::printf(
-        "sampled loop at %g Hz (%s, the PI as it runs, the held command%s): spectral "
+        "sampled loop at %g Hz (%s, the controller as it runs, the held command%s): spectral "
         "radius %.6g",
         s.rate_hz, lti::to_string(s.method).c_str(),
         delay > 0
@@ -131,10 +167,11 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
             : "",
         st.spectral_radius);
     if (st.marginal > 0)
-      std::printf(" (%d pole%s on the unit circle%s; the poles inside it within |z| <= %.6g)",
-                  st.marginal, st.marginal == 1 ? "" : "s",
-                  c.leak_hz == 0 ? ", marginal: the pure integrator's at z = 1" : ", marginal",
-                  st.largest_inner_radius);
+      std::printf(
+          " (%d pole%s on the unit circle%s; the poles inside it within |z| <= %.6g)", st.marginal,
+          st.marginal == 1 ? "" : "s",
+          pi && c.leak_hz == 0 ? ", marginal: the pure integrator's at z = 1" : ", marginal",
+          st.largest_inner_radius);
     sj = {{"rate_hz", s.rate_hz},
           {"method", lti::to_string(s.method)},
           {"feedthrough_delay_samples", delay},
@@ -167,10 +204,12 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
   }
   const bool stable = p.loop.stable() && sampled_stable;
   std::printf("closed loop: %s\n",
-              stable ? "stable (continuous, and sampled as it runs)"
+              stable ? (continuous ? "stable (continuous, and sampled as it runs)"
+                                   : "stable (sampled as it runs)")
                      : "UNSTABLE as it runs: sim, plant, controller and hil refuse this scene");
   j["closed_loop_stable"] = stable;
-  j["continuous_loop_stable"] = p.loop.stable();
+  j["continuous_loop_stable"] =
+      continuous ? nlohmann::json(p.loop.stable()) : nlohmann::json(nullptr);
   j["sampled_loop"] = sj;
   j["floor_integrator_states"] = floor_states;
   j["minimum_stable_leak_hz"] = min_leak ? nlohmann::json(*min_leak) : nlohmann::json(nullptr);
@@ -234,10 +273,24 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   else
     std::printf("controller: none (the passive plant alone: no design, no closed loop)\n");
   j["open_loop"] = lti::to_json(p.plant);
-  if (controlled) {
+  // A controller given in discrete time has the sampled closed loop only (z = e^{j w T}).
+  const bool continuous = scene::has_continuous_loop(p);
+  const std::optional<lti::DiscreteStateSpace> sampled_closed =
+      controlled && !continuous ? std::optional(scene::sample_scene(p).closed_loop) : std::nullopt;
+  const auto closed_response = [&](const std::vector<double>& fr) {
+    return continuous ? lti::frequency_response(p.closed_loop, fr)
+                      : lti::frequency_response(*sampled_closed, fr);
+  };
+  if (controlled && continuous) {
     j["controller"] = lti::to_json(p.controller);
     j["closed_loop"] = lti::to_json(p.closed_loop);
+  } else if (controlled) {
+    j["controller"] = lti::to_json(p.state_space->discrete);
+    j["closed_loop"] = lti::to_json(*sampled_closed);
   }
+  const std::string controller_name = scene::has_pi_controller(p)
+                                          ? "PI force feedback"
+                                          : (continuous ? "state space" : "state space, sampled");
   try {
     const auto health = numerical_health(p, scene::sample_scene(p).plant, sampled_loop);
     print_health(health);
@@ -257,7 +310,7 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   const auto G = lti::frequency_response(g11, f);
   // The closed loop's responses only when there is one (a scene without a controller: the
   // passive machine alone).
-  const auto T = controlled ? lti::frequency_response(p.closed_loop, f) : decltype(G)();
+  const auto T = controlled ? closed_response(f) : decltype(G)();
   const Eigen::MatrixXd sv_open = lti::singular_values(G);
   const Eigen::MatrixXd sv_closed = controlled ? lti::singular_values(T) : Eigen::MatrixXd();
 
@@ -273,7 +326,7 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   report::write_csv_columns(dir + "singular_values.csv", header, cols);
   std::vector<report::SigmaSeries> systems{{"open loop (passive)", f, sv_open, "lines lw 2 dt 1"}};
   if (controlled)
-    systems.push_back({"closed loop (PI force feedback)", f, sv_closed, "lines lw 2 dt 2"});
+    systems.push_back({"closed loop (" + controller_name + ")", f, sv_closed, "lines lw 2 dt 2"});
   report::plot_singular_values(
       {sc.name + ": floor acceleration -> frame acceleration, singular values", "", "", true,
        false},
@@ -316,8 +369,7 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
     std::vector<double> fr(p.natural_frequencies_hz.data(),
                            p.natural_frequencies_hz.data() + p.natural_frequencies_hz.size());
     const Eigen::MatrixXd at_open = lti::singular_values(lti::frequency_response(g11, fr));
-    const Eigen::MatrixXd at_closed =
-        lti::singular_values(lti::frequency_response(p.closed_loop, fr));
+    const Eigen::MatrixXd at_closed = lti::singular_values(closed_response(fr));
     std::printf("at the passive resonances: largest singular value open -> closed loop\n");
     nlohmann::json at = nlohmann::json::array();
     for (std::size_t i = 0; i < fr.size(); ++i) {

@@ -1,5 +1,6 @@
 #include "offline/report/hil_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -77,6 +78,34 @@ std::vector<std::string> write_hil_report(const nlohmann::json& report, const st
   return written;
 }
 
+void print_physical(const nlohmann::json& r) {
+  const auto p = r.find("physical");
+  if (p == r.end() || !p->is_object()) return;
+  const auto& perf = (*p)["performance"];
+  const nlohmann::json& sim = p->contains("sim") ? (*p)["sim"] : nlohmann::json(nullptr);
+  const bool own = sim.is_object() && sim["controller_on"].is_object();
+  std::printf("  RMS performance outputs, this run%s%s:\n",
+              sim.is_object() ? " | sim, controller off" : "", own ? " | sim, controller on" : "");
+  for (std::size_t i = 0; i < perf.size(); ++i) {
+    const double run = perf[i].value("rms", 0.0);
+    std::printf("    %-14s %11.4e %s", perf[i].value("name", "?").c_str(), run,
+                perf[i].value("unit", "").c_str());
+    if (sim.is_object()) {
+      const double off = sim["controller_off"]["performance_rms"][i].get<double>();
+      std::printf(" | %11.4e (this run %+6.1f dB)", off, 20 * std::log10(run / off));
+      if (own) {
+        const double on = sim["controller_on"]["performance_rms"][i].get<double>();
+        std::printf(" | %11.4e (%+6.1f dB)", on, 20 * std::log10(on / off));
+      }
+    }
+    std::printf("\n");
+  }
+  double largest = 0;
+  for (const auto& c : (*p)["command"]) largest = std::max(largest, c.value("rms", 0.0));
+  std::printf("  RMS command (largest channel) %.4g, saturated in %.3f %% of the periods\n",
+              largest, 100 * p->value("saturated_share", 0.0));
+}
+
 void print_hil_summary(const nlohmann::json& r) {
   const double cycles = r.value("cycles", 0.0);
   const auto& pp = r["baseline"]["pingpong"];
@@ -103,6 +132,7 @@ void print_hil_summary(const nlohmann::json& r) {
   std::printf("  baseline ping-pong: %lld of %lld pings unanswered within the period (%.3f %%)\n",
               pp.value("unanswered", 0LL), pp.value("sent", 0LL),
               percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)));
+  print_physical(r);
 }
 
 void print_sweep_table(const std::vector<nlohmann::json>& reports) {

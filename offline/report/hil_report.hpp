@@ -25,6 +25,11 @@ std::vector<std::string> write_hil_report(const nlohmann::json& report, const st
 /// Prints the run's figures beside its baselines.
 void print_hil_summary(const nlohmann::json& report);
 
+/// The run's physical figures (report "physical"): RMS of each performance output beside what
+/// `flexloop sim` predicts with the controller off and on, the RMS command and the share of
+/// periods in saturation. Nothing when the report has none.
+void print_physical(const nlohmann::json& report);
+
 /// One table row per report (rate, misses, round trip, baselines), for `--sweep`.
 void print_sweep_table(const std::vector<nlohmann::json>& reports);
 

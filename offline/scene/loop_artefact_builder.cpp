@@ -27,18 +27,56 @@ std::string channel_unit(const std::string& channel) {
   return rotation ? "N m" : "N";  // force, stress, reaction
 }
 
+namespace {
+
+// The sensor's and the transport's delay, which the controller follows its own force through.
+int feedthrough_delay(const Scene& sc) {
+  const auto& e = sc.effects;
+  return (e.force_sensor.present ? e.force_sensor.delay_samples : 0) + e.transport_delay_samples;
+}
+
+// The command limit [N] the actuator and [controller] force_limit_n set (infinite: none).
+double command_limit(const Scene& sc) {
+  const auto& e = sc.effects;
+  const double limit = sc.controller.force_limit_n;
+  return e.actuator.present ? std::min(limit, e.actuator.force_limit_n / std::abs(e.actuator.gain))
+                            : limit;
+}
+
+}  // namespace
+
 controller::runtime::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double dt) {
   controller::runtime::PiParameters pi = pi_parameters(p, dt);
-  const auto& e = p.scene.effects;
-  pi.feedthrough_delay =
-      (e.force_sensor.present ? e.force_sensor.delay_samples : 0) + e.transport_delay_samples;
-  if (e.actuator.present) {
-    const double limit = std::min(p.scene.controller.force_limit_n,
-                                  e.actuator.force_limit_n / std::abs(e.actuator.gain));
+  pi.feedthrough_delay = feedthrough_delay(p.scene);
+  if (p.scene.effects.actuator.present) {
+    const double limit = command_limit(p.scene);
     pi.u_min = Eigen::VectorXd::Constant(1, -limit);
     pi.u_max = Eigen::VectorXd::Constant(1, limit);
   }
   return pi;
+}
+
+controller::runtime::StateSpaceParameters state_space_parameters_with_hardware(
+    const ScenePlant& p, const SampledScene& sampled) {
+  controller::runtime::StateSpaceParameters c;
+  const auto& d = p.state_space->discrete.sys;
+  c.A = d.A;
+  c.B = d.B;
+  c.C = d.C;
+  c.D = d.D;
+  c.dt = p.state_space->discrete.dt;
+  const double limit = command_limit(p.scene);
+  if (std::isfinite(limit)) {
+    c.u_min = Eigen::VectorXd::Constant(1, -limit);
+    c.u_max = Eigen::VectorXd::Constant(1, limit);
+  }
+  // The discrete plant's own feedthrough from the actuators to the sensors.
+  const auto& D = sampled.plant.sys.D;
+  c.feedthrough = D.bottomRightCorner(static_cast<Eigen::Index>(p.scene.sensors.size()),
+                                      static_cast<Eigen::Index>(p.scene.actuators.size()));
+  c.feedthrough_delay = feedthrough_delay(p.scene);
+  c.anti_windup = controller::runtime::parse_anti_windup(p.scene.controller.anti_windup);
+  return c;
 }
 
 artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
@@ -75,7 +113,10 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
           sc.file, std::string("the modal form is refused: ") + e.what() + " (use the dense form)");
     }
   }
-  if (has_controller(p)) {
+  if (p.state_space) {
+    a.controller = artefact::ControllerKind::kStateSpace;
+    a.state_space = state_space_parameters_with_hardware(p, sampled);
+  } else if (has_controller(p)) {
     a.controller = artefact::ControllerKind::kPiForceFeedback;
     a.pi = pi_parameters_with_hardware(p, a.dt());
   }

@@ -1,9 +1,10 @@
 #pragma once
 // Offline: a scene's loop artefact (artefact/loop_artefact.hpp) from its offline pipeline
 // (scene_plant.hpp): the plant sampled at the scene's rate and method (and in modal form when
-// asked), the channel map with units, the PI parameters at the loop's rate with what the hardware
-// effects imply (the actuator limit for the anti-windup, the sensor + transport delay of the
-// controller's own force), the floor's discrete shaping filter, the effects and the run.
+// asked), the channel map with units, the controller (the PI parameters, or the user's discrete
+// state space) at the loop's rate with what the hardware effects imply (the actuator limit for
+// the anti-windup, the sensor + transport delay of the controller's own force), the floor's
+// discrete shaping filter, the effects and the run.
 #include <string>
 
 #include "artefact/loop_artefact.hpp"
@@ -17,6 +18,11 @@ std::string channel_unit(const std::string& channel);
 
 /// The PI parameters of a scene at sample time dt with what its hardware effects imply.
 controller::runtime::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double dt);
+
+/// A state-space scene's controller (p.state_space) with what its hardware effects imply, and
+/// the sampled plant's own actuator -> sensor feedthrough D22, which the runtime removes.
+controller::runtime::StateSpaceParameters state_space_parameters_with_hardware(
+    const ScenePlant& p, const SampledScene& sampled);
 
 /// form: "dense" or "modal" (the modal form is computed here; a defective plant is refused).
 /// @throws flexloop::InputError naming the scene when the modal form is refused.

@@ -76,26 +76,49 @@ Scene parse_scene(const std::string& text, const std::string& file) {
   s.actuators = names(pr, "actuators");
   s.performance = names(pr, "performance");
   s.sensors = names(pr, "sensors");
-  if (s.actuators.size() != s.sensors.size())
-    pr.fail("force feedback needs one sensor per actuator (" + std::to_string(s.actuators.size()) +
-                " actuators, " + std::to_string(s.sensors.size()) + " sensors)",
-            pr.get("sensors"));
 
   s.controller.place = file;
   if (const auto* t = table(top, root, "controller", false)) {
     TomlReader cr(*t, file, "[controller]");
-    cr.allow_only({"enabled", "type", "omega_d_hz", "zeta", "leak_hz", "force_limit_n"});
     auto& c = s.controller;
     c.type = cr.string("type", c.type);
-    if (c.type != "pi_force_feedback" && c.type != "none")
-      cr.fail("'type' must be \"pi_force_feedback\" or \"none\"", cr.get("type"));
+    if (c.type == "pi_force_feedback") {
+      cr.allow_only({"enabled", "type", "omega_d_hz", "zeta", "leak_hz", "force_limit_n"});
+      c.omega_d_hz = positive(cr, "omega_d_hz", c.omega_d_hz);
+      c.zeta = positive(cr, "zeta", c.zeta);
+      c.leak_hz = non_negative(cr, "leak_hz", c.leak_hz);
+      c.place = cr.place(cr.get("leak_hz"));
+    } else if (c.type == "state_space") {
+      cr.allow_only({"enabled", "type", "file", "anti_windup", "force_limit_n"});
+      const std::string controller_file = cr.string("file");
+      c.file = std::filesystem::path(controller_file).is_absolute()
+                   ? controller_file
+                   : (base / controller_file).string();
+      if (!std::filesystem::exists(c.file))
+        cr.fail("controller file '" + c.file + "' does not exist", cr.get("file"));
+      c.file_place = cr.place(cr.get("file"));
+      c.anti_windup = cr.string("anti_windup", c.anti_windup);
+      if (c.anti_windup != "hold" && c.anti_windup != "none")
+        cr.fail(
+            "'anti_windup' must be \"hold\" (the state holds while a command is clamped) or "
+            "\"none\"",
+            cr.get("anti_windup"));
+      c.place = cr.place(cr.get("file"));
+    } else if (c.type == "none") {
+      cr.allow_only({"enabled", "type"});
+    } else {
+      cr.fail("'type' must be \"pi_force_feedback\", \"state_space\" or \"none\"", cr.get("type"));
+    }
     c.enabled = cr.boolean("enabled", c.enabled);
-    c.omega_d_hz = positive(cr, "omega_d_hz", c.omega_d_hz);
-    c.zeta = positive(cr, "zeta", c.zeta);
-    c.leak_hz = non_negative(cr, "leak_hz", c.leak_hz);
-    c.place = cr.place(cr.get("leak_hz"));
     if (cr.has("force_limit_n")) c.force_limit_n = positive(cr, "force_limit_n", 1.0);
+    // A disabled controller is no controller: the plant runs alone.
+    if (!c.enabled) c.type = "none";
   }
+  if (s.controller.type == "pi_force_feedback" && s.actuators.size() != s.sensors.size())
+    pr.fail("PI force feedback needs one sensor per actuator (" +
+                std::to_string(s.actuators.size()) + " actuators, " +
+                std::to_string(s.sensors.size()) + " sensors); a state_space controller takes any",
+            pr.get("sensors"));
 
   if (const auto* t = table(top, root, "discretisation", false)) {
     TomlReader dr(*t, file, "[discretisation]");

@@ -15,13 +15,17 @@
 namespace flexloop::scene {
 
 struct ControllerSettings {
-  /// "pi_force_feedback", or "none": the plant runs alone (an external controller process, or an
-  /// open-loop study); nothing of the PI applies then.
+  /// "pi_force_feedback"; "state_space": the user's own design from `file`; or "none": the plant
+  /// runs alone (an external controller process, or an open-loop study) and nothing of the PI
+  /// applies. enabled = false makes any type "none".
   std::string type = "pi_force_feedback";
   bool enabled = true;
-  double omega_d_hz = 10.0;  ///< closed-loop mode frequency of the PI force feedback
-  double zeta = 0.5;         ///< closed-loop damping ratio
-  double leak_hz = 0.0;      ///< 0: pure integrator
+  std::string file;                  ///< state_space: the controller file, resolved like the model
+  std::string file_place;            ///< state_space: "file:line" of the `file` key
+  std::string anti_windup = "hold";  ///< state_space: "hold" or "none"
+  double omega_d_hz = 10.0;          ///< closed-loop mode frequency of the PI force feedback
+  double zeta = 0.5;                 ///< closed-loop damping ratio
+  double leak_hz = 0.0;              ///< 0: pure integrator
   double force_limit_n = std::numeric_limits<double>::infinity();  ///< actuator saturation
   std::string place;  ///< "file:line" of leak_hz (or of the table), for messages about the loop
 };

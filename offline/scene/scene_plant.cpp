@@ -100,6 +100,20 @@ ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& option
                  static_cast<Eigen::Index>(scene.performance.size())};
   // No controller: the plant runs alone (an external controller, an open-loop study).
   if (!has_controller(p)) return p;
+  if (scene.controller.type == "state_space") {
+    p.state_space = load_scene_controller(scene);
+    p.feedback_path = plant::lti::build_state_space(m, p.lin, scene.actuators, scene.sensors);
+    if (!p.state_space->continuous) return p;
+    p.controller = *p.state_space->continuous;
+    try {
+      p.closed_loop = plant::lti::close_loop(p.plant, p.controller, p.partition);
+      p.loop = controller::design::loop_stability(p.feedback_path, p.controller,
+                                                  state_space_reference_rad_s(scene));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(scene.controller.file_place, std::string("[controller]: ") + e.what());
+    }
+    return p;
+  }
 
   // The design uses the passive stiffness Kdd (the seed's formula); the actuated struts must be
   // the dynamic coordinates for it to mean what it says.
@@ -124,8 +138,14 @@ std::optional<double> minimum_stable_leak_hz(const ScenePlant& p) {
   return *w / kTwoPi;
 }
 
-SampledLoop sampled_loop(const ScenePlant& p, double rate_hz,
-                         const controller::design::PiGains& gains) {
+double state_space_reference_rad_s(const Scene& scene) {
+  return std::numbers::pi * scene.discretisation.rate_hz;
+}
+
+namespace {
+
+// The loop at a rate, with the linear part of the scene's hardware.
+SampledLoop sampled_loop_frame(const ScenePlant& p, double rate_hz) {
   const auto& d = p.scene.discretisation;
   const auto& e = p.scene.effects;
   SampledLoop s;
@@ -141,6 +161,15 @@ SampledLoop sampled_loop(const ScenePlant& p, double rate_hz,
     s.hardware.actuator_lag_s = e.actuator.lag_s;
   }
   if (e.force_sensor.present) s.hardware.sensor_gain_error = e.force_sensor.gain_error;
+  return s;
+}
+
+}  // namespace
+
+SampledLoop sampled_loop(const ScenePlant& p, double rate_hz,
+                         const controller::design::PiGains& gains) {
+  const auto& d = p.scene.discretisation;
+  SampledLoop s = sampled_loop_frame(p, rate_hz);
   const plant::lti::DiscretisationOptions o{d.method, 1.0 / rate_hz, d.prewarp_hz, false};
   try {
     s.stability = controller::design::sampled_loop_stability(
@@ -153,11 +182,26 @@ SampledLoop sampled_loop(const ScenePlant& p, double rate_hz,
 }
 
 SampledLoop sampled_loop(const ScenePlant& p) {
-  return sampled_loop(p, p.scene.discretisation.rate_hz, p.gains);
+  const auto& d = p.scene.discretisation;
+  if (!p.state_space) return sampled_loop(p, d.rate_hz, p.gains);
+  // The user's controller as the runtime runs it: it removes the discrete plant's own D22.
+  SampledLoop s = sampled_loop_frame(p, d.rate_hz);
+  try {
+    const auto g22 =
+        plant::lti::discretise(p.feedback_path, {d.method, 1.0 / d.rate_hz, d.prewarp_hz, false});
+    s.hardware.removed_feedthrough = g22.sys.D;
+    s.stability = controller::design::sampled_loop_stability(
+        g22, p.state_space->discrete, s.hardware, state_space_reference_rad_s(p.scene));
+  } catch (const std::invalid_argument& ex) {
+    throw InputError(p.scene.file, std::string("[discretisation]: the sampled loop at ") +
+                                       std::to_string(d.rate_hz) + " Hz: " + ex.what());
+  }
+  return s;
 }
 
 SampledLoopRemedy stable_sampled_loop_remedy(const ScenePlant& p) {
   SampledLoopRemedy r;
+  if (!has_pi_controller(p)) return r;  // the searches change the PI's rate and design
   const double rate = p.scene.discretisation.rate_hz;
   const auto stable_at = [&](double rate_hz, const controller::design::PiGains& g) {
     try {
@@ -207,6 +251,18 @@ void require_stable_loop(const ScenePlant& p) {
                          "analyse shows its modes)");
   const auto& c = p.scene.controller;
   if (!has_controller(p)) return;  // nothing closes a loop
+  if (p.state_space) {
+    if (!p.loop.stable()) {  // only a continuous controller has poles here
+      char growth[200];
+      std::snprintf(growth, sizeof growth,
+                    "[controller]: the continuous closed loop with this controller is unstable: "
+                    "%d poles in the right half plane, the fastest growing as e^(%.3g t)",
+                    p.loop.unstable, p.loop.largest_real_part);
+      throw InputError(c.file_place, growth);
+    }
+    require_stable_sampled_loop(p);
+    return;
+  }
   if (p.loop.stable()) {
     require_stable_sampled_loop(p);
     return;
@@ -245,14 +301,22 @@ void require_stable_sampled_loop(const ScenePlant& p) {
   // How fast: a disturbance doubles in T ln 2 / ln(rho).
   const double doubling_s = std::log(2.0) / std::log(st.spectral_radius) / s.rate_hz;
   char head[400];
-  std::snprintf(head, sizeof head,
-                "[discretisation]: the sampled loop is unstable at %g Hz (%s; the PI as it runs, "
-                "the held command%s): spectral radius %.6g, %d pole%s outside the unit circle, "
-                "a disturbance doubles every %.3g s, although the continuous loop is stable",
-                s.rate_hz, plant::lti::to_string(d.method).c_str(),
-                delay_text(s.hardware.feedthrough_delay).c_str(), st.spectral_radius, st.unstable,
-                st.unstable == 1 ? "" : "s", doubling_s);
+  std::snprintf(
+      head, sizeof head,
+      "[discretisation]: the sampled loop is unstable at %g Hz (%s; the controller as it runs, "
+      "the held command%s): spectral radius %.6g, %d pole%s outside the unit circle, "
+      "a disturbance doubles every %.3g s%s",
+      s.rate_hz, plant::lti::to_string(d.method).c_str(),
+      delay_text(s.hardware.feedthrough_delay).c_str(), st.spectral_radius, st.unstable,
+      st.unstable == 1 ? "" : "s", doubling_s,
+      has_continuous_loop(p) ? ", although the continuous loop is stable" : "");
   std::string what = head;
+  if (p.state_space)
+    throw InputError(p.scene.controller.file_place,
+                     what +
+                         "; the controller file's design does not hold at this rate with the "
+                         "scene's hardware: redesign it for the loop as it runs (`flexloop "
+                         "build` writes the discrete plant it sees)");
   const SampledLoopRemedy r = stable_sampled_loop_remedy(p);
   char fix[400];
   if (r.rate_hz && r.omega_d_hz)
@@ -284,7 +348,10 @@ SampledScene sample_scene(const ScenePlant& p) {
   const plant::lti::DiscretisationOptions o{d.method, 1.0 / d.rate_hz, d.prewarp_hz, false};
   try {
     if (!has_controller(p)) return {plant::lti::discretise(p.plant, o), {}, {}};
-    SampledScene s{plant::lti::discretise(p.plant, o), plant::lti::discretise(p.controller, o), {}};
+    SampledScene s{
+        plant::lti::discretise(p.plant, o),
+        p.state_space ? p.state_space->discrete : plant::lti::discretise(p.controller, o),
+        {}};
     s.closed_loop = plant::lti::close_loop_sampled(s.plant, s.controller, p.partition);
     return s;
   } catch (const std::invalid_argument& e) {

@@ -12,6 +12,7 @@
 #include "controller/design/pi_force_feedback.hpp"
 #include "controller/design/sampled_loop_stability.hpp"
 #include "offline/scene/scene.hpp"
+#include "offline/scene/scene_controller.hpp"
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/feedback_interconnection.hpp"
 #include "plant/lti/modal_analysis.hpp"
@@ -30,9 +31,12 @@ struct ScenePlant {
   plant::lti::StaticStability statics;     ///< of those modes; the buckling multiplier of the load
   plant::lti::StateSpace plant;            ///< G: [w; u] -> [z; y]
   plant::lti::LoopPartition partition;     ///< sizes of w and z
-  controller::design::PiGains gains;       ///< designed even when the controller is disabled
-  plant::lti::StateSpace controller;       ///< y -> u
-  plant::lti::StateSpace closed_loop;      ///< w -> z (T)
+  controller::design::PiGains gains;       ///< the PI's (type "pi_force_feedback")
+  /// type "state_space": the user's controller, discrete at the scene's rate (and continuous when
+  /// the file is)
+  std::optional<SceneController> state_space;
+  plant::lti::StateSpace controller;   ///< y -> u, continuous (the PI; a continuous state space)
+  plant::lti::StateSpace closed_loop;  ///< w -> z (T)
   /// The feedback path G22 (actuators -> sensors, floor held still) and the poles of the loop it
   /// makes with the controller: the closed loop's poles without the floor's integrator states.
   plant::lti::StateSpace feedback_path;
@@ -44,6 +48,22 @@ struct ScenePlant {
 inline bool has_controller(const ScenePlant& p) {
   return p.scene.controller.type != "none";
 }
+
+/// True for the PI force feedback (type "pi_force_feedback"), whose design, leak and remedies
+/// apply.
+inline bool has_pi_controller(const ScenePlant& p) {
+  return p.scene.controller.type == "pi_force_feedback";
+}
+
+/// True when the loop has a continuous form: the PI, or a state-space controller given in
+/// continuous time (closed_loop and loop are then filled).
+inline bool has_continuous_loop(const ScenePlant& p) {
+  return has_pi_controller(p) || (p.state_space && p.state_space->continuous);
+}
+
+/// The rate a state-space controller's loop is judged against: a pole counts as unstable when it
+/// grows faster than kUnstableTolerance x this (the Nyquist frequency, rad/s; the PI's is w_d).
+double state_space_reference_rad_s(const Scene& scene);
 
 /// The smallest stable leak [Hz] of the scene's loop (0: stable without one; nullopt: none up to
 /// the scene's omega_d). controller/design/loop_stability.hpp explains when one is needed.

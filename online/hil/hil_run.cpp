@@ -2,6 +2,7 @@
 
 #include <signal.h>
 
+#include <cmath>
 #include <cstdio>
 #include <memory>
 
@@ -11,6 +12,7 @@
 #include "online/loop/controller_loop.hpp"
 #include "online/loop/plant_loop.hpp"
 #include "online/loop/private_network.hpp"
+#include "online/sim/scene_runs.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
 #include "rt/pingpong_baseline.hpp"
@@ -75,6 +77,25 @@ nlohmann::json channel_map_json(const artefact::LoopArtefact& loop) {
             {"FLEXLOOP_COMMAND", {{"commands", "channels.actuators"}}}}}};
 }
 
+// What `flexloop sim` predicts for the same loop, seeds and duration: the RMS of each performance
+// output with the controller off and (a loop with flexloop's own controller) on, and the RMS
+// commands. With every answer in time the real-time run is the same loop sample for sample.
+nlohmann::json sim_prediction(const artefact::LoopArtefact& loop, double duration_s) {
+  sim::RunSettings s;
+  s.dt = loop.dt();
+  s.steps = std::lround(duration_s * loop.rate_hz);
+  const sim::BothRuns r = sim::run_artefact(loop, s, {});
+  const auto values = [](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.data(), v.data() + v.size());
+  };
+  nlohmann::json j = {{"controller_off", {{"performance_rms", values(r.off.rms_performance)}}},
+                      {"controller_on", nullptr}};
+  if (r.controlled)
+    j["controller_on"] = {{"performance_rms", values(r.on.rms_performance)},
+                          {"command_rms", values(r.on.rms_command)}};
+  return j;
+}
+
 }  // namespace
 
 nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) {
@@ -132,6 +153,7 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   logger.reset();
 
   report.update(plant_json);
+  if (report.contains("physical")) report["physical"]["sim"] = sim_prediction(loop, duration_s);
   report["controller"] = controller_json;
   report["scene"] = o.loop.loop_path;
   report["duration_s"] = duration_s;

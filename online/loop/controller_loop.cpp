@@ -35,9 +35,11 @@ ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o
   r.setup = setup.text + (dma.active() ? "  ok    " : "  WARN  ") + dma.message() + "\n";
   if (!o.quiet)
     std::printf(
-        "controller: %s, PI on %ld channels at %.6g Hz, wait %s, safe after %d misses, LCM %s\n%s",
-        loop.name.c_str(), static_cast<long>(controller.channels()), loop.rate_hz,
-        rt::to_string(o.wait), o.safe_after, url.c_str(), r.setup.c_str());
+        "controller: %s, %s, %ld sensors -> %ld actuators at %.6g Hz, wait %s, safe after %d "
+        "misses, LCM %s\n%s",
+        loop.name.c_str(), artefact::to_string(loop.controller).c_str(),
+        static_cast<long>(controller.sensors()), static_cast<long>(controller.actuators()),
+        loop.rate_hz, rt::to_string(o.wait), o.safe_after, url.c_str(), r.setup.c_str());
   std::fflush(stdout);
   if (ready) ready();
 

@@ -1,9 +1,8 @@
 #pragma once
 // The controller process's work for one sensor message, without sockets (so that tests can drive
-// it message by message): the PI force-feedback step on the sample's sensor channels (a compiled
-// PiController where the loop's channel counts have a compiled loop, online/numeric/
-// compiled_loops.hpp, GeneralPiController for any other count), and the actuator message that
-// answers the sample.
+// it message by message): the controller's step on the sample's sensor channels (any
+// controller/runtime/loop_controller.hpp: the PI, compiled or general, or the state-space
+// controller; loop_controller.hpp picks it), and the actuator message that answers the sample.
 //
 // Resynchronisation, decided from the sample's (plant_epoch, seq) alone:
 //   - first sample, or a new plant_epoch (the plant restarted, its state and held command are
@@ -19,22 +18,23 @@
 #include <flexloop_msgs/actuator_command_t.hpp>
 #include <flexloop_msgs/sensor_sample_t.hpp>
 
+#include "controller/runtime/loop_controller.hpp"
 #include "rt/message_inbox.hpp"
 
 namespace flexloop::hil {
 
-template <class Controller>
+template <controller::runtime::LoopController Controller>
 class ControllerStation {
  public:
   using Vector = typename Controller::Vector;
 
-  /// safe_after: the plant's --safe-after (< 1 is taken as 1). Samples must carry one sensor
-  /// channel per controller channel (force feedback: one sensor per actuator).
+  /// safe_after: the plant's --safe-after (< 1 is taken as 1). Samples must carry the
+  /// controller's sensor count; answers carry its actuator count.
   ControllerStation(const Controller& controller, int safe_after)
       : controller_(controller),
         safe_after_(safe_after < 1 ? 1 : safe_after),
-        samples_(rt::OrderGate{}, {static_cast<int>(controller.channels()), 0}) {
-    cmd_.n_commands = static_cast<std::int16_t>(controller.channels());
+        samples_(rt::OrderGate{}, {static_cast<int>(controller.sensors()), 0}) {
+    cmd_.n_commands = static_cast<std::int16_t>(controller.actuators());
     cmd_.commands.assign(static_cast<std::size_t>(cmd_.n_commands), 0.0);
   }
 

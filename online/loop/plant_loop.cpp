@@ -1,5 +1,6 @@
 #include "online/loop/plant_loop.hpp"
 
+#include <cmath>
 #include <string>
 
 #include "online/loop/latency_json.hpp"
@@ -21,6 +22,21 @@ PlantLoopResult run_plant_loop(const LoopOptions& o, const artefact::LoopArtefac
     r.divergence_message =
         "plant: the loop " + plant::runtime::describe(r.divergence, loop.channels);
   return r;
+}
+
+nlohmann::json physical_json(const PhysicalResults& p) {
+  const auto channels = [](const std::vector<artefact::Channel>& c, const Eigen::VectorXd& rms) {
+    nlohmann::json out = nlohmann::json::array();
+    for (std::size_t i = 0; i < c.size() && static_cast<Eigen::Index>(i) < rms.size(); ++i)
+      out.push_back(
+          {{"name", c[i].name}, {"unit", c[i].unit}, {"rms", rms(static_cast<Eigen::Index>(i))}});
+    return out;
+  };
+  return {{"performance", channels(p.performance, p.rms_performance)},
+          {"command", channels(p.actuators, p.rms_command)},
+          {"saturated_share", p.saturated_share},
+          {"command_limit", std::isfinite(p.command_limit) ? nlohmann::json(p.command_limit)
+                                                           : nlohmann::json(nullptr)}};
 }
 
 nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o, bool with_bins) {
@@ -49,7 +65,8 @@ nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o,
                       {"fifo", r.fifo},
                       {"plant_setup", r.setup},
                       {"divergence", r.divergence.happened() ? nlohmann::json(r.divergence_message)
-                                                             : nlohmann::json(nullptr)}};
+                                                             : nlohmann::json(nullptr)},
+                      {"physical", physical_json(r.physical)}};
   if (with_bins)
     j["histograms"] = {{"round_trip_ns", bins_json(*a.round_trip)},
                        {"wakeup_lateness_ns", bins_json(*a.wakeup_lateness)}};

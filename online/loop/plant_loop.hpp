@@ -14,6 +14,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "artefact/loop_artefact.hpp"
 #include "online/loop/loop_accounts.hpp"
@@ -22,6 +23,16 @@
 #include "rt/message_validation.hpp"
 
 namespace flexloop::hil {
+
+/// What the run did physically (beside its timing): judged by the same figures `flexloop sim`
+/// prints.
+struct PhysicalResults {
+  std::vector<artefact::Channel> performance, actuators;  ///< names and units, channel-map order
+  Eigen::VectorXd rms_performance;  ///< RMS of each true performance output over the run
+  Eigen::VectorXd rms_command;      ///< RMS of each command held over the run
+  double saturated_share = 0;       ///< periods with a command at the actuator's force limit
+  double command_limit = 0;         ///< that limit (infinity: the actuator has none)
+};
 
 struct PlantLoopResult {
   LoopAccounts accounts;
@@ -43,7 +54,12 @@ struct PlantLoopResult {
   /// (plant/runtime/divergence.hpp); `divergence_message` then says when and where.
   plant::runtime::Divergence divergence;
   std::string divergence_message;
+  PhysicalResults physical;
 };
+
+/// The physical figures as JSON: {"performance": [{"name", "unit", "rms"}], "command": [...],
+/// "saturated_share", "command_limit" (null: none)}.
+nlohmann::json physical_json(const PhysicalResults& p);
 
 /// Runs the plant loop of the artefact (options.loop_path and rate_hz unused).
 /// std::runtime_error / flexloop::InputError before the loop starts (not in a private network,

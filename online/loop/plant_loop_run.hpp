@@ -5,7 +5,9 @@
 // translation units so that the effect combinations compile in parallel.
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -32,10 +34,14 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   const auto periods = static_cast<std::int64_t>(duration_s * loop.rate_hz + 0.5);
   // A new epoch per run: the controller sees a restart, old answers are stale.
   const std::int64_t epoch = rt::monotonic_now_ns() ^ (static_cast<std::int64_t>(getpid()) << 40);
+  const auto& actuator = loop.effects.actuator;
+  r.physical.command_limit = actuator.present ? actuator.force_limit_n / std::abs(actuator.gain)
+                                              : std::numeric_limits<double>::infinity();
   auto station = std::make_unique<PlantStation<Hardware>>(
-      std::move(hw),
-      PlantStationSettings{
-          .safe_after = o.safe_after, .epoch = epoch, .period_ns = clock_options.period_ns});
+      std::move(hw), PlantStationSettings{.safe_after = o.safe_after,
+                                          .epoch = epoch,
+                                          .period_ns = clock_options.period_ns,
+                                          .command_limit = r.physical.command_limit});
   rt::LcmTransport lcm(url, o.receive_path);
   lcm.subscribe(o.channels.command, station->commands());
   rt::LcmPublisher<flexloop_msgs::sensor_sample_t> sensor(lcm, o.channels.sensor);
@@ -104,6 +110,11 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   r.drops = station->commands().drops();
   r.stats_published = stats.published();
   r.publish_failures = sensor.failures();
+  r.physical.performance = loop.channels.performance;
+  r.physical.actuators = loop.channels.actuators;
+  r.physical.rms_performance = station->rms_performance();
+  r.physical.rms_command = station->rms_command();
+  r.physical.saturated_share = station->saturated_share();
 }
 
 /// The loop on the fixed-size kernels of the compiled loop that matches the artefact

@@ -30,7 +30,9 @@
 #include <cstdint>
 #include <flexloop_msgs/actuator_command_t.hpp>
 #include <flexloop_msgs/sensor_sample_t.hpp>
+#include <limits>
 
+#include <algorithm>
 #include <type_traits>
 #include <utility>
 
@@ -42,6 +44,9 @@ struct PlantStationSettings {
   int safe_after = 10;     ///< consecutive missed answers before the safe command, >= 1
   std::int64_t epoch = 1;  ///< this plant run's id (sensor_sample_t.plant_epoch)
   std::int64_t period_ns = 1'000'000;
+  /// A command of this magnitude or more saturates the actuator (its force limit over its gain);
+  /// infinity: no limit.
+  double command_limit = std::numeric_limits<double>::infinity();
 };
 
 /// Where the command applied over the last period came from.
@@ -102,6 +107,12 @@ class PlantStation {
       }
     }
     hw_.apply(u_);
+    // What the run did physically: the true performance outputs of the sample this command
+    // answered and the command held over the period, as the in-process loop sums them.
+    sum_z2_ += hw_.performance().cwiseAbs2();
+    sum_u2_ += u_.cwiseAbs2();
+    if ((u_.cwiseAbs().array() >= settings_.command_limit).any()) ++saturated_cycles_;
+    ++settled_;
     return source;
   }
 
@@ -125,6 +136,23 @@ class PlantStation {
   const Command& command() const noexcept { return u_; }
   const Hardware& hardware() const noexcept { return hw_; }
 
+  /// RMS of each true performance output and each command over the settled periods (allocates:
+  /// for the report after the run).
+  Eigen::VectorXd rms_performance() const {
+    return (sum_z2_.template cast<double>() /
+            static_cast<double>(std::max<std::int64_t>(settled_, 1)))
+        .cwiseSqrt();
+  }
+  Eigen::VectorXd rms_command() const {
+    return (sum_u2_.template cast<double>() /
+            static_cast<double>(std::max<std::int64_t>(settled_, 1)))
+        .cwiseSqrt();
+  }
+  /// Share of the settled periods in which a command reached command_limit.
+  double saturated_share() const noexcept {
+    return settled_ > 0 ? static_cast<double>(saturated_cycles_) / static_cast<double>(settled_)
+                        : 0.0;
+  }
   std::int64_t samples() const noexcept { return msg_.seq; }
   std::int64_t deadline_misses() const noexcept { return deadline_misses_; }
   std::int64_t late_answers() const noexcept { return late_answers_; }
@@ -137,6 +165,9 @@ class PlantStation {
   PlantStationSettings settings_;
   rt::MessageInbox<flexloop_msgs::actuator_command_t> commands_;
   Command u_;
+  typename Hardware::Performance sum_z2_ = Hardware::Performance::Zero(hw_.performance_outputs());
+  Command sum_u2_ = Command::Zero(hw_.actuators());
+  std::int64_t saturated_cycles_ = 0, settled_ = 0;
   flexloop_msgs::sensor_sample_t msg_{};
   const flexloop_msgs::actuator_command_t* last_answer_ = nullptr;
   std::int64_t deadline_misses_ = 0;

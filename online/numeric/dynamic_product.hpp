@@ -121,6 +121,21 @@ EIGEN_ALWAYS_INLINE void product(const Scalar* A, Eigen::Index k, const Scalar* 
   product_sum<Scalar>(A, k, a, nullptr, 0, nullptr, ld, init, out);
 }
 
+/// out[i] = v(i) for the entries of a vector expression. v was usually written just before as part
+/// of a longer vector (the plant's output, by whole SIMD packets): read entry by entry, because a
+/// wider load that spans two of those stores cannot be forwarded from the store buffer and waits
+/// for them to reach the cache. A run-time stride keeps the compiler from widening the loop.
+template <typename Scalar, typename V>
+EIGEN_ALWAYS_INLINE void read_entries(const Eigen::MatrixBase<V>& v, Scalar* out) noexcept {
+  if constexpr (V::ColsAtCompileTime == 1 && requires { v.derived().data(); }) {
+    const Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>, 0, Eigen::InnerStride<>>
+        entries(v.derived().data(), v.size(), Eigen::InnerStride<>(v.derived().innerStride()));
+    for (Eigen::Index i = 0; i < entries.size(); ++i) out[i] = entries.coeff(i);
+  } else {
+    for (Eigen::Index i = 0; i < v.size(); ++i) out[i] = static_cast<Scalar>(v.coeff(i));
+  }
+}
+
 /// Start-up: m with its rows padded to padded_row_count() with zeros, in the step's scalar.
 template <typename Scalar>
 Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> padded_matrix(const Eigen::MatrixXd& m) {

@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <functional>
 
+#include "controller/runtime/loop_controller.hpp"
 #include "plant/runtime/divergence.hpp"
 #include "plant/runtime/simulated_hardware.hpp"
 
@@ -55,6 +56,9 @@ inline Eigen::Index log_columns(Eigen::Index nw, Eigen::Index nz, Eigen::Index n
 template <class Hardware, class Controller>
 RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings& s,
                           const std::function<void(long done, long total)>& progress) {
+  static_assert(
+      !plant::runtime::kPresent<Controller> || controller::runtime::LoopController<Controller>,
+      "run_closed_loop: the controller implements controller/runtime/loop_controller.hpp");
   using Command = typename Hardware::Command;
   using Performance = typename Hardware::Performance;
   const Eigen::Index nw = hw.disturbances(), nc = hw.actuators(), nz = hw.performance_outputs(),

@@ -1,11 +1,16 @@
 #pragma once
 // The body shared by the scene_runs_*.cpp translation units: controller off, then on, over the
-// artefact's hardware with every effect it carries.
+// artefact's hardware with every effect it carries. The PI runs on compiled and general paths;
+// the state-space controller, sized at start-up, on the general path only (one more
+// instantiation of every effect combination per compiled loop would double their build time for
+// a step that the controller's own products dominate).
+#include <stdexcept>
 #include <string>
 
 #include "common/input_error.hpp"
 #include "controller/runtime/general_pi_controller.hpp"
 #include "controller/runtime/pi_controller.hpp"
+#include "controller/runtime/state_space_controller.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "online/sim/scene_runs.hpp"
 
@@ -30,22 +35,34 @@ BothRuns run_both(const Plant& plant, const artefact::LoopArtefact& a, const Run
   const auto progress = [&o](const char* what) {
     return o.progress ? o.progress(what) : std::function<void(long, long)>{};
   };
-  const bool controlled = a.controller == artefact::ControllerKind::kPiForceFeedback;
+  using artefact::ControllerKind;
+  const bool pi = a.controller == ControllerKind::kPiForceFeedback,
+             state_space = a.controller == ControllerKind::kStateSpace;
   // The PI feeds back one sensor per actuator (the artefact's validation holds NS = NC already).
   if constexpr (NS != NC)
-    if (controlled)
+    if (pi)
       throw InputError(a.source,
                        "[controller]: the PI force feedback needs one sensor per "
                        "actuator; this loop has " +
                            std::to_string(a.sensors()) + " sensors and " +
                            std::to_string(a.actuators()) + " actuators");
+  // The state-space controller is start-up-sized: it runs with the general path's hardware
+  // (run_compiled leaves it to run_general).
+  constexpr bool kGeneral = NW == Eigen::Dynamic && NC == Eigen::Dynamic && NS == Eigen::Dynamic;
+  if (state_space && !kGeneral)
+    throw std::logic_error("run_both: a state-space controller runs on the general path");
   return with_hardware<NW, NC, NS>(a, plant, [&](auto hw) {
     BothRuns r;
-    r.controlled = controlled;
+    r.controlled = pi || state_space;
     r.off = run_closed_loop(hw, plant::runtime::NoEffect{}, off, progress("controller off"));
     if constexpr (NS == NC)
-      if (controlled)
+      if (pi)
         r.on = run_closed_loop(hw, make_pi<NC>(a.pi, a.actuators()), on, progress("controller on"));
+    if constexpr (kGeneral)
+      if (state_space)
+        r.on = run_closed_loop(
+            hw, controller::runtime::StateSpaceController<double>::from_parameters(a.state_space),
+            on, progress("controller on"));
     return r;
   });
 }

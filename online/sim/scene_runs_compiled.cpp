@@ -6,6 +6,8 @@ namespace flexloop::sim::detail {
 
 std::optional<BothRuns> run_compiled(const artefact::LoopArtefact& a, const RunSettings& s,
                                      const SceneRunOptions& o) {
+  // The state-space controller is start-up-sized: the general path runs it (run_both.hpp).
+  if (a.controller == artefact::ControllerKind::kStateSpace) return std::nullopt;
   return plant::runtime::with_compiled_loop(
       loop_counts(a),
       [&](auto loop) -> std::optional<BothRuns> {

@@ -6,6 +6,7 @@
 #include <catch2/catch.hpp>
 
 #include "controller/runtime/general_pi_controller.hpp"
+#include "controller/runtime/state_space_controller.hpp"
 #include "plant/lti/modal_form.hpp"
 #include "plant/lti/vibration_criterion.hpp"
 #include "plant/runtime/effects/floor_generator.hpp"
@@ -100,5 +101,41 @@ TEST_CASE("allocation: the general path's closed loop allocates nothing at any s
     CHECK(closed_loop_allocations(plant::runtime::GeneralModalPlant<double>::from_modal_form(
                                       plant::lti::to_modal_form(d), n.actuators),
                                   n, steps) == 0);
+  }
+}
+
+TEST_CASE("allocation: the state-space controller's step allocates nothing", "[alloc]") {
+  // 40 states, 8 sensors, 6 actuators, a coupled feedthrough with a delay, clamped commands with
+  // both anti-windup policies (the hold branch and the update branch both run).
+  const auto c = test::discrete_system({{0.9, 0.1}, {0.8, 0.3}, {0.7, 0}}, 8, 6, 17);
+  for (const auto policy :
+       {controller::runtime::AntiWindup::kHold, controller::runtime::AntiWindup::kNone}) {
+    controller::runtime::StateSpaceParameters p;
+    p.A = Eigen::MatrixXd::Zero(40, 40);
+    p.A.topLeftCorner(5, 5) = c.sys.A;
+    p.A.bottomRightCorner(35, 35) = 0.5 * Eigen::MatrixXd::Identity(35, 35);
+    p.B = Eigen::MatrixXd::Constant(40, 8, 0.01);
+    p.B.topRows(5) = c.sys.B;
+    p.C = Eigen::MatrixXd::Constant(6, 40, 0.1);
+    p.D = 0.1 * Eigen::MatrixXd::Ones(6, 8);
+    p.dt = 1e-4;
+    p.feedthrough = 0.2 * Eigen::MatrixXd::Ones(8, 6);
+    p.feedthrough_delay = 2;
+    p.u_min = Eigen::VectorXd::Constant(1, -0.5);
+    p.u_max = Eigen::VectorXd::Constant(1, 0.5);
+    p.anti_windup = policy;
+    auto controller = controller::runtime::StateSpaceController<double>::from_parameters(p);
+    controller::runtime::StateSpaceController<double>::Vector y(8);
+    double sum = 0;
+    const auto step = [&](long k) {
+      for (Eigen::Index i = 0; i < 8; ++i)
+        y(i) = std::sin(0.001 * static_cast<double>(k * (i + 1)));
+      sum += controller.step(y)(0);
+    };
+    for (long k = 0; k < 1000; ++k) step(k);
+    const std::uint64_t before = test::allocation_count();
+    for (long k = 0; k < 100000; ++k) step(k);
+    CHECK(test::allocation_count() - before == 0);
+    CHECK(std::isfinite(sum));
   }
 }

@@ -17,7 +17,7 @@
 #include "offline/scene/loop_input.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "online/sim/scene_runs.hpp"
-#include "tests/support/dynamic_reference.hpp"
+#include "tests/support/sampled_loop_reference.hpp"
 
 using namespace flexloop;
 
@@ -33,33 +33,6 @@ sim::BothRuns run(const std::string& scene, const std::string& form, bool genera
   return sim::run_artefact(a, s, o);
 }
 
-// The offline model stepped with the artefact's own floor draws, from the floor's start (the
-// plant's floor states where the floor generator starts, as the runtime sets them): the rms of
-// its first nz outputs over `steps` samples.
-Eigen::VectorXd reference_rms(const artefact::LoopArtefact& a, test::PlantReference model,
-                              Eigen::Index nz, long steps) {
-  struct StateOf {  // what sim::plant_at_floor_start reads and writes
-    using State = Eigen::VectorXd;
-    Eigen::VectorXd x;
-    State state() const { return x; }
-    void set_state(const State& v) { x = v; }
-  };
-  return sim::with_floor<Eigen::Dynamic>(a, [&](auto floor) {
-    model.x = sim::plant_at_floor_start(StateOf{model.x}, floor, a).x;
-    Eigen::VectorXd sum = Eigen::VectorXd::Zero(nz);
-    for (long k = 0; k < steps; ++k) {
-      const Eigen::VectorXd w = floor.step();
-      sum += model.output(w).topRows(nz).cwiseAbs2();
-      model.advance(w);
-    }
-    return Eigen::VectorXd((sum / static_cast<double>(steps)).cwiseSqrt());
-  });
-}
-
-double worst_relative(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  return ((a - b).cwiseAbs().array() / b.cwiseAbs().array()).maxCoeff();
-}
-
 }  // namespace
 
 TEST_CASE("sim general path: the metrology frame with every effect gives the compiled figures",
@@ -70,10 +43,10 @@ TEST_CASE("sim general path: the metrology frame with every effect gives the com
   const auto modal = run(sc, "modal", true, 2.0);
   // Same hardware, same seeds, the same sample: only the order of summation differs. The ADCs
   // round, so a last-bit difference can flip a code now and then: 1e-9 covers that.
-  CHECK(worst_relative(general.on.rms_performance, compiled.on.rms_performance) < 1e-9);
-  CHECK(worst_relative(general.off.rms_performance, compiled.off.rms_performance) < 1e-9);
-  CHECK(worst_relative(general.on.rms_command, compiled.on.rms_command) < 1e-9);
-  CHECK(worst_relative(modal.on.rms_performance, compiled.on.rms_performance) < 1e-6);
+  CHECK(test::worst_relative(general.on.rms_performance, compiled.on.rms_performance) < 1e-9);
+  CHECK(test::worst_relative(general.off.rms_performance, compiled.off.rms_performance) < 1e-9);
+  CHECK(test::worst_relative(general.on.rms_command, compiled.on.rms_command) < 1e-9);
+  CHECK(test::worst_relative(modal.on.rms_performance, compiled.on.rms_performance) < 1e-6);
 }
 
 TEST_CASE("sim general path: machines under PI run as their sampled closed loop",
@@ -101,9 +74,9 @@ TEST_CASE("sim general path: machines under PI run as their sampled closed loop"
     // The reference: the offline sampled loop w -> z (plant states first), the same floor.
     const auto& cl = sampled.closed_loop.sys;
     const Eigen::VectorXd rms_model =
-        reference_rms(a, test::PlantReference{cl.A, cl.B, cl.C, cl.D}, c.nz, s.steps);
+        test::reference_rms(a, test::PlantReference{cl.A, cl.B, cl.C, cl.D}, c.nz, s.steps);
     INFO("sim " << r.on.rms_performance.transpose() << ", model " << rms_model.transpose());
-    CHECK(worst_relative(r.on.rms_performance, rms_model) < 1e-9);
+    CHECK(test::worst_relative(r.on.rms_performance, rms_model) < 1e-9);
     // Force feedback damps the modes: every mass moves less with it than without.
     for (Eigen::Index i = 0; i < c.nz; ++i)
       CHECK(20 * std::log10(r.on.rms_performance(i) / r.off.rms_performance(i)) < -3.0);
@@ -138,10 +111,10 @@ TEST_CASE("sim general path: machines without a controller run open loop as thei
     const auto r = sim::run_artefact(a, s, {});
     CHECK_FALSE(r.controlled);
     const auto& d = sampled.plant.sys;
-    const Eigen::VectorXd rms_model = reference_rms(
+    const Eigen::VectorXd rms_model = test::reference_rms(
         a, test::PlantReference{d.A, d.B.leftCols(c.nw), d.C, d.D.leftCols(c.nw)}, c.nz, s.steps);
     INFO("sim " << r.off.rms_performance.transpose() << ", model " << rms_model.transpose());
     CHECK(rms_model.minCoeff() > 0);
-    CHECK(worst_relative(r.off.rms_performance, rms_model) < 1e-9);
+    CHECK(test::worst_relative(r.off.rms_performance, rms_model) < 1e-9);
   }
 }

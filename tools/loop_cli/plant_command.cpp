@@ -38,6 +38,14 @@ void run(const PlantArgs& a, const LoopSource& source) {
       static_cast<long long>(r.late_answers), static_cast<long long>(r.overruns),
       static_cast<long long>(r.safe_command_cycles), static_cast<long long>(r.drops.total()),
       static_cast<long long>(r.stats_published));
+  const hil::PhysicalResults& ph = r.physical;
+  std::printf("RMS performance outputs:");
+  for (std::size_t i = 0; i < ph.performance.size(); ++i)
+    std::printf(" %s %.4e %s%s", ph.performance[i].name.c_str(),
+                ph.rms_performance(static_cast<Eigen::Index>(i)), ph.performance[i].unit.c_str(),
+                i + 1 < ph.performance.size() ? "," : "\n");
+  std::printf("RMS command (largest channel) %.4g, saturated in %.3f %% of the periods\n",
+              ph.rms_command.size() ? ph.rms_command.maxCoeff() : 0.0, 100 * ph.saturated_share);
   if (!a.json.empty()) {
     write_json_atomically(a.json, hil::plant_result_json(r, o, false));
     std::printf("wrote %s\n", a.json.c_str());

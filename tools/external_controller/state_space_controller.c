@@ -1,0 +1,347 @@
+/* An external controller in plain C: what a user's own controller process looks like
+ * (doc/external_controller.md is the contract it follows). It links only the LCM C library,
+ * cJSON and the C types `lcm-gen -c` makes from msgs/: no flexloop code.
+ *
+ * It runs the state-space controller of a loop artefact (`flexloop build SCENE -o LOOP.json` of a
+ * scene with [controller] type = "state_space": the artefact's "controller" object is the
+ * controller file discretised at the loop's rate, in the channel map's order, with the plant's
+ * actuator -> sensor feedthrough D22, the feedthrough delay d, the command limits and the
+ * anti-windup policy) and answers every sensor sample with the law of doc/controllers.md:
+ *
+ *   f = y - D22 u_{k-1-d},  u = clamp((I - D D22)^-1 (C x + D f)),  x+ = A x + B (f + D22 u)
+ *
+ * A new plant_epoch (the plant restarted) resets the controller. A gap of --safe-after or more
+ * samples (the plant has been holding zero) sets the remembered commands to zero.
+ *
+ *   flexloop-c-controller LOOP.json [--url URL] [--duration S] [--safe-after N]
+ *
+ * Run it inside the plant's private namespace (tools/netns-run), beside `flexloop plant LOOP.json`.
+ */
+#include <cjson/cJSON.h>
+#include <lcm/lcm.h>
+#include <math.h>
+#include <signal.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "flexloop_msgs_actuator_command_t.h"
+#include "flexloop_msgs_sensor_sample_t.h"
+
+enum { kMaxHistory = 33 };
+
+typedef struct {
+  int nx, ns, nc, delay, hold;
+  double *A, *B, *H, *F, *BF; /* row-major; H = (I - D F)^-1 [C D], BF = B F */
+  double *u_min, *u_max;
+  double *x, *x_next, *f, *v, *history; /* history: kMaxHistory x nc, ring */
+  int head;
+  int started;
+  int64_t epoch, last_seq, safe_after;
+  lcm_t* lcm;
+  flexloop_msgs_actuator_command_t cmd;
+  int64_t answered;
+} Controller;
+
+static volatile sig_atomic_t stop_requested = 0;
+static void on_signal(int s) {
+  (void)s;
+  stop_requested = 1;
+}
+
+static void fail(const char* file, const char* what) {
+  fprintf(stderr, "flexloop-c-controller: %s: %s\n", file, what);
+  exit(2);
+}
+
+static int64_t now_ns(void) {
+  struct timespec t;
+  clock_gettime(CLOCK_MONOTONIC, &t);
+  return (int64_t)t.tv_sec * 1000000000LL + t.tv_nsec;
+}
+
+static double* zeros(int n) {
+  double* p = calloc((size_t)(n > 0 ? n : 1), sizeof(double));
+  if (!p) {
+    fprintf(stderr, "flexloop-c-controller: out of memory\n");
+    exit(1);
+  }
+  return p;
+}
+
+/* rows x cols matrix from a JSON list of rows, row-major. */
+static double* matrix(const cJSON* obj, const char* key, int rows, int cols, const char* file) {
+  const cJSON* m = cJSON_GetObjectItemCaseSensitive(obj, key);
+  char what[200];
+  if (!cJSON_IsArray(m) || cJSON_GetArraySize(m) != rows) {
+    snprintf(what, sizeof what, "key 'controller': key '%s' must be a list of %d rows", key, rows);
+    fail(file, what);
+  }
+  double* out = zeros(rows * cols);
+  for (int r = 0; r < rows; ++r) {
+    const cJSON* row = cJSON_GetArrayItem(m, r);
+    if (!cJSON_IsArray(row) || cJSON_GetArraySize(row) != cols) {
+      snprintf(what, sizeof what, "key 'controller': key '%s' row %d must have %d entries", key,
+               r + 1, cols);
+      fail(file, what);
+    }
+    for (int c = 0; c < cols; ++c) {
+      const cJSON* e = cJSON_GetArrayItem(row, c);
+      if (!cJSON_IsNumber(e)) fail(file, "key 'controller': a matrix entry is not a number");
+      out[r * cols + c] = e->valuedouble;
+    }
+  }
+  return out;
+}
+
+static int count(const cJSON* channels, const char* kind, const char* file) {
+  const cJSON* list = cJSON_GetObjectItemCaseSensitive(channels, kind);
+  if (!cJSON_IsArray(list)) fail(file, "key 'channels': missing a list of channels");
+  return cJSON_GetArraySize(list);
+}
+
+/* Limits: none, one for every channel, or one per channel. */
+static double* limits(const cJSON* obj, const char* key, int nc, double none, const char* file) {
+  const cJSON* v = cJSON_GetObjectItemCaseSensitive(obj, key);
+  double* out = zeros(nc);
+  const int n = cJSON_IsArray(v) ? cJSON_GetArraySize(v) : -1;
+  if (n != 0 && n != 1 && n != nc) fail(file, "key 'controller': a limit has the wrong count");
+  for (int i = 0; i < nc; ++i)
+    out[i] = n == 0 ? none : cJSON_GetArrayItem(v, n == 1 ? 0 : i)->valuedouble;
+  return out;
+}
+
+/* Solves M X = R in place for X (M: n x n, R: n x m; Gaussian elimination, partial pivoting). */
+static int solve(double* M, double* R, int n, int m) {
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int i = k + 1; i < n; ++i)
+      if (fabs(M[i * n + k]) > fabs(M[p * n + k])) p = i;
+    if (fabs(M[p * n + k]) < 1e-300) return 0;
+    for (int j = 0; j < n; ++j) {
+      const double t = M[k * n + j];
+      M[k * n + j] = M[p * n + j];
+      M[p * n + j] = t;
+    }
+    for (int j = 0; j < m; ++j) {
+      const double t = R[k * m + j];
+      R[k * m + j] = R[p * m + j];
+      R[p * m + j] = t;
+    }
+    for (int i = k + 1; i < n; ++i) {
+      const double l = M[i * n + k] / M[k * n + k];
+      for (int j = k; j < n; ++j) M[i * n + j] -= l * M[k * n + j];
+      for (int j = 0; j < m; ++j) R[i * m + j] -= l * R[k * m + j];
+    }
+  }
+  for (int k = n - 1; k >= 0; --k)
+    for (int j = 0; j < m; ++j) {
+      double s = R[k * m + j];
+      for (int i = k + 1; i < n; ++i) s -= M[k * n + i] * R[i * m + j];
+      R[k * m + j] = s / M[k * n + k];
+    }
+  return 1;
+}
+
+static void load(Controller* c, const char* file) {
+  FILE* in = fopen(file, "rb");
+  if (!in) fail(file, "cannot be read");
+  fseek(in, 0, SEEK_END);
+  const long size = ftell(in);
+  fseek(in, 0, SEEK_SET);
+  char* text = malloc((size_t)size + 1);
+  if (!text || fread(text, 1, (size_t)size, in) != (size_t)size) fail(file, "cannot be read");
+  text[size] = 0;
+  fclose(in);
+  cJSON* root = cJSON_Parse(text);
+  free(text);
+  if (!root) fail(file, "is not valid JSON");
+  const cJSON* channels = cJSON_GetObjectItemCaseSensitive(root, "channels");
+  const cJSON* co = cJSON_GetObjectItemCaseSensitive(root, "controller");
+  const cJSON* type = cJSON_GetObjectItemCaseSensitive(co, "type");
+  if (!cJSON_IsString(type) || strcmp(type->valuestring, "state_space") != 0)
+    fail(file,
+         "key 'controller': key 'type' must be \"state_space\" (build the artefact from a "
+         "scene with a state-space controller)");
+  c->ns = count(channels, "sensors", file);
+  c->nc = count(channels, "actuators", file);
+  const cJSON* states = cJSON_GetObjectItemCaseSensitive(co, "states");
+  if (!cJSON_IsNumber(states) || states->valueint < 0) fail(file, "key 'controller': key 'states'");
+  c->nx = states->valueint;
+  const int nx = c->nx, ns = c->ns, nc = c->nc;
+  c->A = matrix(co, "A", nx, nx, file);
+  c->B = matrix(co, "B", nx, ns, file);
+  double* C = matrix(co, "C", nc, nx, file);
+  double* D = matrix(co, "D", nc, ns, file);
+  c->F = matrix(co, "feedthrough", ns, nc, file);
+  const cJSON* delay = cJSON_GetObjectItemCaseSensitive(co, "feedthrough_delay");
+  c->delay = cJSON_IsNumber(delay) ? delay->valueint : 0;
+  if (c->delay < 0 || c->delay + 1 > kMaxHistory)
+    fail(file, "key 'controller': key 'feedthrough_delay' out of range");
+  const cJSON* aw = cJSON_GetObjectItemCaseSensitive(co, "anti_windup");
+  c->hold = cJSON_IsString(aw) && strcmp(aw->valuestring, "hold") == 0;
+  c->u_min = limits(co, "u_min", nc, -INFINITY, file);
+  c->u_max = limits(co, "u_max", nc, INFINITY, file);
+  cJSON_Delete(root);
+
+  /* H = (I - D F)^-1 [C D]: nc x (nx + ns). */
+  double* M = zeros(nc * nc);
+  for (int i = 0; i < nc; ++i)
+    for (int j = 0; j < nc; ++j) {
+      double s = i == j ? 1.0 : 0.0;
+      for (int k = 0; k < ns; ++k) s -= D[i * ns + k] * c->F[k * nc + j];
+      M[i * nc + j] = s;
+    }
+  double* H = zeros(nc * (nx + ns));
+  for (int i = 0; i < nc; ++i) {
+    for (int j = 0; j < nx; ++j) H[i * (nx + ns) + j] = C[i * nx + j];
+    for (int j = 0; j < ns; ++j) H[i * (nx + ns) + nx + j] = D[i * ns + j];
+  }
+  if (!solve(M, H, nc, nx + ns)) fail(file, "I - D D22 is singular: the loop is ill-posed");
+  c->H = H; /* the first nx columns of each row act on x, the rest on f */
+  c->BF = zeros(nx * nc);
+  for (int i = 0; i < nx; ++i)
+    for (int j = 0; j < nc; ++j) {
+      double s = 0;
+      for (int k = 0; k < ns; ++k) s += c->B[i * ns + k] * c->F[k * nc + j];
+      c->BF[i * nc + j] = s;
+    }
+  free(M);
+  free(C);
+  free(D);
+  c->x = zeros(nx);
+  c->x_next = zeros(nx);
+  c->f = zeros(ns);
+  c->v = zeros(nc);
+  c->history = zeros(kMaxHistory * nc);
+  c->cmd.n_commands = (int16_t)nc;
+  c->cmd.commands = zeros(nc);
+}
+
+static void reset(Controller* c) {
+  memset(c->x, 0, sizeof(double) * (size_t)(c->nx > 0 ? c->nx : 1));
+  memset(c->history, 0, sizeof(double) * (size_t)(kMaxHistory * c->nc));
+}
+
+/* One sample: y (ns) -> the command in c->cmd.commands. */
+static void step(Controller* c, const double* y) {
+  const int nx = c->nx, ns = c->ns, nc = c->nc, n = kMaxHistory;
+  const double* held = c->history + ((c->head - c->delay + n) % n) * nc;
+  for (int i = 0; i < ns; ++i) {
+    double s = y[i];
+    for (int j = 0; j < nc; ++j) s -= c->F[i * nc + j] * held[j];
+    c->f[i] = s;
+  }
+  double* u = c->cmd.commands;
+  int clamped = 0;
+  for (int i = 0; i < nc; ++i) {
+    const double* h = c->H + i * (nx + ns);
+    double s = 0;
+    for (int j = 0; j < nx; ++j) s += h[j] * c->x[j];
+    for (int j = 0; j < ns; ++j) s += h[nx + j] * c->f[j];
+    u[i] = s < c->u_min[i] ? c->u_min[i] : (s > c->u_max[i] ? c->u_max[i] : s);
+    clamped |= u[i] != s;
+  }
+  if (!(clamped && c->hold)) {
+    for (int i = 0; i < nx; ++i) {
+      double s = 0;
+      for (int j = 0; j < nx; ++j) s += c->A[i * nx + j] * c->x[j];
+      for (int j = 0; j < ns; ++j) s += c->B[i * ns + j] * c->f[j];
+      for (int j = 0; j < nc; ++j) s += c->BF[i * nc + j] * u[j];
+      c->x_next[i] = s;
+    }
+    memcpy(c->x, c->x_next, sizeof(double) * (size_t)nx);
+  }
+  c->head = (c->head + 1) % n;
+  memcpy(c->history + c->head * nc, u, sizeof(double) * (size_t)nc);
+}
+
+static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
+                      const flexloop_msgs_sensor_sample_t* s, void* user) {
+  (void)rbuf;
+  (void)channel;
+  Controller* c = user;
+  const int64_t t0 = now_ns();
+  if (s->n_sensors != c->ns) return; /* not this loop's samples */
+  for (int i = 0; i < s->n_sensors; ++i)
+    if (!isfinite(s->sensors[i])) return;
+  if (!c->started || s->plant_epoch != c->epoch) {
+    reset(c); /* a new plant run starts from rest */
+    c->epoch = s->plant_epoch;
+    c->started = 1;
+  } else if (s->seq <= c->last_seq) {
+    return; /* a repeat or an older sample */
+  } else if (s->seq - c->last_seq > c->safe_after) {
+    memset(c->history, 0, sizeof(double) * (size_t)(kMaxHistory * c->nc)); /* the plant held 0 */
+  }
+  c->last_seq = s->seq;
+  step(c, s->sensors);
+  c->cmd.seq += 1;
+  c->cmd.answers_seq = s->seq;
+  c->cmd.plant_epoch = s->plant_epoch;
+  const int64_t t1 = now_ns();
+  c->cmd.controller_compute_ns = t1 - t0;
+  c->cmd.t_ns = t1;
+  flexloop_msgs_actuator_command_t_publish(c->lcm, "FLEXLOOP_COMMAND", &c->cmd);
+  ++c->answered;
+}
+
+int main(int argc, char** argv) {
+  const char* loop = NULL;
+  const char* url = getenv("LCM_DEFAULT_URL");
+  double duration_s = 0;
+  Controller c;
+  memset(&c, 0, sizeof c);
+  c.safe_after = 10;
+  for (int i = 1; i < argc; ++i) {
+    if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+      printf(
+          "usage: flexloop-c-controller LOOP.json [--url URL] [--duration S] [--safe-after N]\n"
+          "Answers every FLEXLOOP_SENSOR sample with the loop artefact's state-space controller.\n"
+          "Example, inside one tools/netns-run -- bash:\n"
+          "  flexloop build tools/scenes/metrology_frame_lqg.toml -o /tmp/lqg.json\n"
+          "  flexloop-c-controller /tmp/lqg.json --duration 7 &\n"
+          "  flexloop plant /tmp/lqg.json --duration 5 --cpu 0\n");
+      return 0;
+    } else if (strcmp(argv[i], "--url") == 0 && i + 1 < argc) {
+      url = argv[++i];
+    } else if (strcmp(argv[i], "--duration") == 0 && i + 1 < argc) {
+      duration_s = atof(argv[++i]);
+    } else if (strcmp(argv[i], "--safe-after") == 0 && i + 1 < argc) {
+      c.safe_after = atoll(argv[++i]);
+    } else if (argv[i][0] != '-' && !loop) {
+      loop = argv[i];
+    } else {
+      fprintf(stderr, "flexloop-c-controller: unknown argument '%s' (see --help)\n", argv[i]);
+      return 2;
+    }
+  }
+  if (!loop) {
+    fprintf(stderr, "flexloop-c-controller: give a loop artefact (see --help)\n");
+    return 2;
+  }
+  if (!url) url = "udpm://239.255.76.67:7667?ttl=0";
+  if (strstr(url, "ttl=0") == NULL) {
+    fprintf(stderr, "flexloop-c-controller: the LCM URL must have ttl=0 (got %s)\n", url);
+    return 2;
+  }
+  load(&c, loop);
+  c.lcm = lcm_create(url);
+  if (!c.lcm) {
+    fprintf(stderr, "flexloop-c-controller: LCM unavailable at %s\n", url);
+    return 1;
+  }
+  signal(SIGINT, on_signal);
+  signal(SIGTERM, on_signal);
+  flexloop_msgs_sensor_sample_t_subscribe(c.lcm, "FLEXLOOP_SENSOR", on_sample, &c);
+  printf("flexloop-c-controller: %s, %d states, %d sensors -> %d actuators, LCM %s\n", loop, c.nx,
+         c.ns, c.nc, url);
+  fflush(stdout);
+  const int64_t end = duration_s > 0 ? now_ns() + (int64_t)(duration_s * 1e9) : INT64_MAX;
+  while (!stop_requested && now_ns() < end) lcm_handle_timeout(c.lcm, 100);
+  printf("flexloop-c-controller: answered %lld samples\n", (long long)c.answered);
+  lcm_destroy(c.lcm);
+  return 0;
+}
