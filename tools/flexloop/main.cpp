@@ -20,5 +20,6 @@ int main(int argc, char** argv) {
   flexloop::cli::register_plant(app);
   flexloop::cli::register_controller(app);
   flexloop::cli::register_hil(app);
+  flexloop::cli::register_log(app);
   return flexloop::cli::run_command_line(app, argc, argv);
 }

@@ -17,5 +17,6 @@ void register_sim(CLI::App& app);
 void register_plant(CLI::App& app);
 void register_controller(CLI::App& app);
 void register_hil(CLI::App& app);
+void register_log(CLI::App& app);
 
 }  // namespace flexloop::cli
