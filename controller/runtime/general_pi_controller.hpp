@@ -66,7 +66,8 @@ class GeneralPiController {
     s_.head(u_.size()) = u_now;
     s_.head(u_.size()).noalias() -= G_f_.topRows(u_.size()) * f_;
   }
-  /// When the actuator reports that it applied something else (e.g. a safe command).
+  /// The actuator applied u instead of the last answer (a held or safe command): u's force is
+  /// what the next measurement contains.
   void set_previous_command(const Vector& u) noexcept { history_.replace_last(u); }
   const Vector& previous_command() const noexcept { return history_.last(); }
   /// The integrator state x = G_x^-1 s (allocates nothing; not used in a step).

@@ -9,7 +9,8 @@
 //                            command the law can give, where it cannot give every one)
 //   reset()                  the state of a controller that has never run (zero state, zero
 //                            command held)
-//   set_previous_command(u)  the actuator applied u instead of the last answer (a safe command)
+//   set_previous_command(u)  the actuator applied u instead of the last answer (a held or safe
+//                            command): the next measurement contains u's force
 //   sensors(), actuators()   the channel counts
 //
 // The safe command, which the plant applies when answers stop coming, is zero force: the

@@ -119,7 +119,8 @@ class PiController {
     s_ = u - plant::runtime::column_product(G_f_, f.template head<N>());
   }
 
-  /// When the actuator reports that it applied something else (e.g. a safe command).
+  /// The actuator applied u instead of the last answer (a held or safe command): u's force is
+  /// what the next measurement contains.
   void set_previous_command(const Vector& u) noexcept {
     history_[head_] = pad(u);
   }

@@ -99,6 +99,8 @@ class StateSpaceController {
     x.noalias() = start_u_ * u_now;
     x.noalias() -= start_f_ * f;
   }
+  /// The actuator applied u instead of the last answer (a held or safe command): u's force is
+  /// what the next measurement contains.
   void set_previous_command(const Vector& u) noexcept { history_.replace_last(u); }
   const Vector& previous_command() const noexcept { return history_.last(); }
   /// The controller state x.

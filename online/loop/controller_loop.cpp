@@ -70,6 +70,7 @@ ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o
   r.superseded = station->samples().superseded();
   r.resyncs = station->resyncs();
   r.resumes = station->resumes();
+  r.followed = station->followed();
   r.drops = station->samples().drops();
   r.publish_failures = command.failures();
   return r;
@@ -89,6 +90,7 @@ nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopO
           {"superseded", r.superseded},
           {"resyncs", r.resyncs},
           {"resumes", r.resumes},
+          {"followed_held_commands", r.followed},
           {"publish_failures", r.publish_failures},
           {"dropped_messages", drops_json(r.drops)},
           {"compute_ns", summary_json(*r.compute)},

@@ -28,6 +28,7 @@ struct ControllerLoopResult {
   std::int64_t superseded = 0;  ///< samples replaced by a newer one before answered
   std::int64_t resyncs = 0;     ///< plant restarts followed
   std::int64_t resumes = 0;     ///< bumpless restarts after the plant went safe
+  std::int64_t followed = 0;    ///< samples whose held command was not the last answer
   std::int64_t publish_failures = 0;
   rt::DropCounts drops;
   std::string setup;

@@ -11,12 +11,19 @@
 //     or stalled and the plant has applied the safe zero-force command meanwhile): bumpless
 //     start(y, 0) -- the first answer is exactly the zero force the plant holds, and the
 //     integrator continues from the state that produces it (no jump when answers return).
+// What the plant applied: each sample says whose answer the actuators held over the period before
+// it (applied_seq; 0: the zero command). When that is not this station's last answer (it came
+// late or was lost, and the plant held an older one or the safe zero), the controller is told
+// (set_previous_command) before it steps, so that it removes from the measurement the force that
+// is in it, not its own last answer's.
 // Samples reach answer() through samples(), a MessageInbox that follows the plant's epoch:
 // messages that fail to decode, carry NaN/Inf, belong to an older plant run, repeat or reorder
 // are dropped and counted there, never answered. answer() is noexcept and allocation-free.
+#include <algorithm>
 #include <cstdint>
 #include <flexloop_msgs/actuator_command_t.hpp>
 #include <flexloop_msgs/sensor_sample_t.hpp>
+#include <vector>
 
 #include "controller/runtime/loop_controller.hpp"
 #include "rt/message_inbox.hpp"
@@ -33,7 +40,9 @@ class ControllerStation {
   ControllerStation(const Controller& controller, int safe_after)
       : controller_(controller),
         safe_after_(safe_after < 1 ? 1 : safe_after),
-        samples_(rt::OrderGate{}, {static_cast<int>(controller.sensors()), 0}) {
+        samples_(rt::OrderGate{}, {static_cast<int>(controller.sensors()), 0}),
+        sent_(kRemembered, Vector::Zero(controller.actuators())),
+        sent_seq_(kRemembered, -1) {
     cmd_.n_commands = static_cast<std::int16_t>(controller.actuators());
     cmd_.commands.assign(static_cast<std::size_t>(cmd_.n_commands), 0.0);
   }
@@ -49,15 +58,22 @@ class ControllerStation {
     if (!started_ || s.plant_epoch != epoch_) {
       if (started_) ++resyncs_;
       controller_.reset();
+      std::fill(sent_seq_.begin(), sent_seq_.end(), -1);
       epoch_ = s.plant_epoch;
       started_ = true;
     } else if (s.seq - last_seq_ > safe_after_) {
       controller_.start(y, Vector::Zero(cmd_.n_commands));
       ++resumes_;
+    } else if (s.applied_seq != last_seq_) {
+      follow_applied(s.applied_seq);
     }
     last_seq_ = s.seq;
     // Maps of the controller's own vector type: its size is then known to the compiler too.
-    Eigen::Map<Vector>(cmd_.commands.data(), cmd_.n_commands) = controller_.step(y);
+    const auto& u = controller_.step(y);
+    Eigen::Map<Vector>(cmd_.commands.data(), cmd_.n_commands) = u;
+    const auto slot = static_cast<std::size_t>(s.seq % kRemembered);
+    sent_[slot] = u;
+    sent_seq_[slot] = s.seq;
     cmd_.seq += 1;
     cmd_.answers_seq = s.seq;
     cmd_.plant_epoch = s.plant_epoch;
@@ -70,8 +86,25 @@ class ControllerStation {
   std::int64_t resyncs() const noexcept { return resyncs_; }
   /// Bumpless restarts after a gap of safe_after or more samples.
   std::int64_t resumes() const noexcept { return resumes_; }
+  /// Samples whose held command was not this station's last answer (followed before the step).
+  std::int64_t followed() const noexcept { return followed_; }
 
  private:
+  // The answers sent for the last kRemembered samples, by seq (the plant holds an older one for
+  // fewer than safe_after samples before it applies zero).
+  static constexpr std::int64_t kRemembered = 64;
+
+  // The plant held the answer to sample `applied` (0: zero) instead of the last one.
+  void follow_applied(std::int64_t applied) noexcept {
+    ++followed_;
+    if (applied == 0) {
+      controller_.set_previous_command(Vector::Zero(cmd_.n_commands));
+      return;
+    }
+    const auto slot = static_cast<std::size_t>(applied % kRemembered);
+    if (sent_seq_[slot] == applied) controller_.set_previous_command(sent_[slot]);
+  }
+
   Controller controller_;
   std::int64_t safe_after_;
   rt::MessageInbox<flexloop_msgs::sensor_sample_t> samples_;
@@ -81,6 +114,9 @@ class ControllerStation {
   std::int64_t last_seq_ = 0;
   std::int64_t resyncs_ = 0;
   std::int64_t resumes_ = 0;
+  std::int64_t followed_ = 0;
+  std::vector<Vector> sent_;
+  std::vector<std::int64_t> sent_seq_;
 };
 
 }  // namespace flexloop::hil

@@ -16,7 +16,7 @@
 //                  never applied. Nothing happens at k = 0 (no sample was out yet).
 //   sample(t_k)    the hardware's sample k (floor w_k, plant outputs with the force held, the
 //                  sensors' readings after their effects) into the sensor message (seq k + 1,
-//                  t_ns = t_k).
+//                  t_ns = t_k, applied_seq = the sample whose answer is held, 0 for zero).
 // With every answer in time this is exactly the in-process loop of online/sim/closed_loop_run.hpp
 // (tests/hil/test_stations.cpp checks it bit for bit, with and without effects). When answers
 // return after the safe command, the plant applies them at once; the controller makes that
@@ -94,6 +94,7 @@ class PlantStation {
     if (a != nullptr && a->answers_seq == msg_.seq && commands_.newest_received_ns() <= due_ns) {
       consecutive_misses_ = 0;
       last_answer_ = a;
+      applied_seq_ = a->answers_seq;
       u_ = Eigen::Map<const Command>(a->commands.data(), u_.size());
     } else {
       if (a != nullptr) ++late_answers_;
@@ -102,6 +103,7 @@ class PlantStation {
       source = CommandSource::kHeld;
       if (consecutive_misses_ >= settings_.safe_after) {
         source = CommandSource::kSafe;
+        applied_seq_ = 0;
         u_.setZero();
         ++safe_command_cycles_;
       }
@@ -125,6 +127,7 @@ class PlantStation {
     Eigen::Map<typename Hardware::Sensors>(msg_.sensors.data(), msg_.n_sensors) = reading.sensors;
     msg_.seq += 1;
     msg_.t_ns = t_ns;
+    msg_.applied_seq = applied_seq_;
     return msg_;
   }
 
@@ -168,6 +171,7 @@ class PlantStation {
   typename Hardware::Performance sum_z2_ = Hardware::Performance::Zero(hw_.performance_outputs());
   Command sum_u2_ = Command::Zero(hw_.actuators());
   std::int64_t saturated_cycles_ = 0, settled_ = 0;
+  std::int64_t applied_seq_ = 0;  // the answer held now (its sample's seq); 0: the zero command
   flexloop_msgs::sensor_sample_t msg_{};
   const flexloop_msgs::actuator_command_t* last_answer_ = nullptr;
   std::int64_t deadline_misses_ = 0;

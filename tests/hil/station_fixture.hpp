@@ -67,8 +67,9 @@ struct StationPair {
       : plant(hil_hardware(), {.safe_after = safe_after, .epoch = epoch, .period_ns = kPeriod}),
         controller(hil_controller(), safe_after) {}
 
-  /// One cycle; the controller answers when `answer` (returns where the settled command came from).
-  hil::CommandSource cycle(bool answer = true) {
+  /// One cycle; the controller answers when `answer` (returns where the settled command came from);
+  /// a `late` answer reaches the plant after the next deadline (it is never applied).
+  hil::CommandSource cycle(bool answer = true, bool late = false) {
     const std::int64_t due = k * kPeriod;
     const hil::CommandSource source = plant.settle(due);
     const auto& s = plant.sample(due);
@@ -76,7 +77,7 @@ struct StationPair {
     if (const auto* got = controller.samples().take(); got && answer) {
       auto& cmd = controller.answer(*got);
       cmd.t_ns = due + kAnswerAfter;
-      deliver(plant.commands(), cmd, due + kAnswerAfter + kTransit);
+      deliver(plant.commands(), cmd, due + kAnswerAfter + kTransit + (late ? kPeriod : 0));
     }
     ++k;
     return source;

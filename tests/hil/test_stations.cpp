@@ -3,8 +3,10 @@
 // reproduce the in-process loop bit for bit; a silent controller makes the plant hold, then apply
 // the safe command after N misses and resume bumplessly; a plant restart resynchronises the
 // controller.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <tuple>
 
 #include "tests/hil/station_fixture.hpp"
 
@@ -121,4 +123,30 @@ TEST_CASE("hil stations: a restarted plant (new epoch) makes the controller resy
   auto old = first.plant.last_sample();
   old.seq += 1;
   CHECK(deliver(controller.samples(), old, t0 + kTransit) == rt::DropReason::kStale);
+}
+
+TEST_CASE("hil stations: the controller follows the command the plant held, not its own answer") {
+  // From cycle 300 on, eight answers in a row reach the plant after their deadline: it holds the
+  // last one it applied for four samples, then applies zero (safe_after 5). Each sample says so
+  // (applied_seq), and the controller takes that command as the one the measurement contains.
+  StationPair pair(5);
+  for (int k = 0; k < 300; ++k) pair.cycle();
+  pair.cycle(true, true);  // applies the answer to sample 300 (in time); its own answer is late
+  REQUIRE(pair.plant.last_sample().applied_seq == 300);
+  const ChannelVector held = pair.plant.command();
+  REQUIRE(held.cwiseAbs().maxCoeff() > 0);
+  for (int i = 1; i < 8; ++i) {
+    pair.cycle(true, true);
+    const bool safe = i >= 5;
+    CAPTURE(i);
+    CHECK(pair.plant.last_sample().applied_seq == (safe ? 0 : 300));
+    CHECK(pair.plant.command() == (safe ? ChannelVector::Zero() : held));
+  }
+  CHECK(pair.controller.followed() == 7);
+  pair.cycle();  // settles the last late answer: zero once more; its own answer is in time
+  CHECK(pair.plant.last_sample().applied_seq == 0);
+  CHECK(pair.controller.followed() == 8);
+  pair.cycle();
+  CHECK(pair.plant.last_sample().applied_seq == 309);
+  CHECK(pair.controller.followed() == 8);
 }

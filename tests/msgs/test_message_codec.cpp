@@ -49,7 +49,8 @@ TEST_CASE("a sample of 64 sensor and 64 performance channels fits one UDP datagr
   // The channel name travels too: FLEXLOOP_SENSOR and its NUL, plus the 8-byte LCM header.
   const auto s = sample_message(64, 64);
   const int payload = s.getEncodedSize();
-  CHECK(payload == 8 + 3 * 8 + 2 * 2 + 128 * 8);
+  CHECK(payload ==
+        8 + 3 * 8 + 2 * 2 + 128 * 8 + 8);  // fingerprint, 3 int64, 2 counts, values, applied_seq
   CHECK(8 + static_cast<int>(sizeof "FLEXLOOP_SENSOR") + payload <= 1400);
 }
 

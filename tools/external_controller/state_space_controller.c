@@ -11,7 +11,10 @@
  *   f = y - D22 u_{k-1-d},  u = clamp((I - D D22)^-1 (C x + D f)),  x+ = A x + B (f + D22 u)
  *
  * A new plant_epoch (the plant restarted) resets the controller. A gap of --safe-after or more
- * samples (the plant has been holding zero) sets the remembered commands to zero.
+ * samples (the plant has been holding zero) sets the remembered commands to zero. When a sample
+ * says the plant held another command than the last answer (applied_seq: a late or lost answer,
+ * or the safe zero), that command replaces the last one remembered, so that the force removed
+ * from the measurement is the force in it.
  *
  *   flexloop-c-controller LOOP.json [--url URL] [--duration S] [--safe-after N]
  *
@@ -30,7 +33,7 @@
 #include "flexloop_msgs_actuator_command_t.h"
 #include "flexloop_msgs_sensor_sample_t.h"
 
-enum { kMaxHistory = 33 };
+enum { kMaxHistory = 33, kRemembered = 64 };
 
 typedef struct {
   int nx, ns, nc, delay, hold;
@@ -40,6 +43,8 @@ typedef struct {
   int head;
   int started;
   int64_t epoch, last_seq, safe_after;
+  double* sent;      /* kRemembered x nc: the answers to the last samples, by seq */
+  int64_t* sent_seq; /* kRemembered */
   lcm_t* lcm;
   flexloop_msgs_actuator_command_t cmd;
   int64_t answered;
@@ -216,6 +221,9 @@ static void load(Controller* c, const char* file) {
   c->f = zeros(ns);
   c->v = zeros(nc);
   c->history = zeros(kMaxHistory * nc);
+  c->sent = zeros(kRemembered * nc);
+  c->sent_seq = calloc(kRemembered, sizeof(int64_t));
+  if (!c->sent_seq) fail(file, "out of memory");
   c->cmd.n_commands = (int16_t)nc;
   c->cmd.commands = zeros(nc);
 }
@@ -223,6 +231,18 @@ static void load(Controller* c, const char* file) {
 static void reset(Controller* c) {
   memset(c->x, 0, sizeof(double) * (size_t)(c->nx > 0 ? c->nx : 1));
   memset(c->history, 0, sizeof(double) * (size_t)(kMaxHistory * c->nc));
+  memset(c->sent_seq, 0, sizeof(int64_t) * kRemembered);
+}
+
+/* The plant held the answer to sample `applied` (0: zero) instead of the last one sent: that
+ * command's force is what the next measurement contains. */
+static void follow_applied(Controller* c, int64_t applied) {
+  double* last = c->history + c->head * c->nc;
+  if (applied == 0) {
+    memset(last, 0, sizeof(double) * (size_t)c->nc);
+  } else if (c->sent_seq[applied % kRemembered] == applied) {
+    memcpy(last, c->sent + (applied % kRemembered) * c->nc, sizeof(double) * (size_t)c->nc);
+  }
 }
 
 /* One sample: y (ns) -> the command in c->cmd.commands. */
@@ -275,9 +295,13 @@ static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
     return; /* a repeat or an older sample */
   } else if (s->seq - c->last_seq > c->safe_after) {
     memset(c->history, 0, sizeof(double) * (size_t)(kMaxHistory * c->nc)); /* the plant held 0 */
+  } else if (s->applied_seq != c->last_seq) {
+    follow_applied(c, s->applied_seq);
   }
   c->last_seq = s->seq;
   step(c, s->sensors);
+  memcpy(c->sent + (s->seq % kRemembered) * c->nc, c->cmd.commands, sizeof(double) * (size_t)c->nc);
+  c->sent_seq[s->seq % kRemembered] = s->seq;
   c->cmd.seq += 1;
   c->cmd.answers_seq = s->seq;
   c->cmd.plant_epoch = s->plant_epoch;
