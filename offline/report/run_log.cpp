@@ -1,6 +1,8 @@
 #include "offline/report/run_log.hpp"
 
+#include <fcntl.h>
 #include <matio.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -11,6 +13,7 @@
 #include <map>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <utility>
 
 #include "common/input_error.hpp"
 #include "offline/report/csv_writer.hpp"
@@ -58,8 +61,8 @@ RunTable read_run_log(const std::string& path) {
   lcm::LogFile log(path, "r");
   if (!log.good()) throw InputError(path, "cannot be read as an LCM log");
   std::string map_text;
-  std::map<std::int64_t, Sample> samples;  // by seq
-  std::map<std::int64_t, std::vector<double>> answers;
+  std::map<std::int64_t, Sample> samples;                                        // by seq
+  std::map<std::pair<std::int64_t, std::int64_t>, std::vector<double>> answers;  // (epoch, seq)
   std::int64_t epoch = 0;
   bool have_epoch = false;
   while (const lcm::LogEvent* e = log.readNextEvent()) {
@@ -70,7 +73,8 @@ RunTable read_run_log(const std::string& path) {
       flexloop_msgs::sensor_sample_t s;
       if (s.decode(e->data, 0, static_cast<int>(e->datalen)) != static_cast<int>(e->datalen))
         throw InputError(path, "event " + std::to_string(e->eventnum) +
-                                   ": FLEXLOOP_SENSOR does not decode as sensor_sample_t");
+                                   ": FLEXLOOP_SENSOR does not decode as this flexloop's "
+                                   "sensor_sample_t (a log of another version of msgs/?)");
       // One plant run per table: the first epoch in the log.
       if (!have_epoch) epoch = s.plant_epoch, have_epoch = true;
       if (s.plant_epoch != epoch) continue;
@@ -79,8 +83,9 @@ RunTable read_run_log(const std::string& path) {
       flexloop_msgs::actuator_command_t c;
       if (c.decode(e->data, 0, static_cast<int>(e->datalen)) != static_cast<int>(e->datalen))
         throw InputError(path, "event " + std::to_string(e->eventnum) +
-                                   ": FLEXLOOP_COMMAND does not decode as actuator_command_t");
-      if (!have_epoch || c.plant_epoch == epoch) answers.emplace(c.answers_seq, c.commands);
+                                   ": FLEXLOOP_COMMAND does not decode as this flexloop's "
+                                   "actuator_command_t (a log of another version of msgs/?)");
+      answers.emplace(std::pair{c.plant_epoch, c.answers_seq}, c.commands);
     }
   }
   if (map_text.empty())
@@ -109,7 +114,7 @@ RunTable read_run_log(const std::string& path) {
     t.columns[k++].push_back(static_cast<double>(seq));
     for (const double v : s.sensors) t.columns[k++].push_back(v);
     for (const double v : s.performance) t.columns[k++].push_back(v);
-    const auto a = answers.find(seq);
+    const auto a = answers.find({epoch, seq});
     const bool answered = a != answers.end() && a->second.size() == ch.actuators.size();
     t.answered += answered ? 1 : 0;
     for (std::size_t i = 0; i < ch.actuators.size(); ++i)
@@ -121,13 +126,13 @@ RunTable read_run_log(const std::string& path) {
 namespace {
 
 void write_mat(const RunTable& t, const std::string& path) {
-  const std::string tmp = path + ".tmp";
-  mat_t* mat = Mat_CreateVer(tmp.c_str(), nullptr, MAT_FT_MAT5);
-  if (!mat) throw std::runtime_error(path + ": cannot be written");
   const std::size_t rows = t.columns.empty() ? 0 : t.columns[0].size(), cols = t.columns.size();
   std::vector<double> data(rows * cols);  // column-major, as MATLAB stores it
   for (std::size_t j = 0; j < cols; ++j)
     for (std::size_t i = 0; i < rows; ++i) data[j * rows + i] = t.columns[j][i];
+  const std::string tmp = path + ".tmp";
+  mat_t* mat = Mat_CreateVer(tmp.c_str(), nullptr, MAT_FT_MAT5);
+  if (!mat) throw std::runtime_error(path + ": cannot be written");
   std::size_t dims[2] = {rows, cols};
   matvar_t* d = Mat_VarCreate("data", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, data.data(), 0);
   std::size_t cell_dims[2] = {1, cols};
@@ -144,7 +149,13 @@ void write_mat(const RunTable& t, const std::string& path) {
        Mat_VarWrite(mat, names, MAT_COMPRESSION_NONE) == 0;
   if (d) Mat_VarFree(d);
   if (names) Mat_VarFree(names);
-  Mat_Close(mat);
+  ok = Mat_Close(mat) == 0 && ok;
+  // On disk before it replaces the target (as common/atomic_file.hpp does for every other file).
+  if (ok) {
+    const int fd = ::open(tmp.c_str(), O_RDONLY);
+    ok = fd >= 0 && ::fsync(fd) == 0;
+    if (fd >= 0) ::close(fd);
+  }
   if (!ok) {
     std::filesystem::remove(tmp);
     throw std::runtime_error(path + ": cannot be written");

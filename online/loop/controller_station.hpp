@@ -42,7 +42,8 @@ class ControllerStation {
         safe_after_(safe_after < 1 ? 1 : safe_after),
         samples_(rt::OrderGate{}, {static_cast<int>(controller.sensors()), 0}),
         sent_(kRemembered, Vector::Zero(controller.actuators())),
-        sent_seq_(kRemembered, -1) {
+        sent_seq_(kRemembered, -1),
+        held_(Vector::Zero(controller.actuators())) {
     cmd_.n_commands = static_cast<std::int16_t>(controller.actuators());
     cmd_.commands.assign(static_cast<std::size_t>(cmd_.n_commands), 0.0);
   }
@@ -59,6 +60,7 @@ class ControllerStation {
       if (started_) ++resyncs_;
       controller_.reset();
       std::fill(sent_seq_.begin(), sent_seq_.end(), -1);
+      held_seq_ = -1;
       epoch_ = s.plant_epoch;
       started_ = true;
     } else if (s.seq - last_seq_ > safe_after_) {
@@ -66,6 +68,8 @@ class ControllerStation {
       ++resumes_;
     } else if (s.applied_seq != last_seq_) {
       follow_applied(s.applied_seq);
+    } else {
+      remember_held(s.applied_seq);  // the plant holds this station's last answer
     }
     last_seq_ = s.seq;
     // Maps of the controller's own vector type: its size is then known to the compiler too.
@@ -90,9 +94,16 @@ class ControllerStation {
   std::int64_t followed() const noexcept { return followed_; }
 
  private:
-  // The answers sent for the last kRemembered samples, by seq (the plant holds an older one for
-  // fewer than safe_after samples before it applies zero).
+  // The answers sent for the last kRemembered samples, by seq; and the one the plant holds, which
+  // it may go on holding longer than that (a large safe_after).
   static constexpr std::int64_t kRemembered = 64;
+
+  void remember_held(std::int64_t applied) noexcept {
+    const auto slot = static_cast<std::size_t>(applied % kRemembered);
+    if (applied <= 0 || sent_seq_[slot] != applied) return;
+    held_ = sent_[slot];
+    held_seq_ = applied;
+  }
 
   // The plant held the answer to sample `applied` (0: zero) instead of the last one.
   void follow_applied(std::int64_t applied) noexcept {
@@ -101,8 +112,8 @@ class ControllerStation {
       controller_.set_previous_command(Vector::Zero(cmd_.n_commands));
       return;
     }
-    const auto slot = static_cast<std::size_t>(applied % kRemembered);
-    if (sent_seq_[slot] == applied) controller_.set_previous_command(sent_[slot]);
+    remember_held(applied);
+    if (applied == held_seq_) controller_.set_previous_command(held_);
   }
 
   Controller controller_;
@@ -117,6 +128,8 @@ class ControllerStation {
   std::int64_t followed_ = 0;
   std::vector<Vector> sent_;
   std::vector<std::int64_t> sent_seq_;
+  Vector held_;
+  std::int64_t held_seq_ = -1;
 };
 
 }  // namespace flexloop::hil

@@ -70,7 +70,8 @@ flexloop_msgs::actuator_command_t answer(std::int64_t seq, std::int64_t epoch) {
   return c;
 }
 
-// A run of samples 1..4 (epoch 7) whose sample 3 is not answered, and a sample of another run.
+// A run of samples 1..4 (epoch 7) whose sample 3 is not answered, an answer and a sample of other
+// runs.
 fs::path recorded_run(const fs::path& dir, bool with_map = true) {
   const fs::path file = dir / (with_map ? "run.lcmlog" : "no_map.lcmlog");
   lcm::LogFile log(file.string(), "w");
@@ -83,6 +84,10 @@ fs::path recorded_run(const fs::path& dir, bool with_map = true) {
                                "disturbances": [{"name": "w1", "unit": "m/s^2"}],
                                "actuators": [{"name": "u1", "unit": "N"}, {"name": "u2", "unit": "N"},
                                              {"name": "u3", "unit": "N"}]}})");
+  // A straggler of the previous plant run (epoch 6), logged before this run's first sample.
+  auto straggler = answer(2, 6);
+  straggler.commands = {999.0, 999.0, 999.0};
+  write(log, "FLEXLOOP_COMMAND", straggler);
   for (std::int64_t k = 1; k <= 4; ++k) {
     write(log, "FLEXLOOP_SENSOR", sample(k, 7));
     if (k != 3) write(log, "FLEXLOOP_COMMAND", answer(k, 7));
@@ -112,7 +117,7 @@ TEST_CASE("run log: a recorded run exports to CSV and .mat with named columns", 
   CHECK(t.columns[1][2] == 3);
   CHECK(t.columns[3][1] == -2.0);
   CHECK(t.columns[4][3] == 4e-3);
-  CHECK(t.columns[5][1] == 20.0);
+  CHECK(t.columns[5][1] == 20.0);      // this run's answer, not the other run's straggler
   CHECK(std::isnan(t.columns[5][2]));  // sample 3 has no answer
 
   SECTION("CSV") {

@@ -45,6 +45,8 @@ typedef struct {
   int64_t epoch, last_seq, safe_after;
   double* sent;      /* kRemembered x nc: the answers to the last samples, by seq */
   int64_t* sent_seq; /* kRemembered */
+  double* held;      /* nc: the answer the plant holds (it may hold one longer than kRemembered) */
+  int64_t held_seq;
   lcm_t* lcm;
   flexloop_msgs_actuator_command_t cmd;
   int64_t answered;
@@ -113,8 +115,11 @@ static double* limits(const cJSON* obj, const char* key, int nc, double none, co
   double* out = zeros(nc);
   const int n = cJSON_IsArray(v) ? cJSON_GetArraySize(v) : -1;
   if (n != 0 && n != 1 && n != nc) fail(file, "key 'controller': a limit has the wrong count");
-  for (int i = 0; i < nc; ++i)
-    out[i] = n == 0 ? none : cJSON_GetArrayItem(v, n == 1 ? 0 : i)->valuedouble;
+  for (int i = 0; i < nc; ++i) {
+    const cJSON* e = n == 0 ? NULL : cJSON_GetArrayItem(v, n == 1 ? 0 : i);
+    if (e && !cJSON_IsNumber(e)) fail(file, "key 'controller': a limit is not a number");
+    out[i] = e ? e->valuedouble : none;
+  }
   return out;
 }
 
@@ -153,9 +158,8 @@ static int solve(double* M, double* R, int n, int m) {
 static void load(Controller* c, const char* file) {
   FILE* in = fopen(file, "rb");
   if (!in) fail(file, "cannot be read");
-  fseek(in, 0, SEEK_END);
-  const long size = ftell(in);
-  fseek(in, 0, SEEK_SET);
+  const long size = fseek(in, 0, SEEK_END) == 0 ? ftell(in) : -1;
+  if (size < 0 || fseek(in, 0, SEEK_SET) != 0) fail(file, "must be a regular file (not a pipe)");
   char* text = malloc((size_t)size + 1);
   if (!text || fread(text, 1, (size_t)size, in) != (size_t)size) fail(file, "cannot be read");
   text[size] = 0;
@@ -182,13 +186,16 @@ static void load(Controller* c, const char* file) {
   double* D = matrix(co, "D", nc, ns, file);
   c->F = matrix(co, "feedthrough", ns, nc, file);
   const cJSON* delay = cJSON_GetObjectItemCaseSensitive(co, "feedthrough_delay");
-  c->delay = cJSON_IsNumber(delay) ? delay->valueint : 0;
-  if (c->delay < 0 || c->delay + 1 > kMaxHistory)
+  const double d = cJSON_IsNumber(delay) ? delay->valuedouble : 0;
+  if (!(d >= 0 && d + 1 <= kMaxHistory))
     fail(file, "key 'controller': key 'feedthrough_delay' out of range");
+  c->delay = (int)d;
   const cJSON* aw = cJSON_GetObjectItemCaseSensitive(co, "anti_windup");
   c->hold = cJSON_IsString(aw) && strcmp(aw->valuestring, "hold") == 0;
   c->u_min = limits(co, "u_min", nc, -INFINITY, file);
   c->u_max = limits(co, "u_max", nc, INFINITY, file);
+  for (int i = 0; i < nc; ++i)
+    if (!(c->u_min[i] <= c->u_max[i])) fail(file, "key 'controller': u_min must be <= u_max");
   cJSON_Delete(root);
 
   /* H = (I - D F)^-1 [C D]: nc x (nx + ns). */
@@ -222,6 +229,8 @@ static void load(Controller* c, const char* file) {
   c->v = zeros(nc);
   c->history = zeros(kMaxHistory * nc);
   c->sent = zeros(kRemembered * nc);
+  c->held = zeros(nc);
+  c->held_seq = -1;
   c->sent_seq = calloc(kRemembered, sizeof(int64_t));
   if (!c->sent_seq) fail(file, "out of memory");
   c->cmd.n_commands = (int16_t)nc;
@@ -232,17 +241,25 @@ static void reset(Controller* c) {
   memset(c->x, 0, sizeof(double) * (size_t)(c->nx > 0 ? c->nx : 1));
   memset(c->history, 0, sizeof(double) * (size_t)(kMaxHistory * c->nc));
   memset(c->sent_seq, 0, sizeof(int64_t) * kRemembered);
+  c->held_seq = -1;
+}
+
+/* The plant holds the answer to sample `applied`: remember it while it is in the ring. */
+static void remember_held(Controller* c, int64_t applied) {
+  if (applied <= 0 || c->sent_seq[applied % kRemembered] != applied) return;
+  memcpy(c->held, c->sent + (applied % kRemembered) * c->nc, sizeof(double) * (size_t)c->nc);
+  c->held_seq = applied;
 }
 
 /* The plant held the answer to sample `applied` (0: zero) instead of the last one sent: that
  * command's force is what the next measurement contains. */
 static void follow_applied(Controller* c, int64_t applied) {
   double* last = c->history + c->head * c->nc;
-  if (applied == 0) {
+  remember_held(c, applied);
+  if (applied == 0)
     memset(last, 0, sizeof(double) * (size_t)c->nc);
-  } else if (c->sent_seq[applied % kRemembered] == applied) {
-    memcpy(last, c->sent + (applied % kRemembered) * c->nc, sizeof(double) * (size_t)c->nc);
-  }
+  else if (applied == c->held_seq)
+    memcpy(last, c->held, sizeof(double) * (size_t)c->nc);
 }
 
 /* One sample: y (ns) -> the command in c->cmd.commands. */
@@ -297,6 +314,8 @@ static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
     memset(c->history, 0, sizeof(double) * (size_t)(kMaxHistory * c->nc)); /* the plant held 0 */
   } else if (s->applied_seq != c->last_seq) {
     follow_applied(c, s->applied_seq);
+  } else {
+    remember_held(c, s->applied_seq); /* the plant holds the last answer */
   }
   c->last_seq = s->seq;
   step(c, s->sensors);
