@@ -54,6 +54,17 @@ struct Sample {
   std::vector<double> sensors, performance, commands;
 };
 
+// The event's message of type Message (named `type` in the error).
+template <class Message>
+Message decoded(const lcm::LogEvent& e, const std::string& path, const char* type) {
+  Message m;
+  if (m.decode(e.data, 0, static_cast<int>(e.datalen)) != static_cast<int>(e.datalen))
+    throw InputError(path, "event " + std::to_string(e.eventnum) + ": " + e.channel +
+                               " does not decode as this flexloop's " + type +
+                               " (a log of another version of msgs/?)");
+  return m;
+}
+
 }  // namespace
 
 RunTable read_run_log(const std::string& path) {
@@ -70,21 +81,13 @@ RunTable read_run_log(const std::string& path) {
     if (channel == kChannelMap) {
       map_text.assign(static_cast<const char*>(e->data), static_cast<std::size_t>(e->datalen));
     } else if (channel == "FLEXLOOP_SENSOR") {
-      flexloop_msgs::sensor_sample_t s;
-      if (s.decode(e->data, 0, static_cast<int>(e->datalen)) != static_cast<int>(e->datalen))
-        throw InputError(path, "event " + std::to_string(e->eventnum) +
-                                   ": FLEXLOOP_SENSOR does not decode as this flexloop's "
-                                   "sensor_sample_t (a log of another version of msgs/?)");
+      const auto s = decoded<flexloop_msgs::sensor_sample_t>(*e, path, "sensor_sample_t");
       // One plant run per table: the first epoch in the log.
       if (!have_epoch) epoch = s.plant_epoch, have_epoch = true;
       if (s.plant_epoch != epoch) continue;
       samples[s.seq] = {s.t_ns, s.sensors, s.performance, {}};
     } else if (channel == "FLEXLOOP_COMMAND") {
-      flexloop_msgs::actuator_command_t c;
-      if (c.decode(e->data, 0, static_cast<int>(e->datalen)) != static_cast<int>(e->datalen))
-        throw InputError(path, "event " + std::to_string(e->eventnum) +
-                                   ": FLEXLOOP_COMMAND does not decode as this flexloop's "
-                                   "actuator_command_t (a log of another version of msgs/?)");
+      const auto c = decoded<flexloop_msgs::actuator_command_t>(*e, path, "actuator_command_t");
       answers.emplace(std::pair{c.plant_epoch, c.answers_seq}, c.commands);
     }
   }
