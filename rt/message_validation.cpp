@@ -91,7 +91,7 @@ void reserve_channels(flexloop_msgs::actuator_command_t& m) {
 }
 
 bool all_finite(const flexloop_msgs::sensor_sample_t& m) noexcept {
-  return finite(m.sensors) && finite(m.performance);
+  return finite(m.sensors) && finite(m.performance) && std::isfinite(m.applied_scale);
 }
 
 bool all_finite(const flexloop_msgs::actuator_command_t& m) noexcept {

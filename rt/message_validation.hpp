@@ -42,7 +42,7 @@ enum class DropReason {
 inline constexpr int kDropReasonCount = 6;
 
 /// The most channels of one kind a message carries (one sample of 64 sensors and 64
-/// performance channels still fits one UDP datagram: 1068 bytes).
+/// performance channels still fits one UDP datagram: 1076 bytes).
 inline constexpr int kMaxMessageChannels = 64;
 
 /// "decode_failure", "channel_count", "non_finite", "stale", "duplicate", "out_of_order" (JSON

@@ -8,14 +8,16 @@
 //   - first sample, or a new plant_epoch (the plant restarted, its state and held command are
 //     zero again): reset() -- the controller starts afresh, exactly as the in-process loop does;
 //   - a gap of `safe_after` or more unanswered samples within one epoch (this controller stopped
-//     or stalled and the plant has applied the safe zero-force command meanwhile): bumpless
-//     start(y, 0) -- the first answer is exactly the zero force the plant holds, and the
-//     integrator continues from the state that produces it (no jump when answers return).
-// What the plant applied: each sample says whose answer the actuators held over the period before
-// it (applied_seq; 0: the zero command). When that is not this station's last answer (it came
-// late or was lost, and the plant held an older one or the safe zero), the controller is told
-// (set_previous_command) before it steps, so that it removes from the measurement the force that
-// is in it, not its own last answer's.
+//     or stalled and the plant has applied its safe command meanwhile, a ramp of the held answer
+//     to zero): bumpless start(y, applied) -- the first answer is exactly the command the plant
+//     holds, and the controller's state continues from one that produces it (no jump when
+//     answers return).
+// What the plant applied: each sample says what the actuators held over the period before it:
+// applied_scale x the answer to sample applied_seq (0: zero). When that is not this station's
+// last answer as sent (it came late or was lost and the plant held an older one, or the safe
+// ramp scaled it), the controller is told (set_previous_command) before it steps, so that it
+// removes from the measurement the force that is in it, not its own last answer's. An answer
+// the station no longer remembers (a new process in a running epoch) is taken as zero.
 // Samples reach answer() through samples(), a MessageInbox that follows the plant's epoch:
 // messages that fail to decode, carry NaN/Inf, belong to an older plant run, repeat or reorder
 // are dropped and counted there, never answered. answer() is noexcept and allocation-free.
@@ -43,7 +45,8 @@ class ControllerStation {
         samples_(rt::OrderGate{}, {static_cast<int>(controller.sensors()), 0}),
         sent_(kRemembered, Vector::Zero(controller.actuators())),
         sent_seq_(kRemembered, -1),
-        held_(Vector::Zero(controller.actuators())) {
+        held_(Vector::Zero(controller.actuators())),
+        applied_(Vector::Zero(controller.actuators())) {
     cmd_.n_commands = static_cast<std::int16_t>(controller.actuators());
     cmd_.commands.assign(static_cast<std::size_t>(cmd_.n_commands), 0.0);
   }
@@ -64,10 +67,11 @@ class ControllerStation {
       epoch_ = s.plant_epoch;
       started_ = true;
     } else if (s.seq - last_seq_ > safe_after_) {
-      controller_.start(y, Vector::Zero(cmd_.n_commands));
+      controller_.start(y, applied(s));
       ++resumes_;
-    } else if (s.applied_seq != last_seq_) {
-      follow_applied(s.applied_seq);
+    } else if (s.applied_seq != last_seq_ || s.applied_scale != 1.0) {
+      ++followed_;
+      controller_.set_previous_command(applied(s));
     } else {
       remember_held(s.applied_seq);  // the plant holds this station's last answer
     }
@@ -105,15 +109,15 @@ class ControllerStation {
     held_seq_ = applied;
   }
 
-  // The plant held the answer to sample `applied` (0: zero) instead of the last one.
-  void follow_applied(std::int64_t applied) noexcept {
-    ++followed_;
-    if (applied == 0) {
-      controller_.set_previous_command(Vector::Zero(cmd_.n_commands));
-      return;
-    }
-    remember_held(applied);
-    if (applied == held_seq_) controller_.set_previous_command(held_);
+  // What the plant held over the period before `s`: applied_scale x the answer to applied_seq
+  // (the same single multiply as the plant's, so bit for bit); zero when it is not remembered.
+  const Vector& applied(const flexloop_msgs::sensor_sample_t& s) noexcept {
+    remember_held(s.applied_seq);
+    if (s.applied_seq <= 0 || s.applied_seq != held_seq_)
+      applied_.setZero();
+    else
+      applied_ = s.applied_scale * held_;
+    return applied_;
   }
 
   Controller controller_;
@@ -130,6 +134,7 @@ class ControllerStation {
   std::vector<std::int64_t> sent_seq_;
   Vector held_;
   std::int64_t held_seq_ = -1;
+  Vector applied_;
 };
 
 }  // namespace flexloop::hil

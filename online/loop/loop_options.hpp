@@ -32,8 +32,10 @@ struct LoopOptions {
   std::int64_t spin_margin_ns = rt::kDefaultSpinMarginNs;
   rt::RealtimeOptions realtime{.cpu = 0, .fifo_priority = 80};
   int safe_after = 10;  ///< consecutive missed answers before the safe command
-  std::string url;      ///< empty: see loop_lcm_url()
-  std::string link;     ///< a veth allowed besides lo (two-namespace runs)
+  /// Plant: the safe command ramps the held answer to zero over this time [s]; 0: zero at once.
+  double safe_ramp_s = 0.5;
+  std::string url;   ///< empty: see loop_lcm_url()
+  std::string link;  ///< a veth allowed besides lo (two-namespace runs)
   LoopChannels channels;
   bool quiet = false;  ///< no start-up banner
 };

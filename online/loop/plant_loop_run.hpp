@@ -41,7 +41,9 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
       std::move(hw), PlantStationSettings{.safe_after = o.safe_after,
                                           .epoch = epoch,
                                           .period_ns = clock_options.period_ns,
-                                          .command_limit = r.physical.command_limit});
+                                          .command_limit = r.physical.command_limit,
+                                          .safe_ramp_periods = static_cast<std::int64_t>(
+                                              o.safe_ramp_s * loop.rate_hz + 0.5)});
   rt::LcmTransport lcm(url, o.receive_path);
   lcm.subscribe(o.channels.command, station->commands());
   rt::LcmPublisher<flexloop_msgs::sensor_sample_t> sensor(lcm, o.channels.sensor);

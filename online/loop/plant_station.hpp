@@ -11,16 +11,23 @@
 //                  (actuator, then the plant advances with [w_{k-1}; force]). u is
 //                    the answer to sample k-1 when it was received by due_k     (answered)
 //                    else the command held before (a deadline miss)             (held)
-//                    else zero once `safe_after` consecutive samples were missed (safe)
+//                    else, once `safe_after` consecutive samples were missed, the safe
+//                    command: a controlled stop that ramps the held answer linearly to zero
+//                    over `safe_ramp_periods` (0: zero at once), then zero        (safe)
 //                  An answer that came for an older sample, or after due_k, is late: counted,
 //                  never applied. Nothing happens at k = 0 (no sample was out yet).
 //   sample(t_k)    the hardware's sample k (floor w_k, plant outputs with the force held, the
 //                  sensors' readings after their effects) into the sensor message (seq k + 1,
-//                  t_ns = t_k, applied_seq = the sample whose answer is held, 0 for zero).
+//                  t_ns = t_k, and what the actuators held: applied_scale x the answer to
+//                  sample applied_seq -- scale 1 for an answer or a held one, 1 > scale > 0 on
+//                  the safe ramp, applied_seq 0 and scale 0 for zero).
 // With every answer in time this is exactly the in-process loop of online/sim/closed_loop_run.hpp
 // (tests/hil/test_stations.cpp checks it bit for bit, with and without effects). When answers
 // return after the safe command, the plant applies them at once; the controller makes that
-// bumpless (online/loop/controller_station.hpp restarts from the zero command).
+// bumpless (online/loop/controller_station.hpp restarts from the command the sample says was
+// held). Why a ramp and not zero at once: a force-feedback loop cancels most of its struts'
+// stiffness force, and zero force returns all of it in one period -- a kick that repeated stalls
+// pump up (doc/external_controller.md, "The safe command").
 //
 // Commands arrive through commands(), a MessageInbox with a fixed epoch (this plant run's) and a
 // maximum transit age of one period: messages that fail to decode, carry NaN/Inf, answer another
@@ -47,6 +54,8 @@ struct PlantStationSettings {
   /// A command of this magnitude or more saturates the actuator (its force limit over its gain);
   /// infinity: no limit.
   double command_limit = std::numeric_limits<double>::infinity();
+  /// Periods over which the safe command ramps the held answer to zero; 0: zero at once.
+  std::int64_t safe_ramp_periods = 0;
 };
 
 /// Where the command applied over the last period came from.
@@ -67,6 +76,7 @@ class PlantStation {
                   {static_cast<int>(hw_.actuators()), 0}),
         u_(Command::Zero(hw_.actuators())) {
     if (settings_.safe_after < 1) settings_.safe_after = 1;
+    if (settings_.safe_ramp_periods < 0) settings_.safe_ramp_periods = 0;
     msg_.plant_epoch = s.epoch;
     msg_.n_sensors = static_cast<std::int16_t>(hw_.sensors());
     msg_.n_performance = static_cast<std::int16_t>(hw_.performance_outputs());
@@ -95,7 +105,9 @@ class PlantStation {
       consecutive_misses_ = 0;
       last_answer_ = a;
       applied_seq_ = a->answers_seq;
-      u_ = Eigen::Map<const Command>(a->commands.data(), u_.size());
+      applied_scale_ = 1.0;
+      answer_ = Eigen::Map<const Command>(a->commands.data(), u_.size());
+      u_ = answer_;
     } else {
       if (a != nullptr) ++late_answers_;
       ++deadline_misses_;
@@ -103,8 +115,7 @@ class PlantStation {
       source = CommandSource::kHeld;
       if (consecutive_misses_ >= settings_.safe_after) {
         source = CommandSource::kSafe;
-        applied_seq_ = 0;
-        u_.setZero();
+        ramp_down(consecutive_misses_ - settings_.safe_after + 1);
         ++safe_command_cycles_;
       }
     }
@@ -128,6 +139,7 @@ class PlantStation {
     msg_.seq += 1;
     msg_.t_ns = t_ns;
     msg_.applied_seq = applied_seq_;
+    msg_.applied_scale = applied_scale_;
     return msg_;
   }
 
@@ -164,14 +176,30 @@ class PlantStation {
   const PlantStationSettings& settings() const noexcept { return settings_; }
 
  private:
+  // Safe period j (1, 2, ...): the held answer times 1 - j / safe_ramp_periods, zero from then on.
+  // The controller computes the same product from the sample (bit for bit: one multiply).
+  void ramp_down(std::int64_t j) noexcept {
+    const auto n = settings_.safe_ramp_periods;
+    applied_scale_ =
+        applied_seq_ > 0 && j < n ? 1.0 - static_cast<double>(j) / static_cast<double>(n) : 0.0;
+    if (applied_scale_ == 0.0) {
+      applied_seq_ = 0;
+      u_.setZero();
+    } else {
+      u_ = applied_scale_ * answer_;
+    }
+  }
+
   Hardware hw_;
   PlantStationSettings settings_;
   rt::MessageInbox<flexloop_msgs::actuator_command_t> commands_;
   Command u_;
+  Command answer_ = Command::Zero(hw_.actuators());  // the last answer applied
   typename Hardware::Performance sum_z2_ = Hardware::Performance::Zero(hw_.performance_outputs());
   Command sum_u2_ = Command::Zero(hw_.actuators());
   std::int64_t saturated_cycles_ = 0, settled_ = 0;
   std::int64_t applied_seq_ = 0;  // the answer held now (its sample's seq); 0: the zero command
+  double applied_scale_ = 0.0;    // u_ = applied_scale_ * that answer
   flexloop_msgs::sensor_sample_t msg_{};
   const flexloop_msgs::actuator_command_t* last_answer_ = nullptr;
   std::int64_t deadline_misses_ = 0;

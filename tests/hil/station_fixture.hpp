@@ -3,6 +3,7 @@
 // k T, answered 100 us later, received 150 us later), with every message going through its LCM
 // encoding and the receiving inbox, as over the wire -- no sockets, no real time.
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "offline/scene/loop_input.hpp"
@@ -63,8 +64,14 @@ struct StationPair {
   hil::ControllerStation<HilController> controller;
   std::int64_t k = 0;  // next cycle
 
-  explicit StationPair(int safe_after = 5, std::int64_t epoch = 7)
-      : plant(hil_hardware(), {.safe_after = safe_after, .epoch = epoch, .period_ns = kPeriod}),
+  /// safe_ramp_periods 0: the safe command is zero at once.
+  explicit StationPair(int safe_after = 5, std::int64_t epoch = 7,
+                       std::int64_t safe_ramp_periods = 0)
+      : plant(hil_hardware(), {.safe_after = safe_after,
+                               .epoch = epoch,
+                               .period_ns = kPeriod,
+                               .command_limit = std::numeric_limits<double>::infinity(),
+                               .safe_ramp_periods = safe_ramp_periods}),
         controller(hil_controller(), safe_after) {}
 
   /// One cycle; the controller answers when `answer` (returns where the settled command came from);

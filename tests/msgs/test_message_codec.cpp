@@ -50,7 +50,7 @@ TEST_CASE("a sample of 64 sensor and 64 performance channels fits one UDP datagr
   const auto s = sample_message(64, 64);
   const int payload = s.getEncodedSize();
   CHECK(payload ==
-        8 + 3 * 8 + 2 * 2 + 128 * 8 + 8);  // fingerprint, 3 int64, 2 counts, values, applied_seq
+        8 + 3 * 8 + 2 * 2 + 128 * 8 + 8 + 8);  // fingerprint, 3 int64, 2 counts, values, applied
   CHECK(8 + static_cast<int>(sizeof "FLEXLOOP_SENSOR") + payload <= 1400);
 }
 

@@ -10,11 +10,14 @@
  *
  *   f = y - D22 u_{k-1-d},  u = clamp((I - D D22)^-1 (C x + D f)),  x+ = A x + B (f + D22 u)
  *
- * A new plant_epoch (the plant restarted) resets the controller. A gap of --safe-after or more
- * samples (the plant has been holding zero) sets the remembered commands to zero. When a sample
- * says the plant held another command than the last answer (applied_seq: a late or lost answer,
- * or the safe zero), that command replaces the last one remembered, so that the force removed
- * from the measurement is the force in it.
+ * A new plant_epoch (the plant restarted) resets the controller. Every sample says what the
+ * actuators held over the period before it: applied_scale times the answer to sample applied_seq
+ * (0: zero). A gap of --safe-after or more samples (the plant has applied its safe command, a ramp
+ * of the held answer to zero) sets every remembered command to that one; otherwise, when it is
+ * not the last answer as sent (a late or lost answer, or the ramp), it replaces the last one
+ * remembered, so that the force removed from the measurement is the force in it. (The state x is
+ * kept as it was: flexloop's own controller also moves x to a state that produces the held
+ * command, a least-squares step this example leaves out.)
  *
  *   flexloop-c-controller LOOP.json [--url URL] [--duration S] [--safe-after N]
  *
@@ -47,6 +50,7 @@ typedef struct {
   int64_t* sent_seq; /* kRemembered */
   double* held;      /* nc: the answer the plant holds (it may hold one longer than kRemembered) */
   int64_t held_seq;
+  double* applied; /* nc: what the plant held over the period before the current sample */
   lcm_t* lcm;
   flexloop_msgs_actuator_command_t cmd;
   int64_t answered;
@@ -230,6 +234,7 @@ static void load(Controller* c, const char* file) {
   c->history = zeros(kMaxHistory * nc);
   c->sent = zeros(kRemembered * nc);
   c->held = zeros(nc);
+  c->applied = zeros(nc);
   c->held_seq = -1;
   c->sent_seq = calloc(kRemembered, sizeof(int64_t));
   if (!c->sent_seq) fail(file, "out of memory");
@@ -251,15 +256,15 @@ static void remember_held(Controller* c, int64_t applied) {
   c->held_seq = applied;
 }
 
-/* The plant held the answer to sample `applied` (0: zero) instead of the last one sent: that
- * command's force is what the next measurement contains. */
-static void follow_applied(Controller* c, int64_t applied) {
-  double* last = c->history + c->head * c->nc;
-  remember_held(c, applied);
-  if (applied == 0)
-    memset(last, 0, sizeof(double) * (size_t)c->nc);
-  else if (applied == c->held_seq)
-    memcpy(last, c->held, sizeof(double) * (size_t)c->nc);
+/* What the plant held over the period before sample s, into c->applied: applied_scale times the
+ * answer to applied_seq (the plant's own single multiply, so bit for bit); zero when that answer
+ * is not remembered. Its force is what the sample's measurement contains. */
+static const double* applied_command(Controller* c, const flexloop_msgs_sensor_sample_t* s) {
+  remember_held(c, s->applied_seq);
+  for (int i = 0; i < c->nc; ++i)
+    c->applied[i] =
+        s->applied_seq > 0 && s->applied_seq == c->held_seq ? s->applied_scale * c->held[i] : 0.0;
+  return c->applied;
 }
 
 /* One sample: y (ns) -> the command in c->cmd.commands. */
@@ -304,6 +309,7 @@ static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
   if (s->n_sensors != c->ns) return; /* not this loop's samples */
   for (int i = 0; i < s->n_sensors; ++i)
     if (!isfinite(s->sensors[i])) return;
+  if (!isfinite(s->applied_scale)) return;
   if (!c->started || s->plant_epoch != c->epoch) {
     reset(c); /* a new plant run starts from rest */
     c->epoch = s->plant_epoch;
@@ -311,9 +317,11 @@ static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
   } else if (s->seq <= c->last_seq) {
     return; /* a repeat or an older sample */
   } else if (s->seq - c->last_seq > c->safe_after) {
-    memset(c->history, 0, sizeof(double) * (size_t)(kMaxHistory * c->nc)); /* the plant held 0 */
-  } else if (s->applied_seq != c->last_seq) {
-    follow_applied(c, s->applied_seq);
+    const double* u = applied_command(c, s); /* the plant has been on its safe command */
+    for (int k = 0; k < kMaxHistory; ++k)
+      memcpy(c->history + k * c->nc, u, sizeof(double) * (size_t)c->nc);
+  } else if (s->applied_seq != c->last_seq || s->applied_scale != 1.0) {
+    memcpy(c->history + c->head * c->nc, applied_command(c, s), sizeof(double) * (size_t)c->nc);
   } else {
     remember_held(c, s->applied_seq); /* the plant holds the last answer */
   }

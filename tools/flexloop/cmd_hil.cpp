@@ -97,6 +97,7 @@ void register_hil(CLI::App& app) {
       "hil",
       "Hardware-in-the-loop rehearsal: baselines, then plant and controller processes over LCM");
   add_loop_options(cmd, *args, 0, kSceneOrArtefactHelp);
+  add_safe_ramp_option(cmd, *args);
   cmd->add_option("--duration", args->options.duration_s,
                   "Run time [s] (default: the scene's [run] duration)")
       ->check(CLI::PositiveNumber);

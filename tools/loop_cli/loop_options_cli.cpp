@@ -44,8 +44,8 @@ void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::st
   add_receive_path_option(cmd, a.receive_path);
   add_realtime_options(cmd, o.realtime.cpu, o.realtime.fifo_priority, a.no_mlock);
   cmd->add_option("--safe-after", o.safe_after,
-                  "Consecutive missed answers before the plant applies the safe (zero-force) "
-                  "command; give plant and controller the same value")
+                  "Consecutive missed answers before the plant applies the safe command (a ramp "
+                  "to zero force, --safe-ramp); give plant and controller the same value")
       ->capture_default_str()
       ->check(CLI::Range(1, 1'000'000));
   cmd->add_option("--url", o.url,
@@ -53,6 +53,15 @@ void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::st
   cmd->add_option("--link", o.link,
                   "Allow this veth interface besides loopback (two namespaces joined by a veth "
                   "pair with private addresses; ttl <= 1)");
+}
+
+void add_safe_ramp_option(CLI::App* cmd, LoopArgs& a) {
+  cmd->add_option("--safe-ramp", a.options.safe_ramp_s,
+                  "The safe command is a controlled stop: it ramps the held command linearly to "
+                  "zero over this time [s] (0: zero force at once). Make it several periods of the "
+                  "machine's slowest mode: zero at once kicks a force-feedback loop")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 3600.0));
 }
 
 hil::LoopOptions apply_loop_options(const LoopArgs& a) {

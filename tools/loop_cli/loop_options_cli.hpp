@@ -28,6 +28,8 @@ void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock
 /// Adds the shared options; default_cpu is the process's usual core (plant 0, controller 1);
 /// loop_help says what the positional `loop` file may be.
 void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::string& loop_help);
+/// --safe-ramp (the plant's, and hil's, which hands it to the plant).
+void add_safe_ramp_option(CLI::App* cmd, LoopArgs& a);
 /// The options as parsed (wait mode, margin, memory locking applied).
 hil::LoopOptions apply_loop_options(const LoopArgs& a);
 

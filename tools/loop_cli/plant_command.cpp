@@ -1,9 +1,9 @@
 // `flexloop plant SCENE|LOOP.json` and `flexloop-plant LOOP.json` [--rate HZ] [--duration S]
-// [--wait sleep|hybrid|spin] [--cpu N] [--safe-after N] [--json OUT.json]: the plant process of
-// the real-time loop
-// (online/loop/plant_loop.hpp). Owns the clock, publishes FLEXLOOP_SENSOR every period and
-// FLEXLOOP_STATS every second, applies the answers from FLEXLOOP_COMMAND, prints the figures at
-// the end. Refuses to run outside the private network namespace (exit 1).
+// [--wait sleep|hybrid|spin] [--cpu N] [--safe-after N] [--safe-ramp S] [--json OUT.json]: the
+// plant process of the real-time loop (online/loop/plant_loop.hpp). Owns the clock, publishes
+// FLEXLOOP_SENSOR every period and FLEXLOOP_STATS every second, applies the answers from
+// FLEXLOOP_COMMAND, prints the figures at the end. Refuses to run outside the private network
+// namespace (exit 1).
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -58,6 +58,7 @@ void run(const PlantArgs& a, const LoopSource& source) {
 void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
   auto args = std::make_shared<PlantArgs>();
   add_loop_options(cmd, *args, 0, source.help);
+  add_safe_ramp_option(cmd, *args);
   cmd->add_option("--duration", args->options.duration_s,
                   "Run time [s] (default: the loop's [run] duration)")
       ->check(CLI::PositiveNumber);
