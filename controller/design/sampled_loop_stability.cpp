@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "controller/design/loop_stability.hpp"
 #include "plant/lti/frequency_response.hpp"
@@ -18,7 +19,7 @@ void require(bool ok, const std::string& what) {
 
 }  // namespace
 
-Eigen::MatrixXd sampled_loop_matrix(const plant::lti::DiscreteStateSpace& g22,
+SampledLoopModel sampled_loop_model(const plant::lti::DiscreteStateSpace& g22,
                                     const plant::lti::DiscreteStateSpace& controller,
                                     const SampledLoopHardware& hw) {
   using Eigen::Index;
@@ -96,7 +97,19 @@ Eigen::MatrixXd sampled_loop_matrix(const plant::lti::DiscreteStateSpace& g22,
     A.middleRows(il, nc) = one_minus_al * g * u;
     A.block(il, il, nc, nc) += al * Ic;
   }
-  return A;
+
+  // e_k added to u_k on its way to the actuator only: it enters where the force does.
+  MatrixXd E = MatrixXd::Zero(n, nc);
+  E.middleRows(ix, nx) = (1 - bl) * g * p.B;
+  E.middleRows(ih, nc) = (1 - bl) * g * Ic;
+  if (lag) E.middleRows(il, nc) = one_minus_al * g * Ic;
+  return {std::move(A), std::move(E), std::move(u), T};
+}
+
+Eigen::MatrixXd sampled_loop_matrix(const plant::lti::DiscreteStateSpace& g22,
+                                    const plant::lti::DiscreteStateSpace& controller,
+                                    const SampledLoopHardware& hw) {
+  return sampled_loop_model(g22, controller, hw).A;
 }
 
 plant::lti::DiscreteStateSpace pi_discrete_controller(const PiGains& gains, double dt) {

@@ -90,6 +90,22 @@ Eigen::MatrixXd sampled_loop_matrix(const plant::lti::DiscreteStateSpace& g22,
                                     const plant::lti::DiscreteStateSpace& controller,
                                     const SampledLoopHardware& hardware);
 
+/// The same loop with an input at the actuators: the one-step matrix A, where a perturbation e_k
+/// added to the command on its way to the actuators enters (u_k + e_k is what they get; the
+/// controller still removes and integrates its own u_k), and the command u_k read from the loop
+/// state. The transfer H(z) = command (zI - A)^-1 perturbation is -T_i of the input
+/// complementary sensitivity, S_i = I + H (controller/design/disk_margins.hpp).
+struct SampledLoopModel {
+  Eigen::MatrixXd A;             ///< n x n
+  Eigen::MatrixXd perturbation;  ///< n x nc
+  Eigen::MatrixXd command;       ///< nc x n
+  double dt = 0;
+};
+/// Same exceptions as sampled_loop_matrix.
+SampledLoopModel sampled_loop_model(const plant::lti::DiscreteStateSpace& g22,
+                                    const plant::lti::DiscreteStateSpace& controller,
+                                    const SampledLoopHardware& hardware);
+
 /// Poles and verdict with any discrete controller; a pole counts as unstable when |z| >
 /// e^{kUnstableTolerance reference_rad_s T} (and never within kSampledRoundingTolerance).
 SampledLoopStability sampled_loop_stability(const plant::lti::DiscreteStateSpace& g22,

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "common/input_error.hpp"
+#include "controller/design/disk_margins.hpp"
 #include "offline/pipeline/numerical_health.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "offline/report/csv_writer.hpp"
@@ -70,6 +71,42 @@ nlohmann::json static_stability_json(const plant::lti::StaticStability& s) {
 }
 
 namespace {
+
+// A disk margin as "gain 0.5 .. 2 (-6.0 .. +6.0 dB), phase +-37 deg at 12.3 Hz" and as JSON.
+nlohmann::json disk_margin_json(const controller::design::DiskMargin& m) {
+  const bool unbounded = std::isinf(m.gain_high);
+  char high[32] = "inf", high_db[32] = "+inf";
+  if (!unbounded) {
+    std::snprintf(high, sizeof high, "%.3g", m.gain_high);
+    std::snprintf(high_db, sizeof high_db, "%+.1f", 20 * std::log10(m.gain_high));
+  }
+  std::printf("gain %.3g .. %s (%+.1f .. %s dB), phase +-%.1f deg, disk %.3g at %.4g Hz",
+              m.gain_low, high, 20 * std::log10(m.gain_low), high_db, m.phase_deg, m.alpha,
+              m.frequency_hz);
+  return {{"alpha", m.alpha},
+          {"gain_low", m.gain_low},
+          {"gain_high", unbounded ? nlohmann::json(nullptr) : nlohmann::json(m.gain_high)},
+          {"phase_deg", m.phase_deg},
+          {"frequency_hz", m.frequency_hz}};
+}
+
+// Disk margins of the sampled loop at the actuator commands (controller/design/disk_margins.hpp).
+nlohmann::json print_disk_margins(const scene::ScenePlant& p) {
+  const auto margins = controller::design::input_disk_margins(scene::sampled_loop_model(p));
+  std::printf(
+      "disk margins at the actuator commands (sampled loop, balanced disk):\n  all at once: ");
+  nlohmann::json j = {{"all_loops", disk_margin_json(margins.all_loops)}};
+  std::printf("\n  loop at a time:\n");
+  nlohmann::json loops = nlohmann::json::object();
+  for (std::size_t i = 0; i < margins.loops.size(); ++i) {
+    const std::string& name = p.feedback_path.inputs[i];
+    std::printf("    %-12s ", name.c_str());
+    loops[name] = disk_margin_json(margins.loops[i]);
+    std::printf("\n");
+  }
+  j["loop_at_a_time"] = loops;
+  return j;
+}
 
 // The PI design, the continuous loop's poles and stability, and the loop as it runs (sampled):
 // printed and put into j. Returns the sampled loop's stability when it was formed.
@@ -208,6 +245,7 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
                                    : "stable (sampled as it runs)")
                      : "UNSTABLE as it runs: sim, plant, controller and hil refuse this scene");
   j["closed_loop_stable"] = stable;
+  if (stable) j["disk_margins"] = print_disk_margins(p);
   j["continuous_loop_stable"] =
       continuous ? nlohmann::json(p.loop.stable()) : nlohmann::json(nullptr);
   j["sampled_loop"] = sj;

@@ -199,6 +199,24 @@ SampledLoop sampled_loop(const ScenePlant& p) {
   return s;
 }
 
+controller::design::SampledLoopModel sampled_loop_model(const ScenePlant& p) {
+  const auto& d = p.scene.discretisation;
+  SampledLoop s = sampled_loop_frame(p, d.rate_hz);
+  try {
+    const auto g22 =
+        plant::lti::discretise(p.feedback_path, {d.method, 1.0 / d.rate_hz, d.prewarp_hz, false});
+    if (p.state_space) s.hardware.removed_feedthrough = g22.sys.D;
+    return controller::design::sampled_loop_model(
+        g22,
+        p.state_space ? p.state_space->discrete
+                      : controller::design::pi_discrete_controller(p.gains, 1.0 / d.rate_hz),
+        s.hardware);
+  } catch (const std::invalid_argument& ex) {
+    throw InputError(p.scene.file, std::string("[discretisation]: the sampled loop at ") +
+                                       std::to_string(d.rate_hz) + " Hz: " + ex.what());
+  }
+}
+
 SampledLoopRemedy stable_sampled_loop_remedy(const ScenePlant& p) {
   SampledLoopRemedy r;
   if (!has_pi_controller(p)) return r;  // the searches change the PI's rate and design

@@ -83,6 +83,9 @@ struct SampledLoop {
 /// At the scene's rate with its designed gains.
 /// @throws flexloop::InputError naming the scene file when the discretisation is refused.
 SampledLoop sampled_loop(const ScenePlant& p);
+/// The loop at the scene's rate with an input at the actuator commands (for its disk margins,
+/// controller/design/disk_margins.hpp). Same exception.
+controller::design::SampledLoopModel sampled_loop_model(const ScenePlant& p);
 /// At another rate and/or with other gains (the searches below).
 SampledLoop sampled_loop(const ScenePlant& p, double rate_hz,
                          const controller::design::PiGains& gains);
