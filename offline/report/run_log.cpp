@@ -1,9 +1,6 @@
 #include "offline/report/run_log.hpp"
 
-#include <fcntl.h>
-#include <matio.h>
-#include <unistd.h>
-
+#include <Eigen/Core>
 #include <cmath>
 #include <filesystem>
 #include <flexloop_msgs/actuator_command_t.hpp>
@@ -16,7 +13,7 @@
 #include <utility>
 
 #include "common/input_error.hpp"
-#include "offline/report/csv_writer.hpp"
+#include "offline/report/table_file.hpp"
 
 namespace flexloop::report {
 
@@ -126,56 +123,13 @@ RunTable read_run_log(const std::string& path) {
   return t;
 }
 
-namespace {
-
-void write_mat(const RunTable& t, const std::string& path) {
-  const std::size_t rows = t.columns.empty() ? 0 : t.columns[0].size(), cols = t.columns.size();
-  std::vector<double> data(rows * cols);  // column-major, as MATLAB stores it
-  for (std::size_t j = 0; j < cols; ++j)
-    for (std::size_t i = 0; i < rows; ++i) data[j * rows + i] = t.columns[j][i];
-  const std::string tmp = path + ".tmp";
-  mat_t* mat = Mat_CreateVer(tmp.c_str(), nullptr, MAT_FT_MAT5);
-  if (!mat) throw std::runtime_error(path + ": cannot be written");
-  std::size_t dims[2] = {rows, cols};
-  matvar_t* d = Mat_VarCreate("data", MAT_C_DOUBLE, MAT_T_DOUBLE, 2, dims, data.data(), 0);
-  std::size_t cell_dims[2] = {1, cols};
-  matvar_t* names = Mat_VarCreate("columns", MAT_C_CELL, MAT_T_CELL, 2, cell_dims, nullptr, 0);
-  bool ok = d && names;
-  for (std::size_t j = 0; ok && j < cols; ++j) {
-    std::size_t char_dims[2] = {1, t.names[j].size()};
-    matvar_t* s = Mat_VarCreate(nullptr, MAT_C_CHAR, MAT_T_UTF8, 2, char_dims,
-                                const_cast<char*>(t.names[j].data()), MAT_F_DONT_COPY_DATA);
-    ok = s != nullptr;
-    if (ok) Mat_VarSetCell(names, static_cast<int>(j), s);
-  }
-  ok = ok && Mat_VarWrite(mat, d, MAT_COMPRESSION_NONE) == 0 &&
-       Mat_VarWrite(mat, names, MAT_COMPRESSION_NONE) == 0;
-  if (d) Mat_VarFree(d);
-  if (names) Mat_VarFree(names);
-  ok = Mat_Close(mat) == 0 && ok;
-  // On disk before it replaces the target (as common/atomic_file.hpp does for every other file).
-  if (ok) {
-    const int fd = ::open(tmp.c_str(), O_RDONLY);
-    ok = fd >= 0 && ::fsync(fd) == 0;
-    if (fd >= 0) ::close(fd);
-  }
-  if (!ok) {
-    std::filesystem::remove(tmp);
-    throw std::runtime_error(path + ": cannot be written");
-  }
-  std::filesystem::rename(tmp, path);
-}
-
-}  // namespace
-
 void write_run_table(const RunTable& t, const std::string& path) {
-  const std::string ext = std::filesystem::path(path).extension().string();
-  if (ext == ".csv")
-    write_csv_columns(path, t.names, t.columns);
-  else if (ext == ".mat")
-    write_mat(t, path);
-  else
-    throw InputError(path, "the output is .csv or .mat (got '" + ext + "')");
+  const Eigen::Index rows = t.columns.empty() ? 0 : static_cast<Eigen::Index>(t.columns[0].size());
+  Eigen::MatrixXd data(rows, static_cast<Eigen::Index>(t.columns.size()));
+  for (std::size_t j = 0; j < t.columns.size(); ++j)
+    data.col(static_cast<Eigen::Index>(j)) =
+        Eigen::Map<const Eigen::VectorXd>(t.columns[j].data(), rows);
+  write_table(path, t.names, data);
 }
 
 }  // namespace flexloop::report

@@ -7,8 +7,7 @@
 //   sensor <name> [unit], performance <name> [unit]   the sample's readings
 //   command <name> [unit]                             the answer to that sample; NaN when no
 //                                                     answer to it is in the log
-// Written as CSV (offline/report/csv_writer.hpp) or as a MATLAB .mat file (libmatio, MAT 5):
-// `data` (rows x columns, double) and `columns` (a cell array of the column names).
+// Written as CSV or as a MATLAB .mat file (offline/report/table_file.hpp).
 // Bad input: flexloop::InputError naming the log file.
 #include <string>
 #include <vector>

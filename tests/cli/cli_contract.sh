@@ -78,6 +78,22 @@ out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1 --l
   fail "sim default scene: $out"
 [[ "$out" == *"controller off   controller on"* && "$out" == *"dB"* ]] || fail "sim summary: $out"
 for f in log.csv time_series.png spectra.png; do [[ -s "$tmp/sim/$f" ]] || fail "sim did not write $f"; done
+# The same log in binary (.mat): the same rows and columns, read back by scipy; another
+# extension is refused before the run.
+out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1 --log "$tmp/sim/log.mat" 2>&1) ||
+  fail "sim --log .mat: $out"
+/usr/bin/python3 - "$tmp/sim/log.csv" "$tmp/sim/log.mat" <<'PY' || fail "sim .mat log differs from its CSV"
+import sys, numpy, scipy.io
+csv = numpy.genfromtxt(sys.argv[1], delimiter=",", skip_header=1)
+mat = scipy.io.loadmat(sys.argv[2])
+header = open(sys.argv[1]).readline().strip().split(",")
+names = [str(c[0]) for c in mat["columns"][0]]
+assert mat["data"].shape == csv.shape, (mat["data"].shape, csv.shape)
+assert names == [h.strip('"') for h in header], (names[:3], header[:3])
+assert numpy.array_equal(mat["data"], csv), abs(mat["data"] - csv).max()
+PY
+out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1 --log "$tmp/sim/log.txt" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"log.txt"* && "$out" == *".mat"* ]] || fail "sim --log .txt: exit $rc ($out)"
 
 # The all-effects scene (gravity preload with a leak, every effect) simulates; the same scene
 # without the leak is refused at its leak_hz line, saying which leak would make the loop stable.

@@ -18,6 +18,7 @@
 #include "common/input_error.hpp"
 #include "offline/report/csv_writer.hpp"
 #include "offline/report/plot.hpp"
+#include "offline/report/table_file.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "online/sim/closed_loop_run.hpp"
 #include "online/sim/scene_runs.hpp"
@@ -154,6 +155,8 @@ void run(const SimArgs& args) {
   s.steps = std::lround(a.duration_s / s.dt);
   s.log_every = args.log_every;
   const bool plots = !args.plots.empty(), log = !args.log.empty();
+  if (log && !report::is_table_file(args.log))
+    throw InputError(args.log, "--log writes .csv or .mat");
   const std::string floor =
       a.floor.spectrum == "white"
           ? "white " + report::format_number(a.floor.rms_mps2) + " m/s^2 RMS per channel"
@@ -198,7 +201,7 @@ void run(const SimArgs& args) {
   if (log) {
     if (const auto dir = std::filesystem::path(args.log).parent_path(); !dir.empty())
       std::filesystem::create_directories(dir);
-    report::write_csv(args.log, log_header(a), on ? r.on.log : r.off.log);
+    report::write_table(args.log, log_header(a), on ? r.on.log : r.off.log);
     std::printf("wrote %s (controller %s, every %ld-th sample)\n", args.log.c_str(),
                 on ? "on" : "off", args.log_every);
   }
@@ -235,8 +238,9 @@ void register_sim(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "general"}));
   cmd->add_option("--log", args->log,
-                  "CSV log: t_s, disturbances, performance outputs (true and as sensed), "
-                  "sensors, commands (SI units), one row per logged sample");
+                  "Log: t_s, disturbances, performance outputs (true and as sensed), sensors, "
+                  "commands (SI units), one row per logged sample; .csv (text) or .mat (MATLAB "
+                  "MAT 5, binary: `data` and `columns`, for long runs)");
   cmd->add_option("--log-every", args->log_every, "Log every N-th sample")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);

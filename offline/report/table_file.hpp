@@ -1,0 +1,22 @@
+#pragma once
+// A numeric table with named columns written for MATLAB, Octave and Python users, the format
+// chosen by the file's extension:
+//   .csv  text (offline/report/csv_writer.hpp)
+//   .mat  MATLAB MAT 5 (libmatio): `data` (rows x columns, double, as stored) and `columns` (a
+//         cell array of the column names); binary, no formatting: what long runs should use.
+// Written atomically: a failed write leaves no file behind.
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+namespace flexloop::report {
+
+/// True for the extensions write_table() takes (".csv", ".mat").
+bool is_table_file(const std::string& path);
+
+/// @throws flexloop::InputError naming `path` for another extension; std::invalid_argument when
+/// names.size() != data.cols(); std::runtime_error when it cannot be written.
+void write_table(const std::string& path, const std::vector<std::string>& names,
+                 const Eigen::MatrixXd& data);
+
+}  // namespace flexloop::report
