@@ -43,7 +43,7 @@ std::string format_number(double v) {
 }
 
 void write_csv(const std::string& path, const std::vector<std::string>& header,
-               const Eigen::MatrixXd& data) {
+               Eigen::Ref<const Eigen::MatrixXd> data) {
   if (static_cast<Eigen::Index>(header.size()) != data.cols())
     throw std::invalid_argument("write_csv " + path + ": " + std::to_string(header.size()) +
                                 " column names for " + std::to_string(data.cols()) + " columns");

@@ -16,7 +16,7 @@ namespace flexloop::report {
 /// @throws std::invalid_argument when header.size() != data.cols();
 /// @throws std::runtime_error naming the file when it cannot be written.
 void write_csv(const std::string& path, const std::vector<std::string>& header,
-               const Eigen::MatrixXd& data);
+               Eigen::Ref<const Eigen::MatrixXd> data);
 
 /// Same, from equally long columns (columns[j] is the column named header[j]).
 void write_csv_columns(const std::string& path, const std::vector<std::string>& header,

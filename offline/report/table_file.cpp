@@ -35,8 +35,9 @@ matvar_t* name_cells(const std::vector<std::string>& names) {
   return cells;
 }
 
+// `data` must be contiguous (outer stride = rows).
 bool write_mat_file(const std::string& file, const std::vector<std::string>& names,
-                    const Eigen::MatrixXd& data) {
+                    Eigen::Ref<const Eigen::MatrixXd> data) {
   mat_t* mat = Mat_CreateVer(file.c_str(), nullptr, MAT_FT_MAT5);
   if (!mat) return false;
   // Eigen stores column-major, as MATLAB does: the data is written as it is, not copied.
@@ -66,7 +67,7 @@ bool is_table_file(const std::string& path) {
 }
 
 void write_table(const std::string& path, const std::vector<std::string>& names,
-                 const Eigen::MatrixXd& data) {
+                 Eigen::Ref<const Eigen::MatrixXd> data) {
   const std::string ext = extension(path);
   if (!is_table_file(path))
     throw InputError(path, "a table is written as .csv or .mat (got '" + ext + "')");
@@ -78,7 +79,9 @@ void write_table(const std::string& path, const std::vector<std::string>& names,
     return;
   }
   const std::string tmp = path + ".tmp";
-  if (!write_mat_file(tmp, names, data)) {
+  const bool contiguous = data.outerStride() == data.rows();
+  if (!(contiguous ? write_mat_file(tmp, names, data)
+                   : write_mat_file(tmp, names, Eigen::MatrixXd(data)))) {
     std::filesystem::remove(tmp);
     throw std::runtime_error(path + ": cannot be written");
   }

@@ -17,6 +17,6 @@ bool is_table_file(const std::string& path);
 /// @throws flexloop::InputError naming `path` for another extension; std::invalid_argument when
 /// names.size() != data.cols(); std::runtime_error when it cannot be written.
 void write_table(const std::string& path, const std::vector<std::string>& names,
-                 const Eigen::MatrixXd& data);
+                 Eigen::Ref<const Eigen::MatrixXd> data);
 
 }  // namespace flexloop::report

@@ -21,6 +21,7 @@
 #include <functional>
 
 #include "controller/runtime/loop_controller.hpp"
+#include "online/sim/run_log.hpp"
 #include "plant/runtime/divergence.hpp"
 #include "plant/runtime/simulated_hardware.hpp"
 
@@ -40,7 +41,7 @@ struct RunResult {
   Eigen::VectorXd rms_performance;  ///< RMS of each true performance output z_i
   Eigen::VectorXd rms_command;      ///< RMS of each actuator command
   /// Rows: t, floor (NW), performance (NZ), performance sensors (NZ), sensors (NS), commands (NC).
-  Eigen::MatrixXd log;
+  RunLog log;
   double loop_seconds = 0;  ///< wall time of the stepping alone
   Divergence divergence;    ///< the RMS values cover the samples up to it
 };
@@ -66,7 +67,8 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
 
   RunResult r;
   const long log_rows = s.log_every > 0 ? (s.steps + s.log_every - 1) / s.log_every : 0;
-  r.log.setZero(log_rows, log_columns(nw, nz, ns, nc));
+  r.log = RunLog(log_rows, log_columns(nw, nz, ns, nc));
+  RunLog::View log = r.log.matrix();
   Performance sum_z2 = Performance::Zero(nz);
   Command sum_u2 = Command::Zero(nc), u = Command::Zero(nc);
   long row = 0;
@@ -85,7 +87,7 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
       sum_z2 += hw.performance().cwiseAbs2();
       sum_u2 += u.cwiseAbs2();
       if (s.log_every > 0 && k % s.log_every == 0) {
-        auto line = r.log.row(row++);
+        auto line = log.row(row++);
         line(0) = static_cast<double>(k) * s.dt;
         line.segment(1, nw) = hw.floor_acceleration().transpose().template cast<double>();
         line.segment(1 + nw, nz) = hw.performance().transpose().template cast<double>();
@@ -97,7 +99,7 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
     if (progress && !r.divergence.happened()) progress(end, s.steps);
   }
   r.loop_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  if (r.divergence.happened()) r.log.conservativeResize(row, Eigen::NoChange);  // the rows written
+  if (r.divergence.happened()) r.log.keep_rows(row);  // the rows written
   // Samples 0 .. step-1 were summed when it diverged at `step`.
   const double n =
       static_cast<double>(std::max(r.divergence.happened() ? r.divergence.step : s.steps, 1L));

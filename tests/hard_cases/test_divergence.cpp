@@ -55,7 +55,7 @@ TEST_CASE("a diverging run stops at the sample it leaves the range and says wher
     CHECK_FALSE(d.command);  // no controller runs in the off run: the commands are zero
     // The log holds the samples before it; the last of them was within the range.
     REQUIRE(r.log.rows() == d.step);
-    const Eigen::MatrixXd z = r.log.middleCols(1 + c.nw, c.nz);
+    const Eigen::MatrixXd z = r.log.matrix().middleCols(1 + c.nw, c.nz);
     const double last = z.row(d.step - 1).norm();
     CHECK(last <= plant::runtime::kDivergenceLimit);
     CHECK(std::abs(d.value) > last / c.nz);  // the largest channel of a vector beyond 1e12

@@ -46,11 +46,12 @@ TEST_CASE(
       sum_u2 += u.cwiseAbs2();
       // Sample k's performance is the plant's output after the command of sample k - 1 acted.
       z_differ = std::max(z_differ, (station.hardware().performance().transpose() -
-                                     reference.log.row(k).segment(z0, 6))
+                                     reference.log.matrix().row(k).segment(z0, 6))
                                         .cwiseAbs()
                                         .maxCoeff());
       u_differ = std::max(
-          u_differ, (u.transpose() - reference.log.row(k).segment(u0, 6)).cwiseAbs().maxCoeff());
+          u_differ,
+          (u.transpose() - reference.log.matrix().row(k).segment(u0, 6)).cwiseAbs().maxCoeff());
       REQUIRE_FALSE(deliver(station.commands(), cmd, due + kAnswerAfter + kTransit).has_value());
     }
     const ChannelVector rms_u = (sum_u2 / kSteps).cwiseSqrt();

@@ -63,7 +63,7 @@ std::pair<double, double> worst_spectrum_deviation(scene::Scene sc, double f_min
   const Eigen::Index L = 2048;  // 0.49 Hz bins, 585 segments
   double worst_db = 0, worst_f = 0;
   for (int i = 0; i < 6; ++i) {
-    const auto est = plant::lti::welch_psd(r.log.col(1 + 6 + i), fs, {L, 0.5});
+    const auto est = plant::lti::welch_psd(r.log.matrix().col(1 + 6 + i), fs, {L, 0.5});
     // Compare band averages (bins within +-5 % of each check frequency) of estimate and theory;
     // the estimate's relative standard deviation per bin is about 1/sqrt(segments) = 4 %.
     for (double fc = f_min_hz; fc <= 200.0; fc *= 1.12) {

@@ -98,9 +98,10 @@ void plot_runs(const artefact::LoopArtefact& a, const BothRuns& r, long log_ever
   // Time series of the first frame channel and the floor: the last 2000 logged samples.
   const Eigen::Index rows = r.on.log.rows(), keep = std::min<Eigen::Index>(rows, 2000);
   const Eigen::Index first = rows - keep;
-  auto column = [&](const Eigen::MatrixXd& log, Eigen::Index c) {
+  auto column = [&](const sim::RunLog& log, Eigen::Index c) {
     std::vector<double> v(static_cast<std::size_t>(keep));
-    for (Eigen::Index i = 0; i < keep; ++i) v[static_cast<std::size_t>(i)] = log(first + i, c);
+    for (Eigen::Index i = 0; i < keep; ++i)
+      v[static_cast<std::size_t>(i)] = log.matrix()(first + i, c);
     return v;
   };
   const auto t = column(r.on.log, 0);
@@ -121,7 +122,7 @@ void plot_runs(const artefact::LoopArtefact& a, const BothRuns& r, long log_ever
   for (Eigen::Index i = 0; i < nz && L >= 16; ++i)
     for (const auto* run : {&r.off, &r.on}) {
       if (run == &r.on && !r.controlled) continue;
-      const auto s = plant::lti::welch_psd(run->log.col(1 + nw + i), fs, {L, 0.5});
+      const auto s = plant::lti::welch_psd(run->log.matrix().col(1 + nw + i), fs, {L, 0.5});
       std::vector<double> f, v;
       for (Eigen::Index k = 1; k < s.psd.size(); ++k)
         f.push_back(s.frequency_hz(k)), v.push_back(std::sqrt(s.psd(k)));
@@ -201,7 +202,7 @@ void run(const SimArgs& args) {
   if (log) {
     if (const auto dir = std::filesystem::path(args.log).parent_path(); !dir.empty())
       std::filesystem::create_directories(dir);
-    report::write_table(args.log, log_header(a), on ? r.on.log : r.off.log);
+    report::write_table(args.log, log_header(a), (on ? r.on.log : r.off.log).matrix());
     std::printf("wrote %s (controller %s, every %ld-th sample)\n", args.log.c_str(),
                 on ? "on" : "off", args.log_every);
   }
