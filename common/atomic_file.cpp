@@ -10,15 +10,40 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "common/input_error.hpp"
+
 namespace flexloop {
 
-void write_text_atomically(const std::filesystem::path& file, const std::string& text) {
-  if (file.empty()) throw std::runtime_error("cannot write a file with an empty name");
+namespace {
+
+// The hidden temporary name beside `file` (a mkstemp template).
+std::string temporary_beside(const std::filesystem::path& file) {
   const auto dir = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
   std::string name = ".";  // appended piecewise: GCC 12 -O3 warns falsely (-Wrestrict) on a + chain
   name += file.filename().string();
   name += ".tmp.XXXXXX";
-  std::string tmp = (dir / name).string();
+  return (dir / name).string();
+}
+
+}  // namespace
+
+void require_writable(const std::filesystem::path& file) {
+  if (file.empty()) throw InputError("(empty file name)", "cannot be written");
+  std::error_code ec;
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
+  if (ec) throw InputError(file.string(), "cannot be written: " + ec.message());
+  std::string tmp = temporary_beside(file);
+  const int fd = ::mkstemp(tmp.data());
+  if (fd < 0)
+    throw InputError(file.string(), std::string("cannot be written: ") + std::strerror(errno));
+  ::close(fd);
+  ::unlink(tmp.c_str());
+}
+
+void write_text_atomically(const std::filesystem::path& file, const std::string& text) {
+  if (file.empty()) throw std::runtime_error("cannot write a file with an empty name");
+  const auto dir = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
+  std::string tmp = temporary_beside(file);
   const auto fail = [&](const std::string& step, int fd, bool remove_tmp) {
     const int err = errno;
     if (fd >= 0) ::close(fd);

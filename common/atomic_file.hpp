@@ -12,4 +12,10 @@ namespace flexloop {
 /// @throws std::runtime_error "cannot write <file>: <step>: <system error>".
 void write_text_atomically(const std::filesystem::path& file, const std::string& text);
 
+/// Before a run whose results go to `file`: makes its directory and checks that a file can be
+/// created there (creates and removes a hidden temporary one), so that a long run does not end
+/// in a file it cannot write. The target itself is not touched.
+/// @throws flexloop::InputError "<file>: cannot be written: <system error>" (exit 2).
+void require_writable(const std::filesystem::path& file);
+
 }  // namespace flexloop

@@ -22,7 +22,8 @@ std::vector<std::string> names(const TomlReader& r, const char* key) {
 
 double positive(const TomlReader& r, const char* key, double def) {
   const double v = r.number(key, def);
-  if (!(v > 0)) r.fail("'" + std::string(key) + "' must be positive", r.get(key));
+  if (!(v > 0) || !std::isfinite(v))
+    r.fail("'" + std::string(key) + "' must be positive and finite", r.get(key));
   return v;
 }
 
@@ -132,6 +133,10 @@ Scene parse_scene(const std::string& text, const std::string& file) {
       }
     }
     d.rate_hz = positive(dr, "rate_hz", d.rate_hz);
+    if (d.rate_hz > kMaxLoopRateHz)
+      dr.fail("'rate_hz' must be at most " + std::to_string(static_cast<long>(kMaxLoopRateHz)) +
+                  " Hz, the loop's ceiling (as the loop commands' --rate)",
+              dr.get("rate_hz"));
     d.prewarp_hz = non_negative(dr, "prewarp_hz", d.prewarp_hz);
     if (d.prewarp_hz >= d.rate_hz / 2)
       dr.fail("'prewarp_hz' must be below the Nyquist frequency rate_hz / 2", dr.get("prewarp_hz"));

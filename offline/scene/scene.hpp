@@ -30,6 +30,10 @@ struct ControllerSettings {
   std::string place;  ///< "file:line" of leak_hz (or of the table), for messages about the loop
 };
 
+/// The highest loop rate a scene (or `build --rate`) may ask for, Hz: the loop commands' --rate
+/// ceiling.
+inline constexpr double kMaxLoopRateHz = 1e6;
+
 struct DiscretisationSettings {
   plant::lti::DiscretisationMethod method = plant::lti::DiscretisationMethod::kZeroOrderHold;
   double rate_hz = 10000.0;

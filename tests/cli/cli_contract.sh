@@ -94,6 +94,20 @@ assert numpy.array_equal(mat["data"], csv), abs(mat["data"] - csv).max()
 PY
 out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1 --log "$tmp/sim/log.txt" 2>&1); rc=$?
 [[ $rc -eq 2 && "$out" == *"log.txt"* && "$out" == *".mat"* ]] || fail "sim --log .txt: exit $rc ($out)"
+# Outputs that cannot be written are refused before the run (here: a directory under a file),
+# and a duration or rate that is not a finite number is refused, not replaced by the scene's.
+touch "$tmp/a_file"
+for opt in "--log $tmp/a_file/log.csv" "--plots $tmp/a_file/plots"; do
+  out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1 $opt 2>&1); rc=$?
+  [[ $rc -eq 2 && "$out" == *"a_file"*"cannot be written"* && "$out" != *"real time"* ]] ||
+    fail "sim $opt: exit $rc ($out)"
+done
+for bad in nan inf -1; do
+  out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration "$bad" 2>&1); rc=$?
+  [[ $rc -ne 0 && "$out" == *"--duration"* && "$out" != *"real time"* ]] || fail "sim --duration $bad: exit $rc ($out)"
+done
+out=$("$flexloop" build "$root/tools/scenes/metrology_frame.toml" --rate 1e9 -o "$tmp/fast.json" 2>&1); rc=$?
+[[ $rc -ne 0 && "$out" == *"--rate"* && ! -e "$tmp/fast.json" ]] || fail "build --rate 1e9: exit $rc ($out)"
 
 # The all-effects scene (gravity preload with a leak, every effect) simulates; the same scene
 # without the leak is refused at its leak_hz line, saying which leak would make the loop stable.

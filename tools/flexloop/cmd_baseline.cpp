@@ -16,6 +16,7 @@
 #include "rt/timer_baseline.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/loop_options_cli.hpp"
+#include "tools/loop_cli/number_checks.hpp"
 
 namespace flexloop::cli {
 
@@ -133,10 +134,10 @@ void run_pingpong(const BaselineArgs& a) {
 void add_common_options(CLI::App* cmd, BaselineArgs& a) {
   cmd->add_option("--rate", a.rate_hz, "Loop rate [Hz]")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 1e6));
+      ->check(finite_range(1.0, 1e6));
   cmd->add_option("--duration", a.duration_s, "Measured time [s]")
       ->capture_default_str()
-      ->check(CLI::Range(1e-3, 3600.0));
+      ->check(finite_range(1e-3, 3600.0));
   add_wait_options(cmd, a.wait, a.spin_margin_us);
   cmd->add_option("--overrun", a.overrun,
                   "After a cycle starts a whole period late: skip (keep the grid) | reanchor")

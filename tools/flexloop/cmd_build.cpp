@@ -6,7 +6,9 @@
 #include <memory>
 
 #include "offline/scene/loop_input.hpp"
+#include "offline/scene/scene.hpp"
 #include "tools/flexloop/subcommands.hpp"
+#include "tools/loop_cli/number_checks.hpp"
 
 namespace flexloop::cli {
 
@@ -40,7 +42,7 @@ void register_build(CLI::App& app) {
   cmd->add_option("scene", args->scene, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
   cmd->add_option("-o,--output", args->output, "Loop artefact to write (JSON)")->required();
   cmd->add_option("--rate", args->rate_hz, "Sample rate [Hz] (default: the scene's)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_range(1e-3, scene::kMaxLoopRateHz));
   cmd->add_option("--form", args->form, "Plant form: dense or modal (real block-diagonal)")
       ->capture_default_str()
       ->check(CLI::IsMember({"dense", "modal"}));

@@ -13,6 +13,7 @@
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/state_space_json.hpp"
 #include "tools/flexloop/subcommands.hpp"
+#include "tools/loop_cli/number_checks.hpp"
 
 namespace flexloop::cli {
 
@@ -118,7 +119,7 @@ void register_discretise(CLI::App& app) {
           "METHOD"));
   cmd->add_option("--rate", args->rate_hz, "Sample rate [Hz]")
       ->required()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--prewarp-hz", args->prewarp_hz,
                   "Tustin only: frequency [Hz] where the discrete response matches exactly");
   cmd->add_flag("--force", args->force,

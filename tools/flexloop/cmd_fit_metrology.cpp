@@ -10,6 +10,7 @@
 #include "common/atomic_file.hpp"
 #include "offline/pipeline/metrology_frame_fit.hpp"
 #include "tools/flexloop/subcommands.hpp"
+#include "tools/loop_cli/number_checks.hpp"
 
 namespace flexloop::cli {
 
@@ -77,20 +78,20 @@ void register_fit_metrology(CLI::App& app) {
   cmd->add_option("-o,--output", args->output, "Model file (TOML) to write")->required();
   cmd->add_option("--mass", args->mass_kg, "Mass of lens and frame [kg]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--damping-ratio", args->damping_ratio,
                   "Passive damping ratio of the vertical mode (sets the strut dampers)")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--side", args->geometry.triangle_side_m, "Mount triangle side [m]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--angle", args->geometry.strut_angle_deg, "Strut angle from vertical [deg]")
       ->capture_default_str()
-      ->check(CLI::Range(1.0, 89.0));
+      ->check(finite_range(1.0, 89.0));
   cmd->add_option("--height", args->geometry.strut_height_m, "Vertical extent of a strut [m]")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->footer("Example:\n  flexloop fit-metrology -o tools/models/metrology_frame.toml");
   cmd->callback([args] { run(*args); });
 }

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "common/atomic_file.hpp"
 #include "offline/report/hil_report.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "online/hil/hil_run.hpp"
@@ -20,6 +21,7 @@
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/loop_commands.hpp"
 #include "tools/loop_cli/loop_options_cli.hpp"
+#include "tools/loop_cli/number_checks.hpp"
 
 namespace flexloop::cli {
 
@@ -83,6 +85,8 @@ void run_sweep(const HilArgs& a, hil::HilOptions o) {
 void run(const HilArgs& a) {
   hil::HilOptions o = a.hil;
   o.loop = apply_loop_options(a);
+  require_writable(a.report);  // before the baselines and the run, not after them
+  if (!o.lcm_log.empty()) require_writable(o.lcm_log);
   if (a.sweep)
     run_sweep(a, o);
   else
@@ -100,7 +104,7 @@ void register_hil(CLI::App& app) {
   add_safe_ramp_option(cmd, *args);
   cmd->add_option("--duration", args->options.duration_s,
                   "Run time [s] (default: the scene's [run] duration)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--report", args->report,
                   "Report JSON; the histograms go beside it as <stem>_round_trip.png and "
                   "<stem>_wakeup_lateness.png")
@@ -112,7 +116,7 @@ void register_hil(CLI::App& app) {
   cmd->add_option("--baseline-duration", args->hil.baseline_duration_s,
                   "Length of each same-run baseline [s]")
       ->capture_default_str()
-      ->check(CLI::Range(0.01, 600.0));
+      ->check(finite_range(0.01, 600.0));
   cmd->add_flag("--netns", args->hil.netns,
                 "Enter a private loopback-only network namespace first (as tools/netns-run)");
   cmd->add_option("--lcm-log", args->hil.lcm_log,

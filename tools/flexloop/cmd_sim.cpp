@@ -15,6 +15,7 @@
 #include <string>
 #include <tuple>
 
+#include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "offline/report/csv_writer.hpp"
 #include "offline/report/plot.hpp"
@@ -24,6 +25,7 @@
 #include "online/sim/scene_runs.hpp"
 #include "plant/lti/welch.hpp"
 #include "tools/flexloop/subcommands.hpp"
+#include "tools/loop_cli/number_checks.hpp"
 
 namespace flexloop::cli {
 
@@ -158,6 +160,8 @@ void run(const SimArgs& args) {
   const bool plots = !args.plots.empty(), log = !args.log.empty();
   if (log && !report::is_table_file(args.log))
     throw InputError(args.log, "--log writes .csv or .mat");
+  if (log) require_writable(args.log);  // before the run, not after it
+  if (plots) require_writable(std::filesystem::path(args.plots) / "time_series.png");
   const std::string floor =
       a.floor.spectrum == "white"
           ? "white " + report::format_number(a.floor.rms_mps2) + " m/s^2 RMS per channel"
@@ -224,7 +228,7 @@ void register_sim(CLI::App& app) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--duration", args->duration_s, "Simulated time [s] (default: the scene's)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--controller", args->controller,
                   "Log the run with the controller on or off (default: the scene's); the "
                   "summary shows both")
@@ -244,7 +248,7 @@ void register_sim(CLI::App& app) {
                   "MAT 5, binary: `data` and `columns`, for long runs)");
   cmd->add_option("--log-every", args->log_every, "Log every N-th sample")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--plots", args->plots,
                   "Directory for time_series.png and spectra.png (controller off and on)");
   cmd->footer(

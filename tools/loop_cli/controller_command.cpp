@@ -10,6 +10,7 @@
 #include "online/loop/latency_json.hpp"
 #include "tools/loop_cli/loop_commands.hpp"
 #include "tools/loop_cli/loop_options_cli.hpp"
+#include "tools/loop_cli/number_checks.hpp"
 
 namespace flexloop::cli {
 
@@ -36,7 +37,7 @@ void configure_controller_command(CLI::App* cmd, const LoopSource& source) {
   add_loop_options(cmd, *args, 1, source.help);
   cmd->add_option("--duration", args->options.duration_s,
                   "Stop after this long [s] (default: until SIGINT / SIGTERM)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->footer(
       "Example (inside tools/netns-run -- bash, with the plant started afterwards):\n"
       "  " +

@@ -1,4 +1,5 @@
 #include "tools/loop_cli/loop_options_cli.hpp"
+#include "tools/loop_cli/number_checks.hpp"
 
 namespace flexloop::cli {
 
@@ -10,7 +11,7 @@ void add_wait_options(CLI::App* cmd, std::string& wait, double& spin_margin_us) 
   cmd->add_option("--spin-margin-us", spin_margin_us,
                   "hybrid: sleep until this long before the deadline, then spin [us]")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1e6));
+      ->check(finite_range(0.0, 1e6));
 }
 
 void add_receive_path_option(CLI::App* cmd, std::string& path) {
@@ -39,7 +40,7 @@ void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::st
   cmd->add_option(
          "--rate", o.rate_hz,
          "Loop rate [Hz] (default: the scene's discretisation rate; an artefact runs at its own)")
-      ->check(CLI::Range(1.0, 1e6));
+      ->check(finite_range(1.0, 1e6));
   add_wait_options(cmd, a.wait, a.spin_margin_us);
   add_receive_path_option(cmd, a.receive_path);
   add_realtime_options(cmd, o.realtime.cpu, o.realtime.fifo_priority, a.no_mlock);
@@ -61,7 +62,7 @@ void add_safe_ramp_option(CLI::App* cmd, LoopArgs& a) {
                   "zero over this time [s] (0: zero force at once). Make it several periods of the "
                   "machine's slowest mode: zero at once kicks a force-feedback loop")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 3600.0));
+      ->check(finite_range(0.0, 3600.0));
 }
 
 hil::LoopOptions apply_loop_options(const LoopArgs& a) {

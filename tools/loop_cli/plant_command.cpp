@@ -8,11 +8,13 @@
 #include <memory>
 #include <stdexcept>
 
+#include "common/atomic_file.hpp"
 #include "common/json_document.hpp"
 #include "online/loop/latency_json.hpp"
 #include "online/loop/plant_loop.hpp"
 #include "tools/loop_cli/loop_commands.hpp"
 #include "tools/loop_cli/loop_options_cli.hpp"
+#include "tools/loop_cli/number_checks.hpp"
 
 namespace flexloop::cli {
 
@@ -24,6 +26,7 @@ struct PlantArgs : LoopArgs {
 
 void run(const PlantArgs& a, const LoopSource& source) {
   const hil::LoopOptions o = apply_loop_options(a);
+  if (!a.json.empty()) require_writable(a.json);  // before the run, not after it
   const hil::PlantLoopResult r = hil::run_plant_loop(
       o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
   const hil::LoopAccounts& acc = r.accounts;
@@ -61,7 +64,7 @@ void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
   add_safe_ramp_option(cmd, *args);
   cmd->add_option("--duration", args->options.duration_s,
                   "Run time [s] (default: the loop's [run] duration)")
-      ->check(CLI::PositiveNumber);
+      ->check(finite_positive());
   cmd->add_option("--json", args->json, "Write the figures as JSON to this file");
   cmd->footer(
       "Example (start the controller first, in the same namespace), inside one\n"
