@@ -15,6 +15,7 @@
 // the stated range (plant/runtime/divergence.hpp): RunResult::divergence says when and where, and
 // the caller reports it as a failure instead of printing meaningless RMS values.
 #include <Eigen/Core>
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -30,8 +31,8 @@ namespace flexloop::sim {
 struct RunSettings {
   long steps = 0;
   double dt = 0;
-  long log_every = 0;  ///< 0: no log
-  int chunks = 20;     ///< progress granularity
+  long log_every = 0;          ///< 0: no log
+  long chunk_steps = 100'000;  ///< steps between progress reports, >= 1
 };
 
 using plant::runtime::Divergence;
@@ -74,8 +75,9 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
   long row = 0;
 
   const auto start = std::chrono::steady_clock::now();
-  for (int c = 0; c < s.chunks && !r.divergence.happened(); ++c) {
-    const long begin = s.steps * c / s.chunks, end = s.steps * (c + 1) / s.chunks;
+  const long chunk = std::max(s.chunk_steps, 1L);
+  for (long begin = 0, end = 0; begin < s.steps && !r.divergence.happened(); begin = end) {
+    end = begin + std::min(chunk, s.steps - begin);
     for (long k = begin; k < end; ++k) {
       const auto& reading = hw.sample();
       if constexpr (plant::runtime::kPresent<Controller>) u = controller.step(reading.sensors);

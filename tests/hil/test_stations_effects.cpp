@@ -26,9 +26,9 @@ TEST_CASE(
   sim::with_hardware<6, 6>(scene, plant, [&](auto hw) {
     // The in-process run, every sample logged: t, floor (6), performance (6), performance
     // sensors (6), sensors (6), commands (6).
-    const sim::RunResult reference =
-        sim::run_closed_loop(hw, hil_controller(scene),
-                             {.steps = kSteps, .dt = scene.dt(), .log_every = 1, .chunks = 1}, {});
+    const sim::RunResult reference = sim::run_closed_loop(
+        hw, hil_controller(scene),
+        {.steps = kSteps, .dt = scene.dt(), .log_every = 1, .chunk_steps = kSteps}, {});
     const Eigen::Index z0 = 1 + 6, u0 = 1 + 6 + 3 * 6;
     hil::PlantStation<decltype(hw)> station(hw,
                                             {.safe_after = 5, .epoch = 3, .period_ns = kPeriod});

@@ -5,6 +5,8 @@
 // RMS of every performance output for both and writes the log of the requested run. A scene is
 // first built into its artefact (tools/flexloop/loop_input.hpp), as `flexloop build` does.
 #include <unistd.h>
+
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -39,20 +41,61 @@ struct SimArgs {
 
 using sim::BothRuns;
 
-// Progress on long runs only: an updating line on a terminal, a line per quarter otherwise.
+// "1h02m", "3m05s", "12s": a time left.
+std::string duration_text(double s) {
+  char t[48];
+  if (s >= 3600)
+    std::snprintf(t, sizeof t, "%.0fh%02.0fm", std::floor(s / 3600),
+                  std::floor(std::fmod(s, 3600) / 60));
+  else if (s >= 60)
+    std::snprintf(t, sizeof t, "%.0fm%02.0fs", std::floor(s / 60), std::floor(std::fmod(s, 60)));
+  else
+    std::snprintf(t, sizeof t, "%.1fs", s);
+  return t;
+}
+
+// Progress on long runs only, with the time left at the rate so far: an updating line on a
+// terminal (at most twice a second), otherwise a line per quarter and at least one a minute.
 sim::ProgressFactory progress_lines(long steps) {
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   return [tty, steps](const char* what) -> std::function<void(long, long)> {
     if (steps < 1'000'000) return {};
-    return [what, tty](long done, long total) {
-      const long pct = 100 * done / total;
-      if (tty)
-        std::fprintf(stderr, "\r  %s: %3ld%% of %ld steps%s", what, pct, total,
-                     done == total ? "\n" : "");
-      else if (pct % 25 == 0)
-        std::fprintf(stderr, "  %s: %3ld%% of %ld steps\n", what, pct, total);
+    using Clock = std::chrono::steady_clock;
+    return [what, tty, start = Clock::now(), last = Clock::time_point{}, quarter = 0L](
+               long done, long total) mutable {
+      const auto now = Clock::now();
+      const double elapsed = std::chrono::duration<double>(now - start).count();
+      const double since = std::chrono::duration<double>(now - last).count();
+      const long q = 4 * done / total;
+      const bool end = done == total;
+      if (!end && (tty ? since < 0.5 : q == quarter && since < 60)) return;
+      last = now;
+      quarter = q;
+      const double pct = 100.0 * static_cast<double>(done) / static_cast<double>(total);
+      const std::string left = end ? "done in " + duration_text(elapsed)
+                                   : duration_text(elapsed * static_cast<double>(total - done) /
+                                                   static_cast<double>(done)) +
+                                         " left";
+      std::fprintf(
+          stderr,
+          tty ? "\r  %s: %5.1f%% of %ld steps, %s   %s" : "  %s: %5.1f%% of %ld steps, %s%s", what,
+          pct, total, left.c_str(), tty && !end ? "" : "\n");
     };
   };
+}
+
+// A log that does not fit: refused before the run, with the --log-every that would.
+void require_log_fits(long steps, long log_every, Eigen::Index columns, const std::string& path) {
+  const double bytes = std::ceil(static_cast<double>(steps) / static_cast<double>(log_every)) *
+                       static_cast<double>(columns) * sizeof(double);
+  const double memory = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
+                        static_cast<double>(::sysconf(_SC_PAGE_SIZE));
+  if (bytes <= memory / 2) return;
+  throw InputError(path, "the log would take " + report::format_number(std::ceil(bytes / 1e9)) +
+                             " GB, more than half of this machine's memory; log every " +
+                             report::format_number(std::ceil(bytes / (memory / 2)) *
+                                                   static_cast<double>(log_every)) +
+                             "-th sample (--log-every) or run shorter");
 }
 
 std::string describe_effects(const artefact::EffectsSettings& e) {
@@ -161,6 +204,11 @@ void run(const SimArgs& args) {
   if (log && !report::is_table_file(args.log))
     throw InputError(args.log, "--log writes .csv or .mat");
   if (log) require_writable(args.log);  // before the run, not after it
+  if (log || plots) {                   // plots log both runs
+    const auto columns = static_cast<Eigen::Index>(log_header(a).size());
+    require_log_fits(s.steps, s.log_every, plots ? 2 * columns : columns,
+                     log ? args.log : args.plots);
+  }
   if (plots) require_writable(std::filesystem::path(args.plots) / "time_series.png");
   const std::string floor =
       a.floor.spectrum == "white"
