@@ -132,6 +132,12 @@ void print_hil_summary(const nlohmann::json& r) {
   std::printf("  baseline ping-pong: %lld of %lld pings unanswered within the period (%.3f %%)\n",
               pp.value("unanswered", 0LL), pp.value("sent", 0LL),
               percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)));
+  const auto& timer = r["baseline"]["timer"];
+  if (pp.value("too_short", false) || timer.value("too_short", false))
+    std::printf(
+        "  WARNING: baselines too short to compare with (%lld pings, %lld timer cycles; each "
+        "needs %lld): lengthen --baseline-duration\n",
+        pp.value("sent", 0LL), timer.value("cycles", 0LL), pp.value("min_samples", 0LL));
   print_physical(r);
 }
 

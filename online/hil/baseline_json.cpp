@@ -10,7 +10,8 @@ nlohmann::json timer_baseline_json(const rt::TimerBaselineResult& r) {
           {"cycles", r.cycles},
           {"overruns", r.overruns},
           {"skipped_periods", r.skipped_periods},
-          {"fifo", r.setup.fifo}};
+          {"fifo", r.setup.fifo},
+          {"too_short", r.cycles < kMinBaselineSamples}};
 }
 
 nlohmann::json pingpong_baseline_json(const rt::PingPongResult& r) {
@@ -24,7 +25,9 @@ nlohmann::json pingpong_baseline_json(const rt::PingPongResult& r) {
           {"dropped", drops_json(r.ping_drops)},
           {"ping_setup", r.ping_setup},
           {"pong_setup", r.pong_setup},
-          {"pong_summary", r.pong_summary}};
+          {"pong_summary", r.pong_summary},
+          {"too_short", r.sent < kMinBaselineSamples},
+          {"min_samples", kMinBaselineSamples}};
 }
 
 }  // namespace flexloop::hil

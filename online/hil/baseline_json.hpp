@@ -8,10 +8,16 @@
 
 namespace flexloop::hil {
 
-/// wakeup_lateness_ns {min..max, count}, periods, cycles, overruns, skipped_periods, fifo.
+/// A baseline of fewer samples (timer cycles, pings sent) than this is flagged "too_short": its
+/// p99.9 rests on a single sample and its unanswered share moves by 0.1 % per ping, so a loop
+/// compared with it is compared with noise.
+inline constexpr long kMinBaselineSamples = 1000;
+
+/// wakeup_lateness_ns {min..max, count}, periods, cycles, overruns, skipped_periods, fifo,
+/// too_short.
 nlohmann::json timer_baseline_json(const rt::TimerBaselineResult& r);
 /// round_trip_ns, wakeup_lateness_ns, sent, answered, unanswered, late_answers, overruns,
-/// dropped {reason: n}, ping_setup, pong_setup, pong_summary.
+/// dropped {reason: n}, ping_setup, pong_setup, pong_summary, too_short, min_samples.
 nlohmann::json pingpong_baseline_json(const rt::PingPongResult& r);
 
 }  // namespace flexloop::hil

@@ -15,6 +15,7 @@
 #include <string>
 
 #include "offline/scene/loop_input.hpp"
+#include "online/hil/baseline_json.hpp"
 #include "online/hil/hil_run.hpp"
 #include "online/hil/lcm_logger.hpp"
 #include "tests/timing/private_network.hpp"
@@ -44,6 +45,12 @@ void check_run(const nlohmann::json& r, const artefact::LoopArtefact& a, double 
               << r["plant_compute_ns"]["p50"] << "/" << r["plant_compute_ns"]["p99"]
               << " ns, controller compute p50 " << r["controller_compute_ns"]["p50"] << " ns");
   CHECK(periods >= std::round(duration_s * a.rate_hz));
+  // Baselines of fewer samples than hil::kMinBaselineSamples are flagged, not taken at face value.
+  const auto& base = r["baseline"];
+  CHECK(base["pingpong"]["too_short"] ==
+        (base["pingpong"]["sent"].get<long>() < hil::kMinBaselineSamples));
+  CHECK(base["timer"]["too_short"] ==
+        (base["timer"]["cycles"].get<long>() < hil::kMinBaselineSamples));
   CHECK(cycles + skipped == periods);
   // Malformed or miscounted messages never occur; stale and reordered answers can (a stalled
   // vCPU delays an answer past its period), and the timing tests judge how often.
