@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <numbers>
 #include <optional>
+#include <stdexcept>
 
 #include "common/input_error.hpp"
 #include "controller/design/disk_margins.hpp"
@@ -245,7 +246,13 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
                                    : "stable (sampled as it runs)")
                      : "UNSTABLE as it runs: sim, plant, controller and hil refuse this scene");
   j["closed_loop_stable"] = stable;
-  if (stable) j["disk_margins"] = print_disk_margins(p);
+  if (stable) {
+    try {
+      j["disk_margins"] = print_disk_margins(p);
+    } catch (const std::domain_error& e) {  // a loop pole on the unit circle at a grid frequency
+      std::printf("disk margins: not formed: %s\n", e.what());
+    }
+  }
   j["continuous_loop_stable"] =
       continuous ? nlohmann::json(p.loop.stable()) : nlohmann::json(nullptr);
   j["sampled_loop"] = sj;
