@@ -9,6 +9,7 @@
 #     hil timing test, against the bare LCM ping-pong and timer measured in the same run: misses
 #     <= 2 x the ping-pong's unanswered share + 1 % of the cycles; round-trip p99 <= 1.5 x the
 #     ping-pong's p99 + the timer's p99;
+#     (a run outside them is repeated once with new baselines, as tests/timing/test_hil_loop.cpp does);
 #   - the frame acceleration falls as `flexloop sim` predicts for the same loop and seeds: each
 #     channel's RMS within 5 % of sim's. With every answer in time the run is sim's loop sample
 #     for sample (up to the order of summation); a miss holds the previous command a period
@@ -52,18 +53,24 @@ sed -e "s|^rate_hz = .*|rate_hz = $rate|" -e "s|^file = .*|file = \"$tmp/lqg_1k.
 "$flexloop" build "$tmp/scene.toml" -o "$tmp/loop.json" >/dev/null || fail "flexloop build (LQG, $rate Hz)"
 "$flexloop" sim "$tmp/loop.json" --duration "$duration" > "$tmp/sim.txt" || fail "flexloop sim"
 
-"$root/tools/netns-run" -- bash -c "
-  set -e
-  '$flexloop' baseline pingpong --rate $rate --duration $duration --json '$tmp/pingpong.json' >/dev/null
-  '$flexloop' baseline timer --rate $rate --duration $duration --json '$tmp/timer.json' >/dev/null
-  chrt -f 80 taskset -c 1 '$ccontroller' '$tmp/loop.json' --duration $((duration + 10)) > '$tmp/controller.txt' 2>&1 &
-  sleep 0.5
-  '$flexloop' plant '$tmp/loop.json' --duration $duration --json '$tmp/plant.json' > '$tmp/plant.txt'
-  kill -TERM %1; wait %1" > "$tmp/netns.txt" 2>&1 ||
-  fail "in the namespace: $(cat "$tmp/netns.txt" "$tmp/controller.txt" 2>/dev/null)"
-grep -q "answered" "$tmp/controller.txt" || fail "controller: $(cat "$tmp/controller.txt")"
+# The real-time part, judged against baselines measured just before it; run again once when its
+# timing is outside the margins (this VM's stalls come in bursts of seconds that the baselines and
+# the loop need not both catch, as in tests/timing/test_hil_loop.cpp; a slower loop fails both).
+run_loop() {
+  "$root/tools/netns-run" -- bash -c "
+    set -e
+    '$flexloop' baseline pingpong --rate $rate --duration $duration --json '$tmp/pingpong.json' >/dev/null
+    '$flexloop' baseline timer --rate $rate --duration $duration --json '$tmp/timer.json' >/dev/null
+    chrt -f 80 taskset -c 1 '$ccontroller' '$tmp/loop.json' --duration $((duration + 10)) > '$tmp/controller.txt' 2>&1 &
+    sleep 0.5
+    '$flexloop' plant '$tmp/loop.json' --duration $duration --json '$tmp/plant.json' > '$tmp/plant.txt'
+    kill -TERM %1; wait %1" > "$tmp/netns.txt" 2>&1 ||
+    fail "in the namespace: $(cat "$tmp/netns.txt" "$tmp/controller.txt" 2>/dev/null)"
+  grep -q "answered" "$tmp/controller.txt" || fail "controller: $(cat "$tmp/controller.txt")"
+}
 
-python3 - "$tmp" "$rate" "$duration" <<'PY' || fail "figures: $(cat "$tmp/plant.txt" "$tmp/sim.txt")"
+judge() {
+python3 - "$tmp" "$rate" "$duration" <<'PY'
 import json, math, re, sys
 d, rate, duration = sys.argv[1], float(sys.argv[2]), float(sys.argv[3])
 plant = json.load(open(d + "/plant.json"))
@@ -76,8 +83,9 @@ rtt, pp99, t99 = plant["round_trip_ns"]["p99"], pp["round_trip_ns"]["p99"], time
 print(f"cycles {cycles}, misses {misses} (allowed {allowed:.0f}), round trip p99 {rtt} ns "
       f"(allowed {1.5 * pp99 + t99:.0f}: ping-pong p99 {pp99}, timer p99 {t99})")
 assert cycles >= 0.9 * rate * duration, cycles
-assert misses <= allowed, (misses, allowed)
-assert rtt <= 1.5 * pp99 + t99, rtt
+if misses > allowed or rtt > 1.5 * pp99 + t99:
+    print("timing outside the margins")
+    sys.exit(3)
 for reason in ("decode_failure", "channel_count", "non_finite"):
     assert plant["dropped_messages"][reason] == 0, reason
 # sim: "  acc:x.3 [m/s^2]   off   on   change"
@@ -93,4 +101,15 @@ for name, (off, on) in sim.items():
           f"against sim's controller off), sim {on:.4e} ({20 * math.log10(on / off):+.1f} dB)")
     assert abs(run[name] / on - 1) <= 0.05, (name, run[name], on)
 PY
+}
+
+for attempt in 1 2; do
+  run_loop
+  judge > "$tmp/judged.txt"
+  rc=$?
+  cat "$tmp/judged.txt"
+  [[ $rc == 0 ]] && break
+  [[ $rc == 3 && $attempt == 1 ]] || fail "figures: $(cat "$tmp/plant.txt" "$tmp/sim.txt")"
+  echo "outside the timing margins once: running again with new baselines"
+done
 echo "external C controller: loop closed"
