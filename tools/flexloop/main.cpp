@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   flexloop::cli::register_linearise(app);
   flexloop::cli::register_analyse(app);
   flexloop::cli::register_discretise(app);
+  flexloop::cli::register_reduce(app);
   flexloop::cli::register_build(app);
   flexloop::cli::register_baseline(app);
   flexloop::cli::register_fit_metrology(app);
@@ -21,5 +22,6 @@ int main(int argc, char** argv) {
   flexloop::cli::register_controller(app);
   flexloop::cli::register_hil(app);
   flexloop::cli::register_log(app);
+  flexloop::cli::register_tradeoff(app);
   return flexloop::cli::run_command_line(app, argc, argv);
 }

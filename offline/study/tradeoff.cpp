@@ -1,0 +1,483 @@
+#include "offline/study/tradeoff.hpp"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <sstream>
+
+#include "common/input_error.hpp"
+#include "controller/runtime/general_pi_controller.hpp"
+#include "controller/runtime/pi_controller.hpp"
+#include "controller/runtime/state_space_controller.hpp"
+#include "offline/scene/loop_artefact_builder.hpp"
+#include "offline/study/study_loop.hpp"
+#include "online/sim/loop_hardware.hpp"
+#include "plant/lti/discretise.hpp"
+#include "plant/lti/frequency_response.hpp"
+#include "plant/lti/model_reduction.hpp"
+#include "plant/runtime/effects/floor_generator.hpp"
+#include "plant/runtime/effects/white_floor.hpp"
+#include "plant/runtime/general_plant.hpp"
+
+namespace flexloop::study {
+namespace {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+using Response = std::vector<Eigen::MatrixXcd>;
+namespace lti = plant::lti;
+namespace fx = plant::runtime::effects;
+
+// The plant of one row: the full model or a reduced one.
+struct Variant {
+  std::string reduction;
+  int order = 0;
+  lti::StateSpace sys;
+  double bound = NAN;
+  std::string error;  // the reduction failed: why
+};
+
+std::vector<int> default_orders(int n) {
+  std::vector<int> v;
+  for (const int k : {3 * n / 4, n / 2, n / 4}) {
+    const int even = std::max(2, k - k % 2);
+    if (even < n && std::find(v.begin(), v.end(), even) == v.end()) v.push_back(even);
+  }
+  return v;
+}
+
+// band: the study's band, where modal truncation judges the modes' contributions.
+std::vector<Variant> variants(const scene::ScenePlant& p, const TradeoffOptions& o,
+                              std::array<double, 2> band) {
+  const int n = static_cast<int>(p.plant.nx());
+  std::vector<Variant> v{{"full", n, p.plant, NAN, ""}};
+  const std::vector<int> orders = o.orders.empty() ? default_orders(n) : o.orders;
+  for (const std::string& r : o.reductions)
+    for (const int order : orders) {
+      Variant x{r, order, {}, NAN, ""};
+      try {
+        const lti::ReducedModel m =
+            r == "balanced" ? lti::balanced_truncation(p.plant, order)
+                            : lti::modal_truncation(p.plant, {.order = order,
+                                                              .dc_correction = r == "modal-dc",
+                                                              .band_low_hz = band[0],
+                                                              .band_hz = band[1]});
+        x.sys = m.sys;
+        x.order = static_cast<int>(m.sys.nx());
+        x.bound = m.error_bound;
+      } catch (const std::exception& e) {
+        x.error = e.what();
+      }
+      v.push_back(std::move(x));
+    }
+  return v;
+}
+
+lti::DiscretisationMethod method_of(const std::string& m) {
+  return lti::parse_discretisation_method(m == "tustin-prewarp" ? "tustin" : m);
+}
+
+// The floor the scene's loop sees at the artefact's rate, from rest, `steps` samples.
+MatrixXd floor_samples(const artefact::LoopArtefact& a, long steps) {
+  const Index nw = a.disturbances();
+  MatrixXd w(nw, steps);
+  auto fill = [&](auto floor) {
+    for (long k = 0; k < steps; ++k) w.col(k) = floor.step();
+  };
+  if (a.floor.spectrum == "white")
+    fill(fx::WhiteFloor<double, Eigen::Dynamic>::from_parameters(a.floor.rms_mps2, a.floor.seed,
+                                                                 nw));
+  else
+    fill(fx::FloorGenerator<double, Eigen::Dynamic, artefact::kFloorFilterOrder>::from_parameters(
+        a.floor_filter.A, a.floor_filter.B, a.floor_filter.C, a.floor_filter.D, a.floor.seed,
+        fx::FloorStart::kAtRest, nw));
+  return w;
+}
+
+// The plant as the runtime stores it (Ad - I or Λ - I, B, C, D in `Scalar`), as a discrete
+// system in double for its frequency response.
+template <typename Scalar>
+lti::DiscreteStateSpace stored_plant(const artefact::LoopArtefact& a) {
+  const auto& d = a.plant;
+  const bool modal = d.form == "modal";
+  const auto round = [](const MatrixXd& m) -> MatrixXd {
+    return m.cast<Scalar>().template cast<double>();
+  };
+  const MatrixXd step =
+      modal ? d.modal.Lambda_minus_I : MatrixXd(d.A - MatrixXd::Identity(d.A.rows(), d.A.cols()));
+  lti::DiscreteStateSpace s;
+  s.sys.A = MatrixXd::Identity(step.rows(), step.cols()) + round(step);
+  s.sys.B = round(modal ? d.modal.B : d.B);
+  s.sys.C = round(modal ? d.modal.C : d.C);
+  s.sys.D = round(modal ? d.modal.D : d.D);
+  for (Index k = 0; k < s.sys.A.rows(); ++k) s.sys.states.push_back("x" + std::to_string(k));
+  s.sys.inputs = a.names(a.channels.disturbances);
+  for (const auto& c : a.channels.actuators) s.sys.inputs.push_back(c.name);
+  s.sys.outputs = a.names(a.channels.performance);
+  for (const auto& c : a.channels.sensors) s.sys.outputs.push_back(c.name);
+  s.dt = a.dt();
+  return s;
+}
+
+// A pair whose peak is below this share of the largest peak among the pairs with its units (a
+// coupling that symmetry makes nearly zero) is judged against that share, not against itself.
+constexpr double kNegligiblePair = 1e-3;
+
+// What each pair's error is relative to: its peak, or kNegligiblePair x the largest peak of the
+// pairs with the same output and input units, whichever is larger.
+MatrixXd error_scale(const MatrixXd& peak, const lti::StateSpace& sys) {
+  std::vector<std::string> out, in;
+  for (const auto& c : sys.outputs) out.push_back(scene::channel_unit(c));
+  for (const auto& c : sys.inputs) in.push_back(scene::channel_unit(c));
+  MatrixXd scale = peak;
+  for (Index i = 0; i < peak.rows(); ++i)
+    for (Index j = 0; j < peak.cols(); ++j) {
+      double block = 0;
+      for (Index k = 0; k < peak.rows(); ++k)
+        for (Index l = 0; l < peak.cols(); ++l)
+          if (out[k] == out[i] && in[l] == in[j]) block = std::max(block, peak(k, l));
+      scale(i, j) = std::max(peak(i, j), kNegligiblePair * block);
+    }
+  return scale;
+}
+
+// Worst pair of max_f |H_ij - G_ij| / scale_ij.
+double relative_error(const Response& h, const Response& g, const MatrixXd& scale) {
+  double worst = 0;
+  for (std::size_t k = 0; k < h.size(); ++k)
+    for (Index i = 0; i < scale.rows(); ++i)
+      for (Index j = 0; j < scale.cols(); ++j)
+        if (scale(i, j) > 0)
+          worst = std::max(worst, std::abs(h[k](i, j) - g[k](i, j)) / scale(i, j));
+  return worst;
+}
+
+// Worst row of max_k |y - y_ref| / max_k |y_ref| (rms = false) or RMS(y - y_ref) / RMS(y_ref).
+double worst_row_error(const MatrixXd& y, const MatrixXd& ref, bool rms) {
+  double worst = 0;
+  for (Index i = 0; i < ref.rows(); ++i) {
+    const double scale = rms ? ref.row(i).norm() : ref.row(i).cwiseAbs().maxCoeff();
+    const double diff =
+        rms ? (y.row(i) - ref.row(i)).norm() : (y.row(i) - ref.row(i)).cwiseAbs().maxCoeff();
+    if (scale > 0)
+      worst = std::max(worst, diff / scale);
+    else if (diff > 0)
+      worst = INFINITY;
+  }
+  return std::isfinite(worst) || y.allFinite() ? worst : INFINITY;
+}
+
+double worst_rms_ratio(const MatrixXd& z, const MatrixXd& ref) {
+  double worst = 0;
+  for (Index i = 0; i < ref.rows(); ++i)
+    if (ref.row(i).norm() > 0)
+      worst = std::max(worst, std::abs(z.row(i).norm() / ref.row(i).norm() - 1));
+  return z.allFinite() ? worst : INFINITY;
+}
+
+template <typename Scalar, class F>
+decltype(auto) with_plant(const artefact::LoopArtefact& a, F&& f) {
+  const auto& d = a.plant;
+  if (d.form == "modal")
+    return f(plant::runtime::GeneralModalPlant<Scalar>::from_modal_form(d.modal, a.actuators()));
+  return f(
+      plant::runtime::GeneralDensePlant<Scalar>::from_matrices(d.A, d.B, d.C, d.D, a.actuators()));
+}
+
+template <typename Scalar, class F>
+decltype(auto) with_controller(const artefact::LoopArtefact& a, F&& f) {
+  using artefact::ControllerKind;
+  if (a.controller == ControllerKind::kPiForceFeedback)
+    return f(
+        controller::runtime::GeneralPiController<Scalar>::from_parameters(a.pi, a.actuators()));
+  if (a.controller == ControllerKind::kStateSpace)
+    return f(controller::runtime::StateSpaceController<Scalar>::from_parameters(a.state_space));
+  return f(ZeroCommand<Scalar>{Eigen::Matrix<Scalar, Eigen::Dynamic, 1>::Zero(a.actuators())});
+}
+
+// What the runtime kernels of one configuration give: open-loop step, closed-loop z, the timing.
+struct KernelRuns {
+  MatrixXd step, z;
+  std::vector<double> ns;
+  std::string kernel;  // "compiled" or "general"
+};
+
+template <typename Scalar>
+KernelRuns kernel_runs(const artefact::LoopArtefact& a, const MatrixXd& floor, long steps,
+                       const TradeoffOptions& o) {
+  KernelRuns r;
+  const Index nz = a.performance(), ns = a.sensors();
+  const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> w = floor.cast<Scalar>();
+  // NW, NS: compiled counts, or Eigen::Dynamic.
+  auto measure = [&](auto plant, auto controller, auto nw_count, auto ns_count) {
+    constexpr int NW = decltype(nw_count)::value, NS = decltype(ns_count)::value;
+    auto open = plant;
+    r.step = unit_step<NW>(open, a.disturbances(), steps);
+    auto loop_plant = plant;
+    auto loop_controller = controller;
+    r.z.resize(nz, steps);
+    run_loop<NW, NS>(loop_plant, loop_controller, w, nz, ns, steps, &r.z);
+    for (int k = 0; k < o.repeats; ++k) {
+      const auto t0 = std::chrono::steady_clock::now();
+      run_loop<NW, NS>(plant, controller, w, nz, ns, o.bench_steps, nullptr);
+      const auto t1 = std::chrono::steady_clock::now();
+      r.ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() /
+                     static_cast<double>(o.bench_steps));
+    }
+  };
+  // The kernels `flexloop sim` would use: a compiled loop where one matches (double, the PI),
+  // otherwise the general path.
+  if constexpr (std::is_same_v<Scalar, double>)
+    if (a.controller == artefact::ControllerKind::kPiForceFeedback)
+      plant::runtime::with_compiled_loop(
+          sim::loop_counts(a),
+          [&](auto loop) {
+            using Loop = decltype(loop);
+            measure(sim::make_compiled_plant<Loop>(a),
+                    controller::runtime::PiController<double, Loop::NC>::from_parameters(a.pi),
+                    std::integral_constant<int, Loop::NW>{},
+                    std::integral_constant<int, Loop::NS>{});
+            r.kernel = "compiled";
+          },
+          [] {});
+  if (r.kernel.empty()) {
+    with_plant<Scalar>(a, [&](auto plant) {
+      with_controller<Scalar>(a, [&](auto controller) {
+        measure(plant, controller, std::integral_constant<int, Eigen::Dynamic>{},
+                std::integral_constant<int, Eigen::Dynamic>{});
+      });
+    });
+    r.kernel = "general";
+  }
+  std::sort(r.ns.begin(), r.ns.end());
+  return r;
+}
+
+// The continuous reference on a rate's grid, with each pair's peak.
+struct Reference {
+  std::vector<double> f;
+  Response g;
+  MatrixXd peak;        // what each pair's error is relative to (error_scale)
+  Eigen::MatrixXcd dc;  // empty: a pole at the origin
+};
+
+}  // namespace
+
+std::string Configuration::label() const {
+  std::ostringstream s;
+  s << method << " " << rate_hz << " Hz " << form << " " << scalar << " " << reduction << " "
+    << order;
+  return s.str();
+}
+
+TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o) {
+  const std::string& file = p.scene.file;
+  for (const std::string& m : o.methods) try {
+      (void)method_of(m);
+    } catch (const std::invalid_argument&) {
+      throw InputError(file, "--methods: unknown method '" + m +
+                                 "' (zoh, foh, tustin, tustin-prewarp, backward-euler, euler)");
+    }
+  for (const std::string& f : o.forms)
+    if (f != "dense" && f != "modal") throw InputError(file, "--forms: '" + f + "' (dense, modal)");
+  for (const std::string& s : o.scalars)
+    if (s != "double" && s != "float")
+      throw InputError(file, "--scalars: '" + s + "' (double, float)");
+  for (const std::string& r : o.reductions)
+    if (r != "modal" && r != "modal-dc" && r != "balanced")
+      throw InputError(file, "--reductions: '" + r + "' (modal, modal-dc, balanced)");
+  const int n = static_cast<int>(p.plant.nx());
+  for (const int k : o.orders)
+    if (k < 1 || k > n)
+      throw InputError(file, "--orders: " + std::to_string(k) + " is outside 1 .. " +
+                                 std::to_string(n) + " (the full order)");
+  const auto& sd = p.scene.discretisation;
+  std::vector<double> rates = o.rates_hz;
+  if (rates.empty()) rates = {sd.rate_hz / 10, sd.rate_hz / 2, sd.rate_hz, 2 * sd.rate_hz};
+  for (const double r : rates)
+    if (!(r > 0 && std::isfinite(r))) throw InputError(file, "--rates: each rate must be > 0");
+
+  TradeoffResult result;
+  result.full_order = n;
+  result.cost = o.cost;
+  result.default_config = {lti::to_string(sd.method) + (sd.prewarp_hz > 0 ? "-prewarp" : ""),
+                           sd.rate_hz,
+                           "dense",
+                           "double",
+                           "full",
+                           n};
+  const Eigen::VectorXd& fn = p.natural_frequencies_hz;
+  double f_min = INFINITY, f_max = 0;
+  for (Index k = 0; k < fn.size(); ++k)
+    if (fn(k) > 0) {
+      f_min = std::min(f_min, fn(k));
+      f_max = std::max(f_max, fn(k));
+    }
+  if (!(f_max > 0)) f_min = 1, f_max = 1;
+  result.band_low_hz = f_min / 10;
+  result.band_hz = o.band_hz > 0 ? o.band_hz : 2 * f_max;
+  result.prewarp_hz = f_min;
+
+  const std::vector<Variant> plants = variants(p, o, {result.band_low_hz, result.band_hz});
+  const std::size_t total =
+      plants.size() * rates.size() * o.methods.size() * o.forms.size() * o.scalars.size();
+  std::size_t done = 0;
+  const bool discrete_controller = p.state_space && !p.state_space->continuous;
+
+  for (const double rate : rates) {
+    // The reference at this rate: the continuous full model on the band's grid; and the loop of
+    // the full model by exact ZOH in double (floor, step and closed loop).
+    Reference ref;
+    const double top = std::min(result.band_hz, 0.999 * rate / 2);
+    ref.f = lti::log_frequency_grid_hz(result.band_low_hz, std::max(top, 2 * result.band_low_hz),
+                                       o.points);
+    for (Index k = 0; k < fn.size(); ++k)
+      if (fn(k) > result.band_low_hz && fn(k) < top) ref.f.push_back(fn(k));
+    std::sort(ref.f.begin(), ref.f.end());
+    ref.g = lti::frequency_response(p.plant, ref.f);
+    // The actuators' columns as the hardware drives them: through the DAC's zero-order hold,
+    // which the full model's ZOH discretisation is exactly.
+    const Index held = static_cast<Index>(p.scene.actuators.size());
+    const Response through_hold = lti::frequency_response(
+        lti::discretise(p.plant, {lti::DiscretisationMethod::kZeroOrderHold, 1 / rate}), ref.f);
+    for (std::size_t k = 0; k < ref.f.size(); ++k)
+      ref.g[k].rightCols(held) = through_hold[k].rightCols(held);
+    ref.peak = MatrixXd::Zero(p.plant.ny(), p.plant.nu());
+    for (const auto& g : ref.g) ref.peak = ref.peak.cwiseMax(g.cwiseAbs());
+    ref.peak = error_scale(ref.peak, p.plant);
+    try {
+      ref.dc = lti::frequency_response(p.plant, {0.0})[0];
+    } catch (const std::domain_error&) {
+    }
+
+    scene::ScenePlant q = p;
+    q.scene.discretisation = {lti::DiscretisationMethod::kZeroOrderHold, rate, 0};
+    const long steps = std::max(10L, std::lround(o.run_s * rate));
+    std::optional<artefact::LoopArtefact> exact;
+    std::string exact_error;
+    if (discrete_controller && rate != sd.rate_hz)
+      exact_error =
+          "the scene's state-space controller is discrete at " + std::to_string(sd.rate_hz) + " Hz";
+    else
+      try {
+        exact = scene::build_loop_artefact(q, scene::sample_scene(q), "dense");
+      } catch (const std::exception& e) {
+        exact_error = e.what();
+      }
+    MatrixXd floor, step_ref, z_ref;
+    if (exact) {
+      TradeoffOptions no_timing;
+      no_timing.repeats = 0;
+      floor = floor_samples(*exact, steps);
+      const KernelRuns k = kernel_runs<double>(*exact, floor, steps, no_timing);
+      step_ref = k.step;
+      z_ref = k.z;
+    }
+
+    for (const Variant& v : plants)
+      for (const std::string& method : o.methods) {
+        scene::ScenePlant c = p;
+        c.plant = v.sys;
+        c.scene.discretisation = {method_of(method), rate,
+                                  method == "tustin-prewarp" ? result.prewarp_hz : 0.0};
+        std::optional<scene::SampledScene> sampled;
+        std::string why = !v.error.empty() ? v.error : exact_error;
+        if (why.empty()) try {
+            if (method == "tustin-prewarp" && !(result.prewarp_hz < rate / 2))
+              throw std::invalid_argument("the pre-warp frequency is above Nyquist");
+            sampled = scene::sample_scene(c);
+          } catch (const std::exception& e) {
+            why = e.what();
+          }
+        for (const std::string& form : o.forms) {
+          std::optional<artefact::LoopArtefact> a;
+          std::string form_why = why;
+          if (form_why.empty()) try {
+              a = scene::build_loop_artefact(c, *sampled, form);
+            } catch (const std::exception& e) {
+              form_why = e.what();
+            }
+          for (const std::string& scalar : o.scalars) {
+            Measurement m;
+            m.config = {method, rate, form, scalar, v.reduction, v.order};
+            m.reduction_bound = v.bound;
+            if (o.progress) o.progress(done, total, m.config);
+            ++done;
+            if (!form_why.empty()) {
+              m.skipped = form_why;
+              result.rows.push_back(m);
+              continue;
+            }
+            const bool single = scalar == "float";
+            const lti::DiscreteStateSpace stored =
+                single ? stored_plant<float>(*a) : stored_plant<double>(*a);
+            try {
+              m.hinf_error =
+                  relative_error(lti::frequency_response(stored, ref.f), ref.g, ref.peak);
+            } catch (const std::domain_error&) {
+              m.hinf_error = INFINITY;
+            }
+            m.dc_error = NAN;
+            if (ref.dc.size() > 0) try {
+                m.dc_error =
+                    relative_error(lti::frequency_response(stored, {0.0}), {ref.dc}, ref.peak);
+              } catch (const std::domain_error&) {
+                m.dc_error = INFINITY;
+              }
+            const KernelRuns k = single ? kernel_runs<float>(*a, floor, steps, o)
+                                        : kernel_runs<double>(*a, floor, steps, o);
+            m.kernel = k.kernel;
+            m.closed_loop_radius = scene::has_controller(c) ? sampled->closed_loop.spectral_radius
+                                                            : sampled->plant.spectral_radius;
+            m.step_error = worst_row_error(k.step, step_ref, false);
+            m.closed_loop_error = worst_row_error(k.z, z_ref, true);
+            m.closed_loop_rms_error = worst_rms_ratio(k.z, z_ref);
+            m.ns_per_step = k.ns.empty() ? NAN : k.ns[k.ns.size() / 2];
+            m.ns_min = k.ns.empty() ? NAN : k.ns.front();
+            m.ns_max = k.ns.empty() ? NAN : k.ns.back();
+            m.period_share = m.ns_per_step * 1e-9 * rate;
+            result.rows.push_back(m);
+          }
+        }
+      }
+  }
+  if (o.progress) o.progress(done, total, {});
+  return result;
+}
+
+double cost_of(const Measurement& m, Cost cost) {
+  return cost == Cost::kStep ? m.ns_per_step : m.period_share;
+}
+
+long cheapest_within(const TradeoffResult& r, double budget) {
+  long best = -1;
+  for (std::size_t k = 0; k < r.rows.size(); ++k) {
+    const Measurement& m = r.rows[k];
+    if (!m.skipped.empty() || !(m.hinf_error <= budget)) continue;
+    if (best < 0 || cost_of(m, r.cost) < cost_of(r.rows[static_cast<std::size_t>(best)], r.cost))
+      best = static_cast<long>(k);
+  }
+  return best;
+}
+
+std::vector<std::size_t> pareto_front(const TradeoffResult& r) {
+  std::vector<std::size_t> measured;
+  for (std::size_t k = 0; k < r.rows.size(); ++k)
+    if (r.rows[k].skipped.empty() && std::isfinite(r.rows[k].hinf_error)) measured.push_back(k);
+  std::sort(measured.begin(), measured.end(), [&](auto a, auto b) {
+    const double x = cost_of(r.rows[a], r.cost), y = cost_of(r.rows[b], r.cost);
+    return x != y ? x < y : r.rows[a].hinf_error < r.rows[b].hinf_error;
+  });
+  std::vector<std::size_t> front;
+  double best_error = INFINITY;
+  for (const std::size_t k : measured)
+    if (r.rows[k].hinf_error < best_error) {
+      front.push_back(k);
+      best_error = r.rows[k].hinf_error;
+    }
+  return front;
+}
+
+}  // namespace flexloop::study
