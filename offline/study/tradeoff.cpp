@@ -4,7 +4,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include "common/input_error.hpp"
@@ -197,19 +199,21 @@ decltype(auto) with_controller(const artefact::LoopArtefact& a, F&& f) {
   return f(ZeroCommand<Scalar>{Eigen::Matrix<Scalar, Eigen::Dynamic, 1>::Zero(a.actuators())});
 }
 
-// What the runtime kernels of one configuration give: open-loop step, closed-loop z, the timing.
+// What the runtime kernels of one configuration give: open-loop step, closed-loop z, and a timer
+// that owns a copy of the loop: timed(steps) runs that many closed-loop steps (after a tenth of
+// them untimed, to warm the caches) and returns ns per step.
 struct KernelRuns {
   MatrixXd step, z;
-  std::vector<double> ns;
+  std::function<double(long)> timed;
   std::string kernel;  // "compiled" or "general"
 };
 
 template <typename Scalar>
-KernelRuns kernel_runs(const artefact::LoopArtefact& a, const MatrixXd& floor, long steps,
-                       const TradeoffOptions& o) {
+KernelRuns kernel_runs(const artefact::LoopArtefact& a, const MatrixXd& floor, long steps) {
   KernelRuns r;
   const Index nz = a.performance(), ns = a.sensors();
-  const Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> w = floor.cast<Scalar>();
+  using Floor = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
+  const auto w = std::make_shared<const Floor>(floor.cast<Scalar>());
   // NW, NS: compiled counts, or Eigen::Dynamic.
   auto measure = [&](auto plant, auto controller, auto nw_count, auto ns_count) {
     constexpr int NW = decltype(nw_count)::value, NS = decltype(ns_count)::value;
@@ -218,14 +222,14 @@ KernelRuns kernel_runs(const artefact::LoopArtefact& a, const MatrixXd& floor, l
     auto loop_plant = plant;
     auto loop_controller = controller;
     r.z.resize(nz, steps);
-    run_loop<NW, NS>(loop_plant, loop_controller, w, nz, ns, steps, &r.z);
-    for (int k = 0; k < o.repeats; ++k) {
+    run_loop<NW, NS>(loop_plant, loop_controller, *w, nz, ns, steps, &r.z);
+    r.timed = [plant, controller, w, nz, ns](long n) mutable {
+      run_loop<NW, NS>(plant, controller, *w, nz, ns, std::max(n / 10, 1L), nullptr);
       const auto t0 = std::chrono::steady_clock::now();
-      run_loop<NW, NS>(plant, controller, w, nz, ns, o.bench_steps, nullptr);
+      run_loop<NW, NS>(plant, controller, *w, nz, ns, n, nullptr);
       const auto t1 = std::chrono::steady_clock::now();
-      r.ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count() /
-                     static_cast<double>(o.bench_steps));
-    }
+      return std::chrono::duration<double, std::nano>(t1 - t0).count() / static_cast<double>(n);
+    };
   };
   // The kernels `flexloop sim` would use: a compiled loop where one matches (double, the PI),
   // otherwise the general path.
@@ -251,7 +255,6 @@ KernelRuns kernel_runs(const artefact::LoopArtefact& a, const MatrixXd& floor, l
     });
     r.kernel = "general";
   }
-  std::sort(r.ns.begin(), r.ns.end());
   return r;
 }
 
@@ -321,8 +324,16 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
   result.prewarp_hz = f_min;
 
   const std::vector<Variant> plants = variants(p, o, {result.band_low_hz, result.band_hz});
-  const std::size_t total =
+  const std::size_t configurations =
       plants.size() * rates.size() * o.methods.size() * o.forms.size() * o.scalars.size();
+  // Progress counts the error runs, then every timing pass over the measured configurations
+  // (known once the first part is done; until then counted as if none were skipped).
+  std::size_t total = configurations * static_cast<std::size_t>(1 + o.repeats);
+  struct Timer {
+    std::size_t row;
+    std::function<double(long)> timed;
+  };
+  std::vector<Timer> timers;
   std::size_t done = 0;
   const bool discrete_controller = p.state_space && !p.state_space->continuous;
 
@@ -368,10 +379,8 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
       }
     MatrixXd floor, step_ref, z_ref;
     if (exact) {
-      TradeoffOptions no_timing;
-      no_timing.repeats = 0;
       floor = floor_samples(*exact, steps);
-      const KernelRuns k = kernel_runs<double>(*exact, floor, steps, no_timing);
+      const KernelRuns k = kernel_runs<double>(*exact, floor, steps);
       step_ref = k.step;
       z_ref = k.z;
     }
@@ -426,24 +435,40 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
               } catch (const std::domain_error&) {
                 m.dc_error = INFINITY;
               }
-            const KernelRuns k = single ? kernel_runs<float>(*a, floor, steps, o)
-                                        : kernel_runs<double>(*a, floor, steps, o);
+            KernelRuns k = single ? kernel_runs<float>(*a, floor, steps)
+                                  : kernel_runs<double>(*a, floor, steps);
             m.kernel = k.kernel;
             m.closed_loop_radius = scene::has_controller(c) ? sampled->closed_loop.spectral_radius
                                                             : sampled->plant.spectral_radius;
             m.step_error = worst_row_error(k.step, step_ref, false);
             m.closed_loop_error = worst_row_error(k.z, z_ref, true);
             m.closed_loop_rms_error = worst_rms_ratio(k.z, z_ref);
-            m.ns_per_step = k.ns.empty() ? NAN : k.ns[k.ns.size() / 2];
-            m.ns_min = k.ns.empty() ? NAN : k.ns.front();
-            m.ns_max = k.ns.empty() ? NAN : k.ns.back();
-            m.period_share = m.ns_per_step * 1e-9 * rate;
+            timers.push_back({result.rows.size(), std::move(k.timed)});
             result.rows.push_back(m);
           }
         }
       }
   }
-  if (o.progress) o.progress(done, total, {});
+  // The timing, round-robin: each pass times every configuration once, so that the VM's slow
+  // and fast phases (tens of seconds) fall on all of them alike, not on whichever was measured
+  // then.
+  total = done + static_cast<std::size_t>(o.repeats) * timers.size();
+  std::vector<std::vector<double>> ns(timers.size());
+  for (int pass = 0; pass < o.repeats; ++pass)
+    for (std::size_t k = 0; k < timers.size(); ++k) {
+      if (o.progress) o.progress(done, total, result.rows[timers[k].row].config);
+      ++done;
+      ns[k].push_back(timers[k].timed(o.bench_steps));
+    }
+  for (std::size_t k = 0; k < timers.size(); ++k) {
+    Measurement& m = result.rows[timers[k].row];
+    std::sort(ns[k].begin(), ns[k].end());
+    m.ns_per_step = ns[k].empty() ? NAN : ns[k][ns[k].size() / 2];
+    m.ns_min = ns[k].empty() ? NAN : ns[k].front();
+    m.ns_max = ns[k].empty() ? NAN : ns[k].back();
+    m.period_share = m.ns_per_step * 1e-9 * m.config.rate_hz;
+  }
+  if (o.progress) o.progress(total, total, {});
   return result;
 }
 

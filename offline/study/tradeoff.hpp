@@ -30,8 +30,11 @@
 //   ns_per_step  the closed-loop step (plant output + controller + plant advance) on the kernels
 //                `flexloop sim` uses for it (a compiled loop where one matches, in double with the
 //                PI; otherwise the general path, sized at start-up) timed in-process: `repeats`
-//                runs of `bench_steps` steps, median and spread; period_share = ns_per_step /
-//                period.
+//                runs of `bench_steps` steps (each after a tenth of them untimed), round-robin
+//                over the configurations so that the machine's slow and fast phases fall on all
+//                of them alike; median and spread; period_share = ns_per_step / period. Each
+//                configuration's loop is kept until the timing: a sweep of large dense plants
+//                holds them all (2000 states: 64 MB each in double).
 //
 // A configuration a method cannot discretise (forward Euler of a lightly damped mode) or a form
 // it cannot take (the modal form of a defective plant) is kept as a row with its reason.
@@ -84,8 +87,8 @@ struct TradeoffOptions {
   double band_hz = 0;       ///< 0: 2 x the highest natural frequency
   int points = 300;         ///< frequency grid (log-spaced, plus each mode's frequency)
   double run_s = 0.5;       ///< closed-loop and step runs, simulated seconds
-  long bench_steps = 20000;
-  int repeats = 5;
+  long bench_steps = 5000;
+  int repeats = 15;
   Cost cost = Cost::kStep;
   /// Called before each configuration: done so far, total.
   std::function<void(std::size_t, std::size_t, const Configuration&)> progress;

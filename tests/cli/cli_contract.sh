@@ -146,7 +146,33 @@ out=$("$flexloop" analyse "$strut" --points 20 --out-dir "$tmp/strut_analyse" 2>
   fail "analyse one strut does not report the sampled loop: $out"
 grep -q '"spectral_radius"' "$tmp/strut_analyse/analysis.json" || fail "analysis.json lacks the sampled loop's spectral radius"
 
-for cmd in version linearise analyse discretise fit-metrology sim hil plant controller baseline; do
+# reduce: a linearised model to fewer states, same format (discretise reads it); bad options exit 2.
+"$flexloop" reduce "$tmp/cart.json" --method balanced --order 1 -o "$tmp/cart_1.json" >/dev/null ||
+  fail "reduce cart"
+"$flexloop" discretise "$tmp/cart_1.json" --method zoh --rate 1000 -o "$tmp/cart_1_d.json" >/dev/null ||
+  fail "discretise a reduced model"
+out=$("$flexloop" reduce "$tmp/cart.json" --method balanced -o "$tmp/r.json" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"--order"* && ! -e "$tmp/r.json" ]] || fail "reduce without order: exit $rc ($out)"
+out=$("$flexloop" reduce "$tmp/cart.json" --method balanced --order 9 -o "$tmp/r.json" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"above the model"* && ! -e "$tmp/r.json" ]] || fail "reduce above order: exit $rc ($out)"
+
+# tradeoff: a small sweep writes its three files; an unknown method or an unwritable directory
+# exits 2 before any work.
+three="$root/tests/fixtures/three_masses.toml"
+out=$("$flexloop" tradeoff "$three" --methods zoh euler --rates 2000 --forms dense --scalars double float \
+  --reductions balanced --orders 8 --repeats 1 --bench-steps 200 --run 0.05 --budget 0.5 -q \
+  --out-dir "$tmp/tradeoff" 2>&1) || fail "tradeoff: $out"
+[[ "$out" == *"ns/step"* && "$out" == *"cheapest"* ]] || fail "tradeoff output: $out"
+for f in tradeoff.csv tradeoff.json pareto_front.png; do
+  [[ -s "$tmp/tradeoff/$f" ]] || fail "tradeoff wrote no $f"
+done
+out=$("$flexloop" tradeoff "$three" --methods rk4 --out-dir "$tmp/t2" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"--methods"*"rk4"* ]] || fail "tradeoff --methods rk4: exit $rc ($out)"
+out=$("$flexloop" tradeoff "$three" --out-dir /proc/flexloop 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"cannot be written"* ]] || fail "tradeoff unwritable: exit $rc ($out)"
+
+for cmd in version linearise analyse discretise reduce build fit-metrology sim hil plant controller \
+  baseline log tradeoff; do
   "$flexloop" $cmd --help | grep -q "Example" || fail "$cmd --help has no example"
 done
 echo "cli contract: 21 checks passed"
