@@ -71,12 +71,29 @@ Scene parse_scene(const std::string& text, const std::string& file) {
     sr.fail("model file '" + s.model_path + "' does not exist", sr.get("model"));
 
   TomlReader pr(*table(top, root, "plant", true), file, "[plant]");
-  pr.allow_only({"gravity_preload", "disturbances", "actuators", "performance", "sensors"});
+  pr.allow_only({"gravity_preload", "disturbances", "actuators", "performance", "sensors",
+                 "reduction", "order", "band_hz"});
   s.gravity_preload = pr.boolean("gravity_preload", false);
   s.disturbances = names(pr, "disturbances");
   s.actuators = names(pr, "actuators");
   s.performance = names(pr, "performance");
   s.sensors = names(pr, "sensors");
+  if (pr.has("reduction")) {
+    auto& r = s.reduction;
+    r.method = pr.string("reduction");
+    r.place = pr.place(pr.get("reduction"));
+    if (r.method != "modal" && r.method != "modal-dc" && r.method != "balanced")
+      pr.fail("reduction '" + r.method + "' is not one of modal, modal-dc, balanced",
+              pr.get("reduction"));
+    if (!pr.has("order"))
+      pr.fail("a reduction needs an 'order' (states to keep)", pr.get("reduction"));
+    r.order = static_cast<int>(count(pr, "order", 0));
+    if (r.order < 1) pr.fail("'order' must be at least 1", pr.get("order"));
+    r.band_hz = non_negative(pr, "band_hz", 0.0);
+  } else if (pr.has("order") || pr.has("band_hz")) {
+    pr.fail("'order' and 'band_hz' belong to a 'reduction'",
+            pr.get(pr.has("order") ? "order" : "band_hz"));
+  }
 
   s.controller.place = file;
   if (const auto* t = table(top, root, "controller", false)) {

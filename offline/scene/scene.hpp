@@ -49,12 +49,22 @@ struct RunSettings {
   double duration_s = 10.0;
 };
 
+/// [plant] reduction: the linearised plant reduced before anything uses it (the loop artefact,
+/// sim, hil and analyse then see the reduced one); plant/lti/model_reduction.hpp.
+struct ReductionSettings {
+  std::string method;  ///< "" (none), "modal", "modal-dc", "balanced"
+  int order = 0;       ///< states to keep
+  double band_hz = 0;  ///< modal: judge the modes' contributions up to this (0: everywhere)
+  std::string place;   ///< "file:line" of the `reduction` key
+};
+
 struct Scene {
   std::string file;  ///< as given
   std::string name;
   std::string model_path;  ///< resolved relative to the scene file's folder
   bool gravity_preload = false;
   std::vector<std::string> disturbances, actuators, performance, sensors;
+  ReductionSettings reduction;
   ControllerSettings controller;
   DiscretisationSettings discretisation;
   FloorSettings floor;

@@ -1,5 +1,6 @@
 #include "offline/scene/scene_plant.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -7,6 +8,7 @@
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
 #include "plant/lti/modal_analysis.hpp"
+#include "plant/lti/model_reduction.hpp"
 #include "plant/lti/state_space_builder.hpp"
 #include "plant/model/model_parser.hpp"
 #include "plant/model/static_equilibrium.hpp"
@@ -96,6 +98,7 @@ ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& option
   } catch (const InputError& e) {
     throw InputError(scene.file, std::string("[plant]: ") + e.what());
   }
+  if (!scene.reduction.method.empty()) p.plant = reduced_plant(p.plant, scene);
   p.partition = {static_cast<Eigen::Index>(scene.disturbances.size()),
                  static_cast<Eigen::Index>(scene.performance.size())};
   // No controller: the plant runs alone (an external controller, an open-loop study).
@@ -359,6 +362,56 @@ void require_stable_sampled_loop(const ScenePlant& p) {
                   "[effects] (delays, actuator gain and lag, sensor gain error)",
                   kMaxSuggestedRateHz);
   throw InputError(scene_place(p.scene, "discretisation", "rate_hz"), what + fix);
+}
+
+plant::lti::StateSpace reduced_plant(const plant::lti::StateSpace& full, const Scene& scene) {
+  const auto& r = scene.reduction;
+  const auto fail = [&](const std::string& what) {
+    throw InputError(r.place, "[plant]: reduction: " + what);
+  };
+  if (r.order > full.nx())
+    fail("order " + std::to_string(r.order) + " is above the plant's " + std::to_string(full.nx()) +
+         " states");
+  // The floor's position and velocity as states (acceleration inputs): the loop starts them
+  // where the floor is (online/sim/loop_hardware.hpp), so they must stay states with their
+  // labels. Modal truncation keeps them as the coordinates of its block at the origin; balanced
+  // coordinates mix them.
+  std::vector<std::string> floor_states;
+  for (const std::string& w : scene.disturbances)
+    if (w.rfind("acc:", 0) == 0)
+      for (const char* kind : {"pos:", "vel:"}) {
+        const std::string label = kind + w.substr(4);
+        if (std::find(full.states.begin(), full.states.end(), label) != full.states.end())
+          floor_states.push_back(label);
+      }
+  try {
+    if (r.method == "balanced") {
+      if (!floor_states.empty())
+        fail("this plant has the floor's position as states (" + floor_states.front() +
+             ", ...), which balanced coordinates mix with the structure's; use modal or "
+             "modal-dc");
+      return plant::lti::balanced_truncation(full, r.order).sys;
+    }
+    const plant::lti::ReducedModel m =
+        plant::lti::modal_truncation(full, {.order = r.order,
+                                            .dc_correction = r.method == "modal-dc",
+                                            .band_low_hz = r.band_hz > 0 ? r.band_hz / 1e4 : 0,
+                                            .band_hz = r.band_hz,
+                                            .origin_states = floor_states});
+    for (const std::string& label : floor_states)
+      if (std::find(m.sys.states.begin(), m.sys.states.end(), label) == m.sys.states.end())
+        fail("the floor's states (" + label +
+             ", ...) do not span the plant's poles at the origin "
+             "(a rigid-body mode of the structure itself?): they cannot be kept as states");
+    return m.sys;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::invalid_argument& e) {
+    fail(e.what());
+  } catch (const std::runtime_error& e) {
+    fail(e.what());
+  }
+  return full;  // not reached
 }
 
 SampledScene sample_scene(const ScenePlant& p) {

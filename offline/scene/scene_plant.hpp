@@ -122,6 +122,11 @@ struct ScenePlantOptions {
 /// @throws flexloop::InputError naming the scene (or model) file for bad channels or models.
 ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& options = {});
 
+/// The scene's [plant] reduction of the linearised plant G (plant/lti/model_reduction.hpp); the
+/// floor's position and velocity states, when G has them, stay states with their labels (modal
+/// truncation only). @throws flexloop::InputError at the `reduction` key.
+plant::lti::StateSpace reduced_plant(const plant::lti::StateSpace& full, const Scene& scene);
+
 struct SampledScene {
   plant::lti::DiscreteStateSpace plant, controller;
   plant::lti::DiscreteStateSpace closed_loop;  ///< w -> z as the simulation loop closes it

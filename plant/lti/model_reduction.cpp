@@ -40,7 +40,8 @@ struct Mode {
 // round-off and are dropped where blocks are taken), Bm = T^-1 B, Cm = C T.
 struct RealModes {
   MatrixXd T, Am, Bm, Cm;
-  std::vector<Mode> modes;  // by |pole| ascending
+  std::vector<Mode> modes;                 // by |pole| ascending
+  std::vector<std::string> origin_labels;  // the origin block's states, when they are physical
 };
 
 // An orthonormal basis of the invariant subspace of the eigenvalue 0 (its generalised eigenvectors,
@@ -62,7 +63,8 @@ MatrixXd origin_subspace(const MatrixXd& A, Index count) {
   return K;
 }
 
-RealModes real_modes(const StateSpace& s, double max_condition) {
+RealModes real_modes(const StateSpace& s, double max_condition,
+                     const std::vector<std::string>& origin_states = {}) {
   s.validate();
   const Index n = s.nx();
   const Eigen::VectorXd t = balancing_scaling(s.A);
@@ -92,6 +94,24 @@ RealModes real_modes(const StateSpace& s, double max_condition) {
           " poles at the origin do not span an invariant subspace of that size (found " +
           std::to_string(K.cols()) + "); use balanced truncation");
     Tb.leftCols(at_origin) = K;
+    // In the coordinates of the named states when they span the block: the stable modes have no
+    // component in states that only the inputs drive (the floor's position and velocity), so
+    // those states are then exactly the block's coordinates.
+    if (static_cast<Index>(origin_states.size()) == at_origin) {
+      MatrixXd rows(at_origin, at_origin);
+      Index found = 0;
+      for (const std::string& label : origin_states)
+        for (Index i = 0; i < n; ++i)
+          if (s.states[static_cast<std::size_t>(i)] == label) rows.row(found++) = t(i) * K.row(i);
+      if (found == at_origin) {
+        Eigen::JacobiSVD<MatrixXd> rsv(rows);
+        const auto& v = rsv.singularValues();
+        if (v(at_origin - 1) > 1e-8 * v(0)) {
+          Tb.leftCols(at_origin) = K * rows.inverse();
+          r.origin_labels = origin_states;
+        }
+      }
+    }
     modes.push_back(
         {.start = 0, .size = static_cast<int>(at_origin), .pole = 0, .always_kept = true});
     col = at_origin;
@@ -200,7 +220,7 @@ std::vector<ModeContribution> modal_contributions(const StateSpace& sys,
 ReducedModel modal_truncation(const StateSpace& sys, const ModalTruncationOptions& o) {
   if (o.order < 0 && !(o.below_hz > 0 && std::isfinite(o.below_hz)))
     throw std::invalid_argument("modal truncation: give an order (>= 0) or a frequency (> 0)");
-  const RealModes r = real_modes(sys, o.max_condition);
+  const RealModes r = real_modes(sys, o.max_condition, o.origin_states);
   const std::vector<double> c = contributions(sys, r, {o.band_low_hz, o.band_hz});
   std::vector<bool> keep(r.modes.size(), false);
   ReducedModel out;
@@ -236,6 +256,10 @@ ReducedModel modal_truncation(const StateSpace& sys, const ModalTruncationOption
   for (std::size_t k = 0; k < r.modes.size(); ++k) {
     const Mode& m = r.modes[k];
     if (keep[k]) {
+      const bool physical = m.pole == 0.0 && !r.origin_labels.empty();
+      for (int i = 0; i < m.size; ++i)
+        s.states.push_back(physical ? r.origin_labels[static_cast<std::size_t>(i)]
+                                    : "mode:" + std::to_string(at + i + 1));
       s.A.block(at, at, m.size, m.size) = r.Am.block(m.start, m.start, m.size, m.size);
       s.B.middleRows(at, m.size) = r.Bm.middleRows(m.start, m.size);
       s.C.middleCols(at, m.size) = r.Cm.middleCols(m.start, m.size);
@@ -246,7 +270,6 @@ ReducedModel modal_truncation(const StateSpace& sys, const ModalTruncationOption
                                                     .solve(r.Bm.middleRows(m.start, m.size));
     }
   }
-  s.states = numbered("mode:", kept);
   s.inputs = sys.inputs;
   s.outputs = sys.outputs;
   out.method = o.dc_correction ? "modal-dc" : "modal";

@@ -52,6 +52,12 @@ struct ModalTruncationOptions {
   /// frequency held inside the band: a mode above it counts with its quasi-static tail at the
   /// band's top, however sharp its own resonance); 0: everywhere
   double band_low_hz = 0, band_hz = 0;
+  /// Labels of states to express the block of the poles at the origin in (the floor's position
+  /// and velocity): when they are as many as those poles and span their block, the reduced
+  /// model keeps them, with their labels, as exact coordinates (states that only the inputs
+  /// drive have no component in the stable modes); otherwise that block is in modal coordinates
+  /// too ("mode:<k>", like every kept mode).
+  std::vector<std::string> origin_states = {};
 };
 
 /// @throws std::invalid_argument for an invalid system, neither order nor below_hz given, or a

@@ -196,6 +196,14 @@ TEST_CASE("modal truncation keeps a pole at the origin and refuses a defective A
   const ReducedModel kept = modal_truncation(floor, {.order = 4});
   CHECK(kept.kept_unstable == 2);
   REQUIRE(kept.sys.nx() == 4);
+  // Expressed in the floor's own states, which only the input drives: they stay, labelled.
+  const ReducedModel physical =
+      modal_truncation(floor, {.order = 4, .origin_states = {"pos", "vel"}});
+  REQUIRE(physical.sys.nx() == 4);
+  CHECK(physical.sys.states[0] == "pos");
+  CHECK(physical.sys.states[1] == "vel");
+  CHECK(std::abs(physical.sys.A(0, 1) - 1) < 1e-12);  // position' = velocity, exactly as before
+  CHECK(physical.sys.B.row(1).norm() == Approx(1).epsilon(1e-12));  // velocity' = the input
   const auto fl = log_frequency_grid_hz(0.1, 10, 100);
   const auto gf = frequency_response(floor, fl), gk = frequency_response(kept.sys, fl);
   for (std::size_t k = 0; k < fl.size(); ++k)

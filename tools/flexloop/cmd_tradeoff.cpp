@@ -121,16 +121,19 @@ void register_tradeoff(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", args->quiet, "No progress on stderr");
   cmd->footer(
-      "Errors (relative, worst input-output pair or output): H-inf of the discrete response "
-      "against the continuous full model in the band; DC; an open-loop unit step on every input "
-      "against exact ZOH at the same rate; the closed loop on the scene's floor against the "
-      "full model by exact ZOH at the same rate (RMS of the difference, and of the RMS). Time: "
-      "the closed-loop step (plant + controller) on the kernels of that form and scalar, "
-      "median of the repeats. Measure alone: a build or a second run beside it skews the "
-      "times.\n"
-      "Example:\n  flexloop tradeoff tools/scenes/metrology_frame.toml --budget 1e-3\n"
+      "Errors (relative; the worst input-output pair or output): H-inf of the discrete response "
+      "in the band against the exact plant as the loop drives it (the floor's columns against "
+      "the continuous G(jw), the actuators' behind their zero-order hold); DC; an open-loop unit "
+      "step on every input and the closed loop on the scene's floor, each against the full model "
+      "by exact ZOH in double at the same rate (loop err: RMS of the difference; loop RMS: of the "
+      "RMS). Time: the closed-loop step (plant + controller) on the kernels sim would use, "
+      "median of the round-robin passes. Measure alone: a build or a second run beside it skews "
+      "the times. doc/tradeoff.md has the details.\n"
+      "Example:\n  flexloop tradeoff tools/scenes/metrology_frame.toml --budget 1e-2\n"
+      "  flexloop tradeoff tools/scenes/flexible_arm.toml --band 500 --methods zoh foh tustin "
+      "--rates 5000 10000 --reductions modal-dc balanced --orders 16 30 60 --budget 2e-2\n"
       "  flexloop tradeoff tools/scenes/metrology_frame.toml --methods zoh tustin --rates 2000 "
-      "10000 --reductions balanced --orders 4 8 --out-dir out/small");
+      "10000 --reductions none --cost share --out-dir out/small");
   cmd->callback([args] { run(*args); });
 }
 
