@@ -85,6 +85,7 @@ RealModes real_modes(const StateSpace& s, double max_condition,
   // which have no eigenvector basis) as one block: the null space of Ab^m, m their count, which
   // is their invariant subspace whatever their Jordan structure.
   Index at_origin = 0;
+  MatrixXd to_named;  // the origin block's change to the named states' coordinates, if any
   for (Index k = 0; k < n; ++k) at_origin += std::abs(lambda(k)) <= origin;
   if (at_origin > 0) {
     const MatrixXd K = origin_subspace(Ab, at_origin);
@@ -107,7 +108,7 @@ RealModes real_modes(const StateSpace& s, double max_condition,
         Eigen::JacobiSVD<MatrixXd> rsv(rows);
         const auto& v = rsv.singularValues();
         if (v(at_origin - 1) > 1e-8 * v(0)) {
-          Tb.leftCols(at_origin) = K * rows.inverse();
+          to_named = rows;  // applied once the decomposition is done (below)
           r.origin_labels = origin_states;
         }
       }
@@ -142,6 +143,17 @@ RealModes real_modes(const StateSpace& s, double max_condition,
   r.Bm = lu.solve(t.cwiseInverse().asDiagonal() * s.B);
   r.Cm = s.C * t.asDiagonal() * Tb;
   r.T = t.asDiagonal() * Tb;
+  // The origin block in the named states' coordinates z' = R z (R: their rows of T): a change of
+  // basis inside the block, after the decomposition, so that it neither enters the eigenvector
+  // condition above nor the solves (the named states' balancing scales can be far apart).
+  if (to_named.size() > 0) {
+    const Index m = to_named.rows();
+    const MatrixXd back = to_named.inverse();  // m x m, checked well-conditioned above
+    r.Am.topLeftCorner(m, m) = (to_named * r.Am.topLeftCorner(m, m) * back).eval();
+    r.Bm.topRows(m) = (to_named * r.Bm.topRows(m)).eval();
+    r.Cm.leftCols(m) = (r.Cm.leftCols(m) * back).eval();
+    r.T.leftCols(m) = (r.T.leftCols(m) * back).eval();
+  }
   std::stable_sort(modes.begin(), modes.end(), [](const Mode& a, const Mode& b) {
     return std::abs(a.pole) < std::abs(b.pole);
   });
