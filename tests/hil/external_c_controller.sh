@@ -99,7 +99,12 @@ assert len(sim) == 6 and set(sim) == set(run), (sim, run)
 for name, (off, on) in sim.items():
     print(f"{name}: external C controller {run[name]:.4e} ({20 * math.log10(run[name] / off):+.1f} dB "
           f"against sim's controller off), sim {on:.4e} ({20 * math.log10(on / off):+.1f} dB)")
-    assert abs(run[name] / on - 1) <= 0.05, (name, run[name], on)
+    if abs(run[name] / on - 1) > 0.05:
+        # Safe-command cycles (a VM stall) change what the plant applied: not sim's loop; retry.
+        if plant.get("safe_command_cycles", 0) > 0:
+            print(f"{name} off sim by more than 5 % after {plant['safe_command_cycles']} safe-command cycles")
+            sys.exit(3)
+        raise AssertionError((name, run[name], on))
 PY
 }
 
