@@ -168,7 +168,7 @@ double worst_row_error(const MatrixXd& y, const MatrixXd& ref, bool rms) {
     else if (diff > 0)
       worst = INFINITY;
   }
-  return std::isfinite(worst) || y.allFinite() ? worst : INFINITY;
+  return y.allFinite() ? worst : INFINITY;  // a run that went non-finite is not 'close'
 }
 
 double worst_rms_ratio(const MatrixXd& z, const MatrixXd& ref) {
@@ -300,7 +300,10 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
   std::vector<double> rates = o.rates_hz;
   if (rates.empty()) rates = {sd.rate_hz / 10, sd.rate_hz / 2, sd.rate_hz, 2 * sd.rate_hz};
   for (const double r : rates)
-    if (!(r > 0 && std::isfinite(r))) throw InputError(file, "--rates: each rate must be > 0");
+    if (!(r > 0 && r <= scene::kMaxLoopRateHz))
+      throw InputError(file, "--rates: each rate must be in (0, " +
+                                 std::to_string(static_cast<long>(scene::kMaxLoopRateHz)) +
+                                 "] Hz (the loop commands' ceiling)");
 
   TradeoffResult result;
   result.full_order = n;

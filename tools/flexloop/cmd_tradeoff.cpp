@@ -84,7 +84,7 @@ void register_tradeoff(CLI::App& app) {
       ->capture_default_str();
   cmd->add_option("--rates", o.rates_hz,
                   "Sample rates, Hz (default: the scene's / 10, / 2, x 1, x 2)")
-      ->check(finite_positive());
+      ->check(finite_range(1e-3, scene::kMaxLoopRateHz));
   cmd->add_option("--forms", o.forms, "dense, modal")->capture_default_str();
   cmd->add_option("--scalars", o.scalars, "double, float")->capture_default_str();
   cmd->add_option("--reductions", o.reductions,
@@ -98,7 +98,7 @@ void register_tradeoff(CLI::App& app) {
                   "never above Nyquist)")
       ->check(finite_positive());
   cmd->add_option("--run", o.run_s, "Simulated seconds of the step and closed-loop runs")
-      ->check(finite_positive())
+      ->check(finite_range(1e-6, 60))
       ->capture_default_str();
   cmd->add_option("--bench-steps", o.bench_steps, "Closed-loop steps per timing repeat")
       ->check(CLI::Range(100L, 100'000'000L))
