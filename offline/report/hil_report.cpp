@@ -106,6 +106,16 @@ void print_physical(const nlohmann::json& r) {
               largest, 100 * p->value("saturated_share", 0.0));
 }
 
+void print_verdict(const nlohmann::json& r) {
+  const auto v = r.find("verdict");
+  if (v == r.end() || !v->is_object()) return;
+  std::printf("verdict: %s", v->value("result", "?").c_str());
+  if (r.value("partial", false)) std::printf(" (partial: %lld cycles ran)", r.value("cycles", 0LL));
+  for (const auto& reason : v->value("reasons", std::vector<std::string>{}))
+    std::printf("\n  - %s", reason.c_str());
+  std::printf("\n");
+}
+
 void print_hil_summary(const nlohmann::json& r) {
   const double cycles = r.value("cycles", 0.0);
   const auto& pp = r["baseline"]["pingpong"];
@@ -139,13 +149,15 @@ void print_hil_summary(const nlohmann::json& r) {
         "needs %lld): lengthen --baseline-duration\n",
         pp.value("sent", 0LL), timer.value("cycles", 0LL), pp.value("min_samples", 0LL));
   print_physical(r);
+  print_verdict(r);
 }
 
 void print_sweep_table(const std::vector<nlohmann::json>& reports) {
   std::printf(
       "\n| rate | wait | receive | cycles | misses | misses, ping-pong | round trip p50 / p99 / "
-      "p99.9 [us] | ping-pong p50 / p99 / p99.9 [us] | p99 ratio | timer lateness p99 [us] |\n"
-      "|---|---|---|---|---|---|---|---|---|---|\n");
+      "p99.9 [us] | ping-pong p50 / p99 / p99.9 [us] | p99 ratio | timer lateness p99 [us] | "
+      "verdict |\n"
+      "|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& r : reports) {
     const auto& rtt = r["round_trip_ns"];
     const auto& pp = r["baseline"]["pingpong"];
@@ -154,7 +166,7 @@ void print_sweep_table(const std::vector<nlohmann::json>& reports) {
         ppr.value("p99", 0.0) > 0 ? rtt.value("p99", 0.0) / ppr.value("p99", 0.0) : 0.0;
     std::printf(
         "| %.6g kHz | %s | %s | %lld | %lld (%.2f %%) | %lld (%.2f %%) | %.1f / %.1f / %.1f "
-        "| %.1f / %.1f / %.1f | %.2f | %.1f |\n",
+        "| %.1f / %.1f / %.1f | %.2f | %.1f | %s |\n",
         r.value("rate_hz", 0.0) / 1e3, r.value("wait_mode", "?").c_str(),
         r.value("receive_path", "?").c_str(), r.value("cycles", 0LL),
         r.value("deadline_misses", 0LL),
@@ -162,7 +174,8 @@ void print_sweep_table(const std::vector<nlohmann::json>& reports) {
         pp.value("unanswered", 0LL), percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)),
         rtt.value("p50", 0) / 1e3, rtt.value("p99", 0) / 1e3, rtt.value("p999", 0) / 1e3,
         ppr.value("p50", 0) / 1e3, ppr.value("p99", 0) / 1e3, ppr.value("p999", 0) / 1e3, ratio,
-        r["baseline"]["timer"]["wakeup_lateness_ns"].value("p99", 0) / 1e3);
+        r["baseline"]["timer"]["wakeup_lateness_ns"].value("p99", 0) / 1e3,
+        r.contains("verdict") ? r["verdict"].value("result", "?").c_str() : "?");
   }
 }
 

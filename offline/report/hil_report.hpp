@@ -22,7 +22,10 @@ namespace flexloop::hil {
 /// returns the paths written.
 std::vector<std::string> write_hil_report(const nlohmann::json& report, const std::string& path);
 
-/// Prints the run's figures beside its baselines.
+/// Prints the run's verdict (report "verdict": pass / fail / interrupted, and why).
+void print_verdict(const nlohmann::json& report);
+
+/// Prints the run's figures beside its baselines, and its verdict.
 void print_hil_summary(const nlohmann::json& report);
 
 /// The run's physical figures (report "physical"): RMS of each performance output beside what

@@ -3,9 +3,11 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdio>
 #include <stdexcept>
@@ -32,6 +34,7 @@ ChildProcess::ChildProcess(const Body& body) {
   int fds[2];
   if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("cannot create a pipe");
   std::fflush(nullptr);
+  const pid_t parent = getpid();
   pid_ = fork();
   if (pid_ < 0) {
     close(fds[0]);
@@ -39,6 +42,8 @@ ChildProcess::ChildProcess(const Body& body) {
     throw std::runtime_error("fork failed");
   }
   if (pid_ == 0) {
+    prctl(PR_SET_PDEATHSIG, SIGTERM);
+    if (getppid() != parent) _exit(1);  // the parent died before the line above
     close(fds[0]);
     std::string out;
     int code = 0;
@@ -94,12 +99,14 @@ void ChildProcess::signal(int sig) {
   if (pid_ > 0) kill(pid_, sig);
 }
 
-std::string ChildProcess::finish(std::int64_t timeout_ns) {
+std::string ChildProcess::finish(std::int64_t timeout_ns, const std::function<void()>& tick) {
   const std::int64_t deadline = rt::monotonic_now_ns() + timeout_ns;
+  constexpr std::int64_t kTickNs = 250'000'000;
   bool eof = false;
   while (!eof && rt::monotonic_now_ns() < deadline) {
-    eof = read_until_eof(deadline);
+    eof = read_until_eof(tick ? std::min(deadline, rt::monotonic_now_ns() + kTickNs) : deadline);
     if (buffer_ == "R") buffer_.clear();  // a late "ready"
+    if (tick && !eof) tick();
   }
   reap(!eof);
   if (!eof) throw std::runtime_error("child process did not finish in time (killed)");
@@ -107,6 +114,13 @@ std::string ChildProcess::finish(std::int64_t timeout_ns) {
   if (buffer_.empty()) throw std::runtime_error("child process ended without a result");
   if (buffer_[0] == 'E') throw std::runtime_error(buffer_.substr(1));
   return buffer_.substr(1);
+}
+
+bool ChildProcess::running() {
+  if (pid_ <= 0) return false;
+  siginfo_t info{};  // WNOWAIT: finish() still reaps it and reads its message
+  if (waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOHANG | WNOWAIT) != 0) return false;
+  return info.si_pid == 0;
 }
 
 void ChildProcess::reap(bool kill_first) {

@@ -5,7 +5,8 @@
 //
 // Pipe protocol: 'R' once when ready, then 'O' + text when the body returned, or 'E' + message
 // when it threw; then EOF. The child ends with _exit (the parent's atexit handlers and stdio
-// buffers are not its to run; stdout is flushed before fork and by the child before _exit).
+// buffers are not its to run; stdout is flushed before fork and by the child before _exit). A
+// child whose parent dies gets SIGTERM (PR_SET_PDEATHSIG): no loop is left spinning behind.
 #include <sys/types.h>
 
 #include <cstdint>
@@ -30,8 +31,11 @@ class ChildProcess {
   /// Sends a signal to the child (by its pid).
   void signal(int sig);
   /// Waits up to timeout_ns for the child's result and reaps it (SIGKILL after the timeout);
-  /// std::runtime_error carrying the child's error when it failed.
-  std::string finish(std::int64_t timeout_ns);
+  /// std::runtime_error carrying the child's error when it failed. tick, when given, is called
+  /// about four times a second while waiting (a status line, forwarding a stop request).
+  std::string finish(std::int64_t timeout_ns, const std::function<void()>& tick = {});
+  /// True while the child has not ended (it may have failed: finish() says how).
+  bool running();
 
   pid_t pid() const { return pid_; }
 

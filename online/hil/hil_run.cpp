@@ -9,9 +9,12 @@
 #include "online/hil/baseline_json.hpp"
 #include "online/hil/child_process.hpp"
 #include "online/hil/lcm_logger.hpp"
+#include "online/hil/status_line.hpp"
 #include "online/loop/controller_loop.hpp"
 #include "online/loop/plant_loop.hpp"
 #include "online/loop/private_network.hpp"
+#include "online/loop/run_verdict.hpp"
+#include "online/loop/stop_signal.hpp"
 #include "online/sim/scene_runs.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
@@ -100,18 +103,32 @@ nlohmann::json sim_prediction(const artefact::LoopArtefact& loop, double duratio
 
 nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) {
   prepare_hil_network(o);
+  // SIGINT / SIGTERM: this process forwards the stop to the plant, and the run ends with the
+  // figures of what ran (a Ctrl-C reaches every process of the terminal's group anyway).
+  install_stop_handlers();
   // Both processes start from the one artefact.
   const std::string url = loop_lcm_url(o.loop.url, o.loop.link);
+  // A loop without a controller runs the plant alone: it publishes every sample and, with no
+  // answer, holds and then applies the zero command (what an external controller would answer).
+  const bool has_controller = loop.controller != artefact::ControllerKind::kNone;
+  const SharedLoopStatus status;
   LoopOptions plant_options = o.loop;
   plant_options.url = url;
   plant_options.quiet = true;
+  plant_options.status = status.get();
+  plant_options.limits.judge_misses = has_controller;
   LoopOptions controller_options = plant_options;
   controller_options.realtime.cpu = o.controller_cpu;
   controller_options.duration_s = 0;  // until stopped, after the plant
+  controller_options.status = nullptr;
 
   const rt::CpuDmaLatencyHold dma;  // for the baselines (each loop process holds its own)
   nlohmann::json report;
   report["baseline"] = run_baselines(o, loop.rate_hz);
+  const auto interrupted_before_loop = [] {
+    return VerdictFailure{130, "interrupted before the loop ran: nothing was written"};
+  };
+  if (stop_requested()) throw interrupted_before_loop();
 
   std::unique_ptr<LcmLogger> logger;
   if (!o.lcm_log.empty()) {
@@ -119,9 +136,6 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
     logger->record(kChannelMapChannel, channel_map_json(loop).dump());
   }
 
-  // A loop without a controller runs the plant alone: it publishes every sample and, with no
-  // answer, holds and then applies the zero command (what an external controller would answer).
-  const bool has_controller = loop.controller != artefact::ControllerKind::kNone;
   std::unique_ptr<ChildProcess> controller;
   if (has_controller) {
     controller = std::make_unique<ChildProcess>([&](const std::function<void()>& ready) {
@@ -135,25 +149,51 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   ChildProcess plant([&](const std::function<void()>&) {
     return plant_result_json(run_plant_loop(plant_options, loop), plant_options, true).dump();
   });
+  StatusLine line(*status.get(), loop.rate_hz, o.status_line);
+  const auto watch = [&] {
+    // Repeated while the stop stands: a stop that came before the plant installed its own
+    // handlers is not lost.
+    if (stop_requested()) plant.signal(SIGTERM);
+    line.tick();
+  };
   const auto grace = static_cast<std::int64_t>((duration_s + 30) * 1e9);
   nlohmann::json plant_json;
   try {
-    plant_json = nlohmann::json::parse(plant.finish(grace));
+    plant_json = nlohmann::json::parse(plant.finish(grace, watch));
+    line.finish();
   } catch (...) {
+    line.finish();
     if (controller) controller->signal(SIGTERM);
+    if (stop_requested()) throw interrupted_before_loop();
     throw;
   }
+  RunVerdict verdict = verdict_from_json(plant_json["verdict"]);
   nlohmann::json controller_json = {{"kind", "none"},
                                     {"dropped_messages", nlohmann::json::object()}};
   if (controller) {
     controller->signal(SIGTERM);
-    controller_json = nlohmann::json::parse(controller->finish(10 * rt::kNsPerSecond));
+    try {
+      controller_json = nlohmann::json::parse(controller->finish(10 * rt::kNsPerSecond));
+    } catch (const std::exception& e) {
+      // Its failure fails the run; the plant's figures are still reported.
+      controller_json = {{"error", e.what()}, {"dropped_messages", nlohmann::json::object()}};
+      add_failure(verdict, std::string("the controller process failed: ") + e.what());
+    }
     controller_json["kind"] = artefact::to_string(loop.controller);
   }
-  logger.reset();
+  if (logger) {
+    const std::string problem = logger->stop();
+    if (!problem.empty() && verdict.result != RunVerdict::Result::kInterrupted)
+      add_failure(verdict, problem);
+    logger.reset();
+  }
 
   report.update(plant_json);
-  if (report.contains("physical")) report["physical"]["sim"] = sim_prediction(loop, duration_s);
+  const auto cycles = plant_json.value("cycles", std::int64_t{0});
+  if (report.contains("physical") && cycles > 0)
+    report["physical"]["sim"] = sim_prediction(loop, static_cast<double>(cycles) / loop.rate_hz);
+  report["verdict"]["result"] = to_string(verdict.result);
+  report["verdict"]["reasons"] = verdict.reasons;
   report["controller"] = controller_json;
   report["scene"] = o.loop.loop_path;
   report["duration_s"] = duration_s;

@@ -12,7 +12,12 @@
 //   5. the controller process (forked, online/loop/controller_loop.hpp), and once it has
 //      subscribed, the plant process (forked, online/loop/plant_loop.hpp) for the duration; then
 //      the controller is stopped (SIGTERM) and both hand back their figures. A loop without a
-//      controller runs the plant alone (report "controller": {"kind": "none"}).
+//      controller runs the plant alone (report "controller": {"kind": "none"}). Meanwhile a live
+//      status line (online/hil/status_line.hpp).
+//   6. the verdict (online/loop/run_verdict.hpp): the plant's limits, and a controller process or
+//      lcm-logger that failed fails the run. SIGINT / SIGTERM end the loop early; the report then
+//      covers what ran ("partial": true, verdict "interrupted"). Before the loop ran, an
+//      interruption throws VerdictFailure (130) and nothing is reported.
 // The result is the report (keys of offline/report/hil_report.hpp), with the plant's histogram bins
 // under "histograms" for drawing. Orchestration: allocates, throws std::runtime_error /
 // flexloop::InputError.
@@ -28,8 +33,9 @@ struct HilOptions {
   LoopOptions loop;        ///< the plant's settings (realtime.cpu: the plant's CPU)
   int controller_cpu = 1;  ///< -1: not pinned
   double baseline_duration_s = 3;
-  bool netns = false;   ///< enter a private namespace first
-  std::string lcm_log;  ///< record the run with lcm-logger to this file
+  bool netns = false;       ///< enter a private namespace first
+  std::string lcm_log;      ///< record the run with lcm-logger to this file
+  bool status_line = true;  ///< a live status line on a terminal's standard error
 };
 
 /// Enters the private namespace when asked (once per process; later calls do nothing).

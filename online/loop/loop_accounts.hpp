@@ -5,11 +5,13 @@
 // StatsPublisher::poll() is called once per cycle, in the cycle's slack (after the answer came):
 // when a publication is due it summarises one histogram per call (a summary walks ~9000 bins,
 // a few us) and publishes on the fifth call, so no single cycle pays for all four. The counts
-// are taken at publication. poll() is noexcept and allocation-free; publishing is one sendmsg.
+// are taken at publication, and copied to a watcher's LoopStatus (online/loop/loop_status.hpp)
+// when there is one. poll() is noexcept and allocation-free; publishing is one sendmsg.
 #include <cstdint>
 #include <flexloop_msgs/loop_stats_t.hpp>
 #include <memory>
 
+#include "online/loop/loop_status.hpp"
 #include "rt/latency_histogram.hpp"
 #include "rt/lcm_transport.hpp"
 
@@ -31,9 +33,10 @@ struct LoopCounts {
 
 class StatsPublisher {
  public:
+  /// status: where a watching process reads the same figures (nullptr: nobody watches).
   StatsPublisher(rt::LcmTransport& lcm, const std::string& channel, double rate_hz,
-                 std::int64_t interval_ns = 1'000'000'000)
-      : publisher_(lcm, channel), interval_ns_(interval_ns) {
+                 LoopStatus* status = nullptr, std::int64_t interval_ns = 1'000'000'000)
+      : publisher_(lcm, channel), status_(status), interval_ns_(interval_ns) {
     msg_.rate_hz = rate_hz;
   }
 
@@ -66,6 +69,13 @@ class StatsPublisher {
     msg_.dropped_messages = c.dropped_messages;
     msg_.safe_command_cycles = c.safe_command_cycles;
     publisher_.publish(msg_);
+    if (status_ != nullptr) {
+      status_->cycles.store(c.cycles, std::memory_order_relaxed);
+      status_->deadline_misses.store(c.deadline_misses, std::memory_order_relaxed);
+      status_->safe_command_cycles.store(c.safe_command_cycles, std::memory_order_relaxed);
+      status_->round_trip_p99_ns.store(msg_.round_trip_ns[2], std::memory_order_relaxed);
+      status_->updates.fetch_add(1, std::memory_order_release);
+    }
     stage_ = 0;
     next_ns_ += interval_ns_;
     if (next_ns_ <= now_ns) next_ns_ = now_ns + interval_ns_;
@@ -83,6 +93,7 @@ class StatsPublisher {
   }
 
   rt::LcmPublisher<flexloop_msgs::loop_stats_t> publisher_;
+  LoopStatus* status_;
   flexloop_msgs::loop_stats_t msg_{};
   std::int64_t interval_ns_;
   std::int64_t next_ns_ = 0;

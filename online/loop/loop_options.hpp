@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include "online/loop/loop_status.hpp"
+#include "online/loop/run_verdict.hpp"
 #include "rt/lcm_transport.hpp"
 #include "rt/periodic_clock.hpp"
 #include "rt/realtime_setup.hpp"
@@ -37,7 +39,9 @@ struct LoopOptions {
   std::string url;   ///< empty: see loop_lcm_url()
   std::string link;  ///< a veth allowed besides lo (two-namespace runs)
   LoopChannels channels;
-  bool quiet = false;  ///< no start-up banner
+  bool quiet = false;            ///< no start-up banner
+  LoopStatus* status = nullptr;  ///< plant: also write the once-a-second figures here
+  RunLimits limits;  ///< the plant's verdict and overrun policy (online/loop/run_verdict.hpp)
 };
 
 }  // namespace flexloop::hil

@@ -39,6 +39,10 @@ nlohmann::json physical_json(const PhysicalResults& p) {
                                                            : nlohmann::json(nullptr)}};
 }
 
+RunVerdict plant_verdict(const PlantLoopResult& r, const LoopOptions& o) {
+  return judge_run(r.end, r.cycles, r.deadline_misses, o.limits);
+}
+
 nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o, bool with_bins) {
   const LoopAccounts& a = r.accounts;
   nlohmann::json j = {{"rate_hz", r.rate_hz},
@@ -67,7 +71,9 @@ nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o,
                       {"plant_setup", r.setup},
                       {"divergence", r.divergence.happened() ? nlohmann::json(r.divergence_message)
                                                              : nlohmann::json(nullptr)},
-                      {"physical", physical_json(r.physical)}};
+                      {"physical", physical_json(r.physical)},
+                      {"partial", r.end != RunEnd::kDuration},
+                      {"verdict", verdict_json(plant_verdict(r, o), r.end, o.limits)}};
   if (with_bins)
     j["histograms"] = {{"round_trip_ns", bins_json(*a.round_trip)},
                        {"wakeup_lateness_ns", bins_json(*a.wakeup_lateness)}};

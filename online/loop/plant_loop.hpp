@@ -10,7 +10,8 @@
 //   in the slack, one stage of the once-a-second loop_stats_t (online/loop/loop_accounts.hpp)
 // A cycle allocates nothing, takes no lock (but LCM's handle mutex, shared with its receive
 // thread only), throws nothing; its system calls are the wait, sendmsg, ppoll and read.
-// SIGINT / SIGTERM end the run early (the report covers what ran).
+// SIGINT / SIGTERM end the run early (the report covers what ran, "ended": "interrupted"); so
+// does the overrun policy of options.limits ("ended": "overrun policy").
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -54,6 +55,7 @@ struct PlantLoopResult {
   /// (plant/runtime/divergence.hpp); `divergence_message` then says when and where.
   plant::runtime::Divergence divergence;
   std::string divergence_message;
+  RunEnd end = RunEnd::kDuration;  ///< why the loop ended (online/loop/run_verdict.hpp)
   PhysicalResults physical;
 };
 
@@ -66,8 +68,12 @@ nlohmann::json physical_json(const PhysicalResults& p);
 /// LCM unavailable, hardware the artefact's sizes refuse).
 PlantLoopResult run_plant_loop(const LoopOptions& options, const artefact::LoopArtefact& loop);
 
-/// The figures as JSON (keys of the hil report); with_bins adds the non-empty histogram bins of
-/// round trip and wake-up lateness under "histograms" (for drawing them in another process).
+/// The run's verdict against o.limits.
+RunVerdict plant_verdict(const PlantLoopResult& r, const LoopOptions& o);
+
+/// The figures as JSON (keys of the hil report, "partial" and "verdict" included); with_bins adds
+/// the non-empty histogram bins of round trip and wake-up lateness under "histograms" (for drawing
+/// them in another process).
 nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o, bool with_bins);
 
 }  // namespace flexloop::hil

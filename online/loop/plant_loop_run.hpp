@@ -47,7 +47,8 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   rt::LcmTransport lcm(url, o.receive_path);
   lcm.subscribe(o.channels.command, station->commands());
   rt::LcmPublisher<flexloop_msgs::sensor_sample_t> sensor(lcm, o.channels.sensor);
-  StatsPublisher stats(lcm, o.channels.stats, loop.rate_hz);
+  StatsPublisher stats(lcm, o.channels.stats, loop.rate_hz, o.status);
+  if (o.status != nullptr) o.status->periods_planned.store(periods, std::memory_order_relaxed);
   const rt::CpuDmaLatencyHold dma;
   r.rate_hz = loop.rate_hz;
   r.spin_margin_ns = rt::effective_spin_margin_ns(clock_options);
@@ -68,7 +69,20 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   long samples = 0;
   clock.start();
   stats.start(rt::monotonic_now_ns());
-  while (clock.schedule().periods_elapsed() < periods && !stop_requested()) {
+  // The overrun policy (online/loop/run_verdict.hpp): 0 = go on whatever misses.
+  const std::int64_t miss_stop = o.limits.stop_after_misses > 0
+                                     ? o.limits.stop_after_misses
+                                     : std::numeric_limits<std::int64_t>::max();
+  r.end = RunEnd::kDuration;
+  while (clock.schedule().periods_elapsed() < periods) {
+    if (stop_requested()) {
+      r.end = RunEnd::kInterrupted;
+      break;
+    }
+    if (station->deadline_misses() >= miss_stop) {
+      r.end = RunEnd::kMissLimit;
+      break;
+    }
     const rt::CycleStart c = clock.wait_next();
     a.wakeup_lateness->record(c.lateness_ns);
     const std::int64_t t0 = rt::monotonic_now_ns();
@@ -84,6 +98,7 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
     if (plant::runtime::beyond_range(station->hardware().performance(), station->command())) {
       r.divergence = plant::runtime::locate_divergence(
           samples, 1.0 / loop.rate_hz, station->hardware().performance(), station->command());
+      r.end = RunEnd::kDivergence;
       break;
     }
     ++samples;

@@ -173,6 +173,7 @@ out=$("$flexloop" tradeoff "$three" --out-dir /proc/flexloop 2>&1); rc=$?
 
 for cmd in version linearise analyse discretise reduce build fit-metrology sim hil plant controller \
   baseline log tradeoff; do
-  "$flexloop" $cmd --help | grep -q "Example" || fail "$cmd --help has no example"
+  # Captured, not piped to grep -q: grep's early exit would SIGPIPE a long help under pipefail.
+  out=$("$flexloop" $cmd --help) && [[ "$out" == *"Example"* ]] || fail "$cmd --help has no example"
 done
 echo "cli contract: 21 checks passed"

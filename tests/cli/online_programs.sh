@@ -27,7 +27,8 @@ out=$("$plant" "$tmp/loop.json" --rate 2000 2>&1); rc=$?
 out=$("$root/tools/netns-run" -- bash -c "
   '$controller' '$tmp/loop.json' --cpu -1 --priority 0 > '$tmp/controller.txt' 2>&1 &
   sleep 0.5
-  '$plant' '$tmp/loop.json' --cpu -1 --priority 0 --duration 1 --json '$tmp/plant.json'
+  '$plant' '$tmp/loop.json' --cpu -1 --priority 0 --duration 1 --max-miss-share 20 \\
+    --json '$tmp/plant.json'
   rc=\$?
   kill -TERM %1; wait %1
   exit \$rc" 2>&1); rc=$?

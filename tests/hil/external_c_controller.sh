@@ -63,7 +63,8 @@ run_loop() {
     '$flexloop' baseline timer --rate $rate --duration $duration --json '$tmp/timer.json' >/dev/null
     chrt -f 80 taskset -c 1 '$ccontroller' '$tmp/loop.json' --duration $((duration + 10)) > '$tmp/controller.txt' 2>&1 &
     sleep 0.5
-    '$flexloop' plant '$tmp/loop.json' --duration $duration --json '$tmp/plant.json' > '$tmp/plant.txt'
+    '$flexloop' plant '$tmp/loop.json' --duration $duration --max-miss-share 100 \\
+      --json '$tmp/plant.json' > '$tmp/plant.txt'
     kill -TERM %1; wait %1" > "$tmp/netns.txt" 2>&1 ||
     fail "in the namespace: $(cat "$tmp/netns.txt" "$tmp/controller.txt" 2>/dev/null)"
   grep -q "answered" "$tmp/controller.txt" || fail "controller: $(cat "$tmp/controller.txt")"

@@ -45,7 +45,8 @@ for _ in $(seq 50); do grep -q "^controller:" "$work/controller.log" && break; s
 grep -q "^controller:" "$work/controller.log" || { cat "$work/controller.log"; exit 1; }
 
 ip netns exec "$ns_plant" "$flexloop" plant "$scene" --rate "$rate" --duration "$duration" \
-  --cpu 0 --link "$veth_plant" --url "$url" --json "$work/plant.json" >"$work/plant.log" 2>&1 ||
+  --cpu 0 --link "$veth_plant" --url "$url" --max-miss-share 100 --json "$work/plant.json" \
+  >"$work/plant.log" 2>&1 ||
   { cat "$work/plant.log" "$work/controller.log"; exit 1; }
 kill -TERM "$ctrl_pid"; wait "$ctrl_pid" || true; ctrl_pid=
 cat "$work/plant.log"; cat "$work/controller.log"

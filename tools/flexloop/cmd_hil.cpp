@@ -17,6 +17,7 @@
 #include "offline/report/hil_report.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "online/hil/hil_run.hpp"
+#include "online/loop/run_verdict.hpp"
 #include "plant/lti/state_space_json.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/loop_commands.hpp"
@@ -31,6 +32,7 @@ struct HilArgs : LoopArgs {
   std::string report;
   hil::HilOptions hil;
   bool sweep = false;
+  bool quiet = false;
   std::vector<double> sweep_rates{1000, 2000, 5000, 10000, 20000};
 };
 
@@ -56,6 +58,7 @@ void run_one(const HilArgs& a, hil::HilOptions o) {
   hil::print_hil_summary(report);
   print_written(hil::write_hil_report(report, a.report));
   require_bounded(report);
+  hil::throw_unless_pass(hil::verdict_from_json(report["verdict"]));
 }
 
 void run_sweep(const HilArgs& a, hil::HilOptions o) {
@@ -71,6 +74,9 @@ void run_sweep(const HilArgs& a, hil::HilOptions o) {
     std::snprintf(suffix, sizeof suffix, "_%.6ghz.json", rate);
     print_written(hil::write_hil_report(reports.back(), stem + suffix));
     require_bounded(reports.back());
+    if (hil::verdict_from_json(reports.back()["verdict"]).result ==
+        hil::RunVerdict::Result::kInterrupted)
+      break;  // the rates run so far are still tabled and written
   }
   nlohmann::json all = {{"sweep", nlohmann::json::array()}};
   for (auto r : reports) {
@@ -80,11 +86,23 @@ void run_sweep(const HilArgs& a, hil::HilOptions o) {
   plant::lti::write_json_atomically(a.report, all);
   std::printf("wrote %s\n", a.report.c_str());
   hil::print_sweep_table(reports);
+  // The sweep runs every rate whatever each one's verdict; the worst decides the exit.
+  hil::RunVerdict worst;
+  for (const auto& r : reports) {
+    const hil::RunVerdict v = hil::verdict_from_json(r["verdict"]);
+    if (v.result == hil::RunVerdict::Result::kPass) continue;
+    if (worst.result != hil::RunVerdict::Result::kInterrupted) worst.result = v.result;
+    char rate[32];
+    std::snprintf(rate, sizeof rate, "%.6g Hz: ", r.value("rate_hz", 0.0));
+    for (const auto& reason : v.reasons) worst.reasons.push_back(rate + reason);
+  }
+  hil::throw_unless_pass(worst);
 }
 
 void run(const HilArgs& a) {
   hil::HilOptions o = a.hil;
   o.loop = apply_loop_options(a);
+  o.status_line = !a.quiet;
   require_writable(a.report);  // before the baselines and the run, not after them
   if (!o.lcm_log.empty()) require_writable(o.lcm_log);
   if (a.sweep)
@@ -102,6 +120,9 @@ void register_hil(CLI::App& app) {
       "Hardware-in-the-loop rehearsal: baselines, then plant and controller processes over LCM");
   add_loop_options(cmd, *args, 0, kSceneOrArtefactHelp);
   add_safe_ramp_option(cmd, *args);
+  add_verdict_options(cmd, *args);
+  cmd->add_flag("--quiet", args->quiet,
+                "No live status line (it is shown only when standard error is a terminal)");
   cmd->add_option("--duration", args->options.duration_s,
                   "Run time [s] (default: the scene's [run] duration)")
       ->check(finite_positive());
@@ -133,8 +154,12 @@ void register_hil(CLI::App& app) {
       "      --wait hybrid --duration 10 --report out/hil/10khz.json --lcm-log out/hil/run.lcmlog\n"
       "  flexloop hil tools/scenes/metrology_frame.toml --netns --sweep --duration 5 \\\n"
       "      --report out/hil/sweep.json\n"
-      "Exit: 1 also when the plant diverged (|[z; u]| > 1e12 or not finite); the report is "
-      "written and says when and on which channel (\"divergence\").");
+      "Exit: 0 pass; 3 verdict fail (deadline misses above --max-miss-share, stopped by "
+      "--stop-after-misses, the controller process or lcm-logger failed); 130 interrupted "
+      "(SIGINT/SIGTERM: the report covers what ran, \"partial\": true); 1 also when the plant "
+      "diverged (|[z; u]| > 1e12 or not finite). The report is written in each of these cases and "
+      "says why (\"verdict\", \"divergence\"); --sweep runs every rate and exits with the "
+      "worst.");
   cmd->callback([args] { run(*args); });
 }
 

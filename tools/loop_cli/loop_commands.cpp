@@ -4,6 +4,7 @@
 #include <exception>
 
 #include "common/input_error.hpp"
+#include "online/loop/run_verdict.hpp"
 
 namespace flexloop::cli {
 
@@ -19,6 +20,9 @@ int run_command_line(CLI::App& app, int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const hil::VerdictFailure& f) {
+    std::fprintf(stderr, "%s: %s\n", f.code == 130 ? "interrupted" : "error", f.message.c_str());
+    return f.code;
   } catch (const InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

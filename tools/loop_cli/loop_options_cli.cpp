@@ -65,12 +65,26 @@ void add_safe_ramp_option(CLI::App* cmd, LoopArgs& a) {
       ->check(finite_range(0.0, 3600.0));
 }
 
+void add_verdict_options(CLI::App* cmd, LoopArgs& a) {
+  cmd->add_option("--max-miss-share", a.max_miss_percent,
+                  "Verdict: the run fails (exit 3) when more than this share of its cycles missed "
+                  "their answer's deadline [%]")
+      ->capture_default_str()
+      ->check(finite_range(0.0, 100.0));
+  cmd->add_option("--stop-after-misses", a.options.limits.stop_after_misses,
+                  "Overrun policy: stop the run at this many deadline misses, and fail it (0: go "
+                  "on whatever misses)")
+      ->capture_default_str()
+      ->check(CLI::Range(std::int64_t{0}, std::int64_t{1'000'000'000'000}));
+}
+
 hil::LoopOptions apply_loop_options(const LoopArgs& a) {
   hil::LoopOptions o = a.options;
   o.wait = rt::parse_wait_mode(a.wait);
   o.receive_path = rt::parse_receive_path(a.receive_path);
   o.spin_margin_ns = static_cast<std::int64_t>(a.spin_margin_us * 1e3);
   o.realtime.lock_memory = !a.no_mlock;
+  o.limits.max_miss_share = a.max_miss_percent / 100;
   return o;
 }
 

@@ -16,6 +16,7 @@ struct LoopArgs {
   std::string receive_path = rt::to_string(hil::LoopOptions{}.receive_path);
   double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
   bool no_mlock = false;
+  double max_miss_percent = 100 * hil::RunLimits{}.max_miss_share;
 };
 
 /// --wait sleep|hybrid|spin and --spin-margin-us (also used by `flexloop baseline`).
@@ -30,6 +31,8 @@ void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock
 void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::string& loop_help);
 /// --safe-ramp (the plant's, and hil's, which hands it to the plant).
 void add_safe_ramp_option(CLI::App* cmd, LoopArgs& a);
+/// --max-miss-share and --stop-after-misses: the verdict of a real-time run (plant, hil).
+void add_verdict_options(CLI::App* cmd, LoopArgs& a);
 /// The options as parsed (wait mode, margin, memory locking applied).
 hil::LoopOptions apply_loop_options(const LoopArgs& a);
 

@@ -12,6 +12,7 @@
 #include "common/json_document.hpp"
 #include "online/loop/latency_json.hpp"
 #include "online/loop/plant_loop.hpp"
+#include "online/loop/run_verdict.hpp"
 #include "tools/loop_cli/loop_commands.hpp"
 #include "tools/loop_cli/loop_options_cli.hpp"
 #include "tools/loop_cli/number_checks.hpp"
@@ -54,6 +55,7 @@ void run(const PlantArgs& a, const LoopSource& source) {
     std::printf("wrote %s\n", a.json.c_str());
   }
   if (r.divergence.happened()) throw std::runtime_error(r.divergence_message);
+  hil::throw_unless_pass(hil::plant_verdict(r, o));
 }
 
 }  // namespace
@@ -62,6 +64,7 @@ void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
   auto args = std::make_shared<PlantArgs>();
   add_loop_options(cmd, *args, 0, source.help);
   add_safe_ramp_option(cmd, *args);
+  add_verdict_options(cmd, *args);
   cmd->add_option("--duration", args->options.duration_s,
                   "Run time [s] (default: the loop's [run] duration)")
       ->check(finite_positive());
@@ -76,8 +79,10 @@ void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
       source.prefix + "plant " + source.example +
       " --rate 1000 --duration 10\n"
       "  kill %1\n"
-      "Exit: 1 also when the plant diverged (|[z; u]| > 1e12 or not finite); --json is written "
-      "and says when and on which channel (\"divergence\").");
+      "Exit: 0 pass; 3 verdict fail (deadline misses above --max-miss-share, or stopped by "
+      "--stop-after-misses); 130 interrupted (SIGINT/SIGTERM: the figures cover what ran, "
+      "\"partial\": true); 1 also when the plant diverged (|[z; u]| > 1e12 or not finite). --json "
+      "is written in every case and says why (\"verdict\", \"divergence\").");
   cmd->callback([args, source] { run(*args, source); });
 }
 

@@ -1,0 +1,48 @@
+#include "online/hil/status_line.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace flexloop::hil {
+
+StatusLine::StatusLine(const LoopStatus& status, double rate_hz, bool wanted)
+    : status_(status), rate_hz_(rate_hz), enabled_(wanted && isatty(STDERR_FILENO) == 1) {}
+
+std::string StatusLine::format(double rate_hz, std::int64_t cycles, std::int64_t periods_planned,
+                               std::int64_t misses, std::int64_t safe,
+                               std::int64_t round_trip_p99_ns) {
+  char line[200];
+  const double share =
+      cycles > 0 ? 100.0 * static_cast<double>(misses) / static_cast<double>(cycles) : 0.0;
+  std::snprintf(line, sizeof line,
+                "hil %.6g kHz: %.0f / %.0f s, %lld cycles, %lld misses (%.3f %%), round trip p99 "
+                "%.1f us, safe %lld",
+                rate_hz / 1e3, static_cast<double>(cycles) / rate_hz,
+                static_cast<double>(periods_planned) / rate_hz, static_cast<long long>(cycles),
+                static_cast<long long>(misses), share, static_cast<double>(round_trip_p99_ns) / 1e3,
+                static_cast<long long>(safe));
+  return line;
+}
+
+void StatusLine::tick() {
+  if (!enabled_) return;
+  const std::int64_t updates = status_.updates.load(std::memory_order_acquire);
+  if (updates == seen_) return;
+  seen_ = updates;
+  const std::string line = format(rate_hz_, status_.cycles.load(std::memory_order_relaxed),
+                                  status_.periods_planned.load(std::memory_order_relaxed),
+                                  status_.deadline_misses.load(std::memory_order_relaxed),
+                                  status_.safe_command_cycles.load(std::memory_order_relaxed),
+                                  status_.round_trip_p99_ns.load(std::memory_order_relaxed));
+  std::fprintf(stderr, "\r%s\033[K", line.c_str());  // \033[K: clear what a longer line left
+  std::fflush(stderr);
+  printed_ = true;
+}
+
+void StatusLine::finish() {
+  if (printed_) std::fputc('\n', stderr);
+  printed_ = false;
+}
+
+}  // namespace flexloop::hil
