@@ -33,7 +33,8 @@ class TomlReader {
   }
   void allow_only(std::initializer_list<const char*> keys) const {
     for (const auto& [k, v] : t_) {
-      if (std::none_of(keys.begin(), keys.end(), [&](const char* a) { return k.str() == a; })) {
+      const std::string_view key = k.str();  // clang 14 cannot capture a structured binding
+      if (std::none_of(keys.begin(), keys.end(), [&](const char* a) { return key == a; })) {
         std::string list;
         for (const char* a : keys) list += (list.empty() ? "" : ", ") + std::string(a);
         fail("unknown key '" + std::string(k.str()) + "' (allowed: " + list + ")", &v);
