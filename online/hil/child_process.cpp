@@ -116,13 +116,6 @@ std::string ChildProcess::finish(std::int64_t timeout_ns, const std::function<vo
   return buffer_.substr(1);
 }
 
-bool ChildProcess::running() {
-  if (pid_ <= 0) return false;
-  siginfo_t info{};  // WNOWAIT: finish() still reaps it and reads its message
-  if (waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOHANG | WNOWAIT) != 0) return false;
-  return info.si_pid == 0;
-}
-
 void ChildProcess::reap(bool kill_first) {
   if (kill_first) kill(pid_, SIGKILL);
   int status = 0;

@@ -34,8 +34,6 @@ class ChildProcess {
   /// std::runtime_error carrying the child's error when it failed. tick, when given, is called
   /// about four times a second while waiting (a status line, forwarding a stop request).
   std::string finish(std::int64_t timeout_ns, const std::function<void()>& tick = {});
-  /// True while the child has not ended (it may have failed: finish() says how).
-  bool running();
 
   pid_t pid() const { return pid_; }
 
