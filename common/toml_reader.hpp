@@ -15,6 +15,7 @@
 
 #include "common/input_error.hpp"
 #include "common/source_ref.hpp"
+#include "common/toml_text_check.hpp"
 
 namespace flexloop {
 
@@ -111,8 +112,11 @@ class TomlReader {
   std::string file_, what_;
 };
 
-/// TOML text -> table; a syntax error becomes InputError "file:line: <description>".
+/// TOML text -> table; a syntax error becomes InputError "file:line: <description>", and so
+/// does text that toml++ must not see (common/toml_text_check.hpp: checked first).
 inline toml::table parse_toml(const std::string& text, const std::string& file) {
+  if (const auto problem = toml_text_problem(text))
+    throw InputError(file + ":" + std::to_string(problem->line), problem->what);
   try {
     return toml::parse(text, file);
   } catch (const toml::parse_error& e) {

@@ -41,6 +41,9 @@ class DeadlineSchedule {
 
   /// Sets the first deadline d_0 (grid index 0) and clears the counts.
   void anchor(std::int64_t first_deadline_ns) noexcept;
+  /// Moves the grid after a pause (the loop stood still on purpose): the next deadline is
+  /// next_deadline_ns; the counts go on, and the pause counts as no periods.
+  void resume_at(std::int64_t next_deadline_ns) noexcept { next_deadline_ns_ = next_deadline_ns; }
 
   /// The deadline the next cycle waits for.
   std::int64_t next_deadline_ns() const noexcept { return next_deadline_ns_; }

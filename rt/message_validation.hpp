@@ -58,6 +58,9 @@ class DropCounts {
   }
   std::int64_t total() const noexcept;
   void reset() noexcept { counts_.fill(0); }
+  void merge(const DropCounts& other) noexcept {
+    for (std::size_t i = 0; i < counts_.size(); ++i) counts_[i] += other.counts_[i];
+  }
 
  private:
   std::array<std::int64_t, kDropReasonCount> counts_{};

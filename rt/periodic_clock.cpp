@@ -76,6 +76,10 @@ void PeriodicClock::start() noexcept {
   start_at(monotonic_now_ns() + options_.period_ns);
 }
 
+void PeriodicClock::resume() noexcept {
+  schedule_.resume_at(monotonic_now_ns() + options_.period_ns);
+}
+
 void PeriodicClock::start_at(std::int64_t first_deadline_ns) noexcept {
   schedule_.anchor(first_deadline_ns);
 }

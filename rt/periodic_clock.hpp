@@ -68,6 +68,8 @@ class PeriodicClock {
   void start() noexcept;
   /// Anchors the grid at an explicit first deadline (e.g. shared by two threads).
   void start_at(std::int64_t first_deadline_ns) noexcept;
+  /// After a deliberate pause: the next deadline is one period from now, the counts go on.
+  void resume() noexcept;
 
   /// Waits for the next deadline (returns at once when it has passed) and begins that cycle.
   CycleStart wait_next() noexcept;

@@ -212,4 +212,15 @@ PingPongResult run_pingpong_baseline(const PingPongOptions& options) {
   return r;
 }
 
+void merge_into(PingPongResult& total, const PingPongResult& part) {
+  total.round_trip->merge(*part.round_trip);
+  total.wakeup_lateness->merge(*part.wakeup_lateness);
+  total.sent += part.sent;
+  total.answered += part.answered;
+  total.unanswered += part.unanswered;
+  total.late_answers += part.late_answers;
+  total.overruns += part.overruns;
+  total.ping_drops.merge(part.ping_drops);
+}
+
 }  // namespace flexloop::rt

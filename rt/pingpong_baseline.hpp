@@ -61,4 +61,8 @@ struct PingPongResult {
 /// private namespace, when LCM cannot be opened, or when the pong never answers.
 PingPongResult run_pingpong_baseline(const PingPongOptions& options);
 
+/// Adds a later run's pings, counts and histograms to `total` (a baseline measured in segments);
+/// the set-up texts stay the first run's.
+void merge_into(PingPongResult& total, const PingPongResult& part);
+
 }  // namespace flexloop::rt

@@ -32,4 +32,12 @@ TimerBaselineResult run_timer_baseline(const TimerBaselineOptions& options) {
   return r;
 }
 
+void merge_into(TimerBaselineResult& total, const TimerBaselineResult& part) {
+  total.wakeup_lateness->merge(*part.wakeup_lateness);
+  total.periods += part.periods;
+  total.cycles += part.cycles;
+  total.overruns += part.overruns;
+  total.skipped_periods += part.skipped_periods;
+}
+
 }  // namespace flexloop::rt

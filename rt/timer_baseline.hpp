@@ -36,4 +36,7 @@ struct TimerBaselineResult {
 /// margin or duration (duration_ns < period_ns).
 TimerBaselineResult run_timer_baseline(const TimerBaselineOptions& options);
 
+/// Adds a later run's cycles, counts and histogram to `total` (a baseline measured in segments).
+void merge_into(TimerBaselineResult& total, const TimerBaselineResult& part);
+
 }  // namespace flexloop::rt

@@ -116,6 +116,26 @@ void print_verdict(const nlohmann::json& r) {
   std::printf("\n");
 }
 
+namespace {
+
+// The per-segment comparison with the interleaved baselines (online/hil/interleaved_baselines.hpp).
+void print_segment_ratios(const nlohmann::json& r) {
+  const auto b = r.find("baseline_ratios");
+  if (b == r.end() || !b->is_object() || !(*b)["round_trip_p99_ratio"].is_object()) return;
+  const auto& ratio = (*b)["round_trip_p99_ratio"];
+  const auto& excess = (*b)["miss_share_minus_unanswered"];
+  std::printf(
+      "  against the baseline segment before each of %zu loop segments: round-trip p99 / "
+      "ping-pong p99 median %.2f (%.2f .. %.2f); miss share - unanswered share median %+.3f %% "
+      "(%+.3f .. %+.3f %%); %d of %zu segments within the timing tests' margins\n",
+      (*b)["segments"].size(), ratio.value("median", 0.0), ratio.value("min", 0.0),
+      ratio.value("max", 0.0), 100 * excess.value("median", 0.0), 100 * excess.value("min", 0.0),
+      100 * excess.value("max", 0.0), b->value("segments_within_margins", 0),
+      (*b)["segments"].size());
+}
+
+}  // namespace
+
 void print_hil_summary(const nlohmann::json& r) {
   const double cycles = r.value("cycles", 0.0);
   const auto& pp = r["baseline"]["pingpong"];
@@ -148,6 +168,7 @@ void print_hil_summary(const nlohmann::json& r) {
         "  WARNING: baselines too short to compare with (%lld pings, %lld timer cycles; each "
         "needs %lld): lengthen --baseline-duration\n",
         pp.value("sent", 0LL), timer.value("cycles", 0LL), pp.value("min_samples", 0LL));
+  print_segment_ratios(r);
   print_physical(r);
   print_verdict(r);
 }
@@ -155,15 +176,20 @@ void print_hil_summary(const nlohmann::json& r) {
 void print_sweep_table(const std::vector<nlohmann::json>& reports) {
   std::printf(
       "\n| rate | wait | receive | cycles | misses | misses, ping-pong | round trip p50 / p99 / "
-      "p99.9 [us] | ping-pong p50 / p99 / p99.9 [us] | p99 ratio | timer lateness p99 [us] | "
+      "p99.9 [us] | ping-pong p50 / p99 / p99.9 [us] | p99 ratio (segment median) | timer lateness "
+      "p99 [us] | "
       "verdict |\n"
       "|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& r : reports) {
     const auto& rtt = r["round_trip_ns"];
     const auto& pp = r["baseline"]["pingpong"];
     const auto& ppr = pp["round_trip_ns"];
-    const double ratio =
-        ppr.value("p99", 0.0) > 0 ? rtt.value("p99", 0.0) / ppr.value("p99", 0.0) : 0.0;
+    // The median over the interleaved segments when there are any, else the whole-run ratio.
+    const auto segmented = r.find("baseline_ratios");
+    const double ratio = segmented != r.end() && (*segmented)["round_trip_p99_ratio"].is_object()
+                             ? (*segmented)["round_trip_p99_ratio"].value("median", 0.0)
+                         : ppr.value("p99", 0.0) > 0 ? rtt.value("p99", 0.0) / ppr.value("p99", 0.0)
+                                                     : 0.0;
     std::printf(
         "| %.6g kHz | %s | %s | %lld | %lld (%.2f %%) | %lld (%.2f %%) | %.1f / %.1f / %.1f "
         "| %.1f / %.1f / %.1f | %.2f | %.1f | %s |\n",

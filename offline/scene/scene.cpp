@@ -242,9 +242,9 @@ Scene load_scene(const std::string& path) {
 
 bool is_scene_file(const std::string& path) {
   try {
-    const toml::table root = toml::parse_file(path);
+    const toml::table root = parse_toml(read_input_file(path, "file"), path);
     return root.contains("scene");
-  } catch (const toml::parse_error&) {
+  } catch (const InputError&) {
     return false;
   }
 }

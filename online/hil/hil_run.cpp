@@ -2,12 +2,15 @@
 
 #include <signal.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <memory>
 
+#include "common/input_error.hpp"
 #include "online/hil/baseline_json.hpp"
 #include "online/hil/child_process.hpp"
+#include "online/hil/interleaved_baselines.hpp"
 #include "online/hil/lcm_logger.hpp"
 #include "online/hil/status_line.hpp"
 #include "online/loop/controller_loop.hpp"
@@ -31,27 +34,27 @@ rt::PeriodicClockOptions clock_options(const LoopOptions& o, double rate_hz) {
           .spin_margin_ns = o.spin_margin_ns};
 }
 
+BaselineSettings baseline_settings(const HilOptions& o, double rate_hz, double segment_s) {
+  return {.clock = clock_options(o.loop, rate_hz),
+          .receive_path = o.loop.receive_path,
+          .realtime = o.loop.realtime,
+          .pong_cpu = o.controller_cpu,
+          .url = neighbour_port_url(loop_lcm_url(o.loop.url, o.loop.link)),
+          .segment_s = segment_s};
+}
+
 }  // namespace
 
 nlohmann::json run_baselines(const HilOptions& o, double rate_hz) {
-  const auto duration_ns = static_cast<std::int64_t>(o.baseline_duration_s * 1e9);
-  rt::TimerBaselineOptions timer;
-  timer.clock = clock_options(o.loop, rate_hz);
-  timer.duration_ns = duration_ns;
-  timer.realtime = o.loop.realtime;
-  const rt::TimerBaselineResult t = rt::run_timer_baseline(timer);
+  InterleavedBaselines b(baseline_settings(o, rate_hz, o.baseline_duration_s));
+  b.measure_segment();
+  return b.totals_json();
+}
 
-  rt::PingPongOptions pp;
-  pp.clock = timer.clock;
-  pp.receive_mode = rt::receive_mode_for(o.loop.wait);
-  pp.receive_path = o.loop.receive_path;
-  pp.duration_ns = duration_ns;
-  pp.ping_realtime = o.loop.realtime;
-  pp.pong_realtime = o.loop.realtime;
-  pp.pong_realtime.cpu = o.controller_cpu;
-  pp.url = loop_lcm_url(o.loop.url, o.loop.link);
-  const rt::PingPongResult p = rt::run_pingpong_baseline(pp);
-  return {{"timer", timer_baseline_json(t)}, {"pingpong", pingpong_baseline_json(p)}};
+int hil_segments(const HilOptions& o, double duration_s) {
+  if (o.segments > 0) return o.segments;
+  return static_cast<int>(std::clamp(std::floor(duration_s / kAutoSegmentS), 1.0,
+                                     static_cast<double>(kMaxAutoSegments)));
 }
 
 void prepare_hil_network(const HilOptions& o) {
@@ -122,9 +125,29 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   controller_options.duration_s = 0;  // until stopped, after the plant
   controller_options.status = nullptr;
 
+  // A1 B1 A2 B2 ...: baseline segments interleaved with the loop's (interleaved_baselines.hpp).
+  const double duration_s = o.loop.duration_s > 0 ? o.loop.duration_s : loop.duration_s;
+  const int segments = hil_segments(o, duration_s);
+  const double baseline_s = o.baseline_duration_s > 0 ? o.baseline_duration_s : duration_s;
+  plant_options.segments = segments;
+  // Too short a segment compares noise with noise (and a baseline needs a whole period).
+  constexpr double kMinSegmentPeriods = 100;
+  const double shortest_s = std::min(duration_s, baseline_s) / segments;
+  if (shortest_s * loop.rate_hz < kMinSegmentPeriods) {
+    const auto g = [](double v) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.6g", v);
+      return std::string(text);
+    };
+    throw InputError("--segments", std::to_string(segments) + " segments of a " + g(duration_s) +
+                                       " s run with " + g(baseline_s) + " s of baselines at " +
+                                       g(loop.rate_hz) + " Hz leave fewer than " +
+                                       g(kMinSegmentPeriods) + " periods per segment; use fewer");
+  }
   const rt::CpuDmaLatencyHold dma;  // for the baselines (each loop process holds its own)
   nlohmann::json report;
-  report["baseline"] = run_baselines(o, loop.rate_hz);
+  InterleavedBaselines baselines(baseline_settings(o, loop.rate_hz, baseline_s / segments));
+  baselines.measure_segment();
   const auto interrupted_before_loop = [] {
     return VerdictFailure{130, "interrupted before the loop ran: nothing was written"};
   };
@@ -138,17 +161,31 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
 
   std::unique_ptr<ChildProcess> controller;
   if (has_controller) {
-    controller = std::make_unique<ChildProcess>([&](const std::function<void()>& ready) {
-      return controller_result_json(run_controller_loop(controller_options, loop, ready),
+    controller = std::make_unique<ChildProcess>([&](const ChildLink& link) {
+      return controller_result_json(run_controller_loop(controller_options, loop, link.ready),
                                     controller_options)
           .dump();
     });
     controller->wait_ready(10 * rt::kNsPerSecond);
   }
-  const double duration_s = o.loop.duration_s > 0 ? o.loop.duration_s : loop.duration_s;
-  ChildProcess plant([&](const std::function<void()>&) {
-    return plant_result_json(run_plant_loop(plant_options, loop), plant_options, true).dump();
+  ChildProcess plant([&](const ChildLink& link) {
+    LoopOptions options = plant_options;
+    options.between_segments = link.pause;
+    return plant_result_json(run_plant_loop(options, loop), options, true).dump();
   });
+  // Between two loop segments: the plant waits, the controller process is stopped (SIGSTOP: it
+  // neither spins nor reads), the next baseline segment runs on their CPUs.
+  const auto between_segments = [&] {
+    if (stop_requested()) return;
+    if (controller) controller->signal(SIGSTOP);
+    try {
+      baselines.measure_segment();
+    } catch (...) {
+      if (controller) controller->signal(SIGCONT);
+      throw;
+    }
+    if (controller) controller->signal(SIGCONT);
+  };
   StatusLine line(*status.get(), loop.rate_hz, o.status_line);
   const auto watch = [&] {
     // Repeated while the stop stands: a stop that came before the plant installed its own
@@ -159,7 +196,7 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   const auto grace = static_cast<std::int64_t>((duration_s + 30) * 1e9);
   nlohmann::json plant_json;
   try {
-    plant_json = nlohmann::json::parse(plant.finish(grace, watch));
+    plant_json = nlohmann::json::parse(plant.finish(grace, watch, between_segments));
     line.finish();
   } catch (...) {
     line.finish();
@@ -188,10 +225,30 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
     logger.reset();
   }
 
+  report["baseline"] = baselines.totals_json();
   report.update(plant_json);
-  const auto cycles = plant_json.value("cycles", std::int64_t{0});
-  if (report.contains("physical") && cycles > 0)
-    report["physical"]["sim"] = sim_prediction(loop, static_cast<double>(cycles) / loop.rate_hz);
+  report["baseline_ratios"] = baselines.comparison_json(plant_json["segments"]);
+  // Misses above the limit where the bare ping-pong, in the same segments, lost as large a share:
+  // the machine could not hold the rate, whatever the loop did. Said beside the failure.
+  const auto& pp = report["baseline"]["pingpong"];
+  const double unanswered_share =
+      pp.value("sent", 0.0) > 0 ? pp.value("unanswered", 0.0) / pp.value("sent", 0.0) : 0.0;
+  const auto loop_cycles = plant_json.value("cycles", std::int64_t{0});
+  if (verdict.result == RunVerdict::Result::kFail && plant_options.limits.judge_misses &&
+      loop_cycles > 0 &&
+      plant_json.value("deadline_misses", 0.0) / loop_cycles >
+          plant_options.limits.max_miss_share &&
+      unanswered_share > plant_options.limits.max_miss_share) {
+    char text[200];
+    std::snprintf(text, sizeof text,
+                  "the bare LCM ping-pong, interleaved with the loop, left %.3g %% of its pings "
+                  "unanswered as well: this machine did not hold %.6g Hz during the run",
+                  100 * unanswered_share, loop.rate_hz);
+    verdict.reasons.push_back(text);
+  }
+  if (report.contains("physical") && loop_cycles > 0)
+    report["physical"]["sim"] =
+        sim_prediction(loop, static_cast<double>(loop_cycles) / loop.rate_hz);
   report["verdict"]["result"] = to_string(verdict.result);
   report["verdict"]["reasons"] = verdict.reasons;
   report["controller"] = controller_json;

@@ -7,7 +7,9 @@
 //   2. the loop artefact the caller built or read (both processes get it by fork);
 //   3. baselines with the loop's rate, wait mode, CPUs and priority: a bare periodic thread on
 //      the plant's CPU (rt/timer_baseline.hpp) and a bare LCM ping-pong between the plant's and
-//      the controller's CPUs (rt/pingpong_baseline.hpp);
+//      the controller's CPUs (rt/pingpong_baseline.hpp), in segments interleaved with the
+//      loop's (online/hil/interleaved_baselines.hpp): the first here, the others while the loop
+//      pauses between its segments;
 //   4. optionally lcm-logger on the loop's URL (online/hil/lcm_logger.hpp);
 //   5. the controller process (forked, online/loop/controller_loop.hpp), and once it has
 //      subscribed, the plant process (forked, online/loop/plant_loop.hpp) for the duration; then
@@ -32,18 +34,29 @@ namespace flexloop::hil {
 struct HilOptions {
   LoopOptions loop;        ///< the plant's settings (realtime.cpu: the plant's CPU)
   int controller_cpu = 1;  ///< -1: not pinned
-  double baseline_duration_s = 3;
+  /// Each baseline's total time (timer, ping-pong), over all segments; 0: the loop's duration.
+  double baseline_duration_s = 0;
+  /// Loop segments interleaved with baseline segments; 0: one per kAutoSegmentS of the run, at
+  /// most kMaxAutoSegments, at least 1.
+  int segments = 0;
   bool netns = false;       ///< enter a private namespace first
   std::string lcm_log;      ///< record the run with lcm-logger to this file
   bool status_line = true;  ///< a live status line on a terminal's standard error
 };
 
+inline constexpr double kAutoSegmentS = 2.0;
+inline constexpr int kMaxAutoSegments = 5;
+
+/// The number of segments a run of duration_s gets (HilOptions::segments, or the automatic one).
+int hil_segments(const HilOptions& o, double duration_s);
+
 /// Enters the private namespace when asked (once per process; later calls do nothing).
 void prepare_hil_network(const HilOptions& o);
 
-/// Step 3 alone: the bare timer and ping-pong baselines at `rate_hz` with the loop's wait mode,
-/// receive path, URL, CPUs and priority, each for `o.baseline_duration_s`; the report's
-/// "baseline" object {timer, pingpong}. Call prepare_hil_network first.
+/// Step 3 alone, in one segment: the bare timer and ping-pong baselines at `rate_hz` with the
+/// loop's wait mode, receive path, URL, CPUs and priority, each for `o.baseline_duration_s`
+/// (> 0); the report's "baseline" object {timer, pingpong, segments}. Call prepare_hil_network
+/// first.
 nlohmann::json run_baselines(const HilOptions& o, double rate_hz);
 
 /// Runs the rehearsal of `loop` (its rate; o.loop.loop_path names it in the report) and returns

@@ -23,6 +23,9 @@ struct LoopAccounts {
   std::unique_ptr<rt::LatencyHistogram> plant_compute = std::make_unique<rt::LatencyHistogram>();
   std::unique_ptr<rt::LatencyHistogram> controller_compute =
       std::make_unique<rt::LatencyHistogram>();
+  /// The round trips of the current segment only (LoopOptions::segments).
+  std::unique_ptr<rt::LatencyHistogram> segment_round_trip =
+      std::make_unique<rt::LatencyHistogram>();
 };
 
 /// The counts of loop_stats_t at one instant.

@@ -3,6 +3,7 @@
 // clock and wait mode, CPU and priority, safe-command threshold, LCM URL, channels, and the
 // private link allowed besides loopback (online/loop/private_network.hpp).
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include "online/loop/loop_status.hpp"
@@ -42,6 +43,11 @@ struct LoopOptions {
   bool quiet = false;            ///< no start-up banner
   LoopStatus* status = nullptr;  ///< plant: also write the once-a-second figures here
   RunLimits limits;  ///< the plant's verdict and overrun policy (online/loop/run_verdict.hpp)
+  /// Plant: the run in this many segments of equal length; between two, outside any cycle,
+  /// between_segments is called and the grid stands still until it returns (hil measures a
+  /// baseline segment there, online/hil/interleaved_baselines.hpp).
+  int segments = 1;
+  std::function<void()> between_segments;
 };
 
 }  // namespace flexloop::hil

@@ -39,6 +39,21 @@ nlohmann::json physical_json(const PhysicalResults& p) {
                                                            : nlohmann::json(nullptr)}};
 }
 
+namespace {
+
+nlohmann::json segments_json(const std::vector<SegmentFigures>& segments) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const SegmentFigures& s : segments)
+    out.push_back({{"periods", s.periods},
+                   {"cycles", s.cycles},
+                   {"deadline_misses", s.deadline_misses},
+                   {"answers", s.answers},
+                   {"round_trip_p99_ns", s.round_trip_p99_ns}});
+  return out;
+}
+
+}  // namespace
+
 RunVerdict plant_verdict(const PlantLoopResult& r, const LoopOptions& o) {
   return judge_run(r.end, r.cycles, r.deadline_misses, o.limits);
 }
@@ -73,6 +88,7 @@ nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o,
                                                              : nlohmann::json(nullptr)},
                       {"physical", physical_json(r.physical)},
                       {"partial", r.end != RunEnd::kDuration},
+                      {"segments", segments_json(r.segments)},
                       {"verdict", verdict_json(plant_verdict(r, o), r.end, o.limits)}};
   if (with_bins)
     j["histograms"] = {{"round_trip_ns", bins_json(*a.round_trip)},

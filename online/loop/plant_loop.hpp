@@ -35,6 +35,13 @@ struct PhysicalResults {
   double command_limit = 0;         ///< that limit (infinity: the actuator has none)
 };
 
+/// One segment of a run in segments (LoopOptions::segments): its own counts and round trip.
+struct SegmentFigures {
+  std::int64_t periods = 0, cycles = 0, deadline_misses = 0;
+  std::int64_t answers = 0;            ///< answers applied (round trips measured)
+  std::int64_t round_trip_p99_ns = 0;  ///< 0 when nothing was answered
+};
+
 struct PlantLoopResult {
   LoopAccounts accounts;
   double rate_hz = 0;
@@ -57,6 +64,7 @@ struct PlantLoopResult {
   std::string divergence_message;
   RunEnd end = RunEnd::kDuration;  ///< why the loop ended (online/loop/run_verdict.hpp)
   PhysicalResults physical;
+  std::vector<SegmentFigures> segments;  ///< in order; one when the run was not segmented
 };
 
 /// The physical figures as JSON: {"performance": [{"name", "unit", "rms"}], "command": [...],

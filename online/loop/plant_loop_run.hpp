@@ -5,6 +5,7 @@
 // translation units so that the effect combinations compile in parallel.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -65,6 +66,31 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   const rt::ReceiveMode receive = rt::receive_mode_for(o.wait);
   const auto answered = [&] { return station->answered(); };
   std::int64_t published_ns = 0;
+  const auto record_answer = [&] {
+    if (const auto* answer = station->last_answer()) {
+      const std::int64_t round_trip = station->commands().newest_received_ns() - published_ns;
+      a.round_trip->record(round_trip);
+      a.segment_round_trip->record(round_trip);
+      a.controller_compute->record(answer->controller_compute_ns);
+    }
+  };
+  // Segments (LoopOptions::segments): segment k ends once the grid covered periods (k+1)/K.
+  const std::int64_t segments = std::max(1, o.segments);
+  r.segments.reserve(static_cast<std::size_t>(segments));
+  SegmentFigures total;  // the counts when the current segment began
+  const auto close_segment = [&] {
+    SegmentFigures s;
+    s.periods = clock.schedule().periods_elapsed() - total.periods;
+    s.cycles = clock.schedule().cycles() - total.cycles;
+    s.deadline_misses = station->deadline_misses() - total.deadline_misses;
+    s.answers = a.segment_round_trip->count();
+    s.round_trip_p99_ns = s.answers > 0 ? a.segment_round_trip->percentile(0.99) : 0;
+    a.segment_round_trip->reset();
+    total.periods += s.periods;
+    total.cycles += s.cycles;
+    total.deadline_misses += s.deadline_misses;
+    r.segments.push_back(s);
+  };
   LoopCounts counts;
   long samples = 0;
   clock.start();
@@ -83,14 +109,21 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
       r.end = RunEnd::kMissLimit;
       break;
     }
+    if (static_cast<std::int64_t>(r.segments.size()) + 1 < segments &&
+        clock.schedule().periods_elapsed() >=
+            periods * static_cast<std::int64_t>(r.segments.size() + 1) / segments) {
+      // The last sample had its window (the receive above ran to its answer or the deadline):
+      // an answer that comes during the pause stays unread, and so counts as a miss.
+      close_segment();
+      if (o.between_segments) o.between_segments();
+      clock.resume();
+      continue;  // the stop and miss checks again, after the pause
+    }
     const rt::CycleStart c = clock.wait_next();
     a.wakeup_lateness->record(c.lateness_ns);
     const std::int64_t t0 = rt::monotonic_now_ns();
     station->settle(c.due_ns);
-    if (const auto* answer = station->last_answer()) {
-      a.round_trip->record(station->commands().newest_received_ns() - published_ns);
-      a.controller_compute->record(answer->controller_compute_ns);
-    }
+    record_answer();
     const auto& sample = station->sample(t0);
     // The plant's outputs with the command its actuators hold (the answer to the previous
     // sample): sim checks the same outputs with the command that answers them, so a divergence
@@ -112,10 +145,8 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   }
   // The last sample's answer had its window too.
   station->settle(clock.next_deadline_ns());
-  if (const auto* answer = station->last_answer()) {
-    a.round_trip->record(station->commands().newest_received_ns() - published_ns);
-    a.controller_compute->record(answer->controller_compute_ns);
-  }
+  record_answer();
+  close_segment();
   const rt::DeadlineSchedule& s = clock.schedule();
   r.periods = s.periods_elapsed();
   r.cycles = s.cycles();

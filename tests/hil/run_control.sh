@@ -51,7 +51,7 @@ out=$("$root/tools/netns-run" -- "$flexloop" plant "$tmp/loop.json" "${unpinned[
 ok
 
 # 2. SIGTERM to hil alone, under a terminal.
-hil_args=("$tmp/loop.json" --netns "${unpinned[@]}" --controller-cpu -1 --baseline-duration 0.2)
+hil_args=("$tmp/loop.json" --netns "${unpinned[@]}" --controller-cpu -1 --segments 2 --baseline-duration 0.4)
 script -qfec "'$flexloop' hil ${hil_args[*]} --duration 30 --report '$tmp/term.json'" "$tmp/term.tty" \
   >/dev/null 2>&1 &
 script_pid=$!

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "common/input_error.hpp"
+#include "common/toml_text_check.hpp"
 #include "plant/lti/state_space_builder.hpp"
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model_parser.hpp"
@@ -168,4 +169,86 @@ dynamic = ["e1.s"]
   CHECK_THAT(
       error_of(base + "[configuration]\nq = { \"x.2\" = 1.0 }\n"),
       Catch::Contains("bad.toml:19") && Catch::Contains("'x.2' is not a generalised coordinate"));
+}
+
+TEST_CASE("model file: text that is not valid UTF-8 is refused with its line, before toml++") {
+  // tests/fuzz found this: invalid UTF-8 in a comment reached __builtin_unreachable in toml++.
+  const std::string bad_comment = kHead + "# lens \xC2 frame\n[[element]]\n";
+  const std::string e = error_of(bad_comment);
+  CHECK(e.find("bad.toml:10") != std::string::npos);
+  CHECK(e.find("not valid UTF-8") != std::string::npos);
+}
+
+TEST_CASE("UTF-8 validation: valid text passes, each kind of bad sequence is found where it is") {
+  using flexloop::first_invalid_utf8;
+  CHECK_FALSE(first_invalid_utf8("plain ASCII\n"));
+  CHECK_FALSE(
+      first_invalid_utf8("\xC2\xA7 3, \xCE\xBC"
+                         "m, \xE2\x88\x9E, \xF0\x9F\x98\x80"));  // §, µ, ∞, U+1F600
+  CHECK_FALSE(first_invalid_utf8("\xF4\x8F\xBF\xBF"));           // U+10FFFF, the last code point
+  const char* bad[] = {
+      "\x80",              // lone continuation byte
+      "\xC0\xAF",          // overlong '/'
+      "\xC1\xBF",          // overlong
+      "\xE0\x80\xAF",      // overlong 3-byte
+      "\xED\xA0\x80",      // UTF-16 surrogate U+D800
+      "\xF0\x80\x80\xAF",  // overlong 4-byte
+      "\xF4\x90\x80\x80",  // above U+10FFFF
+      "\xF5\x80\x80\x80",  // lead byte never used
+      "\xE2\x88",          // truncated at the end
+      "\xE2\x28\xA1",      // bad continuation
+  };
+  for (const char* b : bad) {
+    const std::string text = std::string("a\nb\n") + b + "\n";
+    const auto err = first_invalid_utf8(text);
+    REQUIRE(err);
+    CHECK(err->line == 3);
+    CHECK(err->offset == 4);
+  }
+}
+
+TEST_CASE("TOML text check: non-ASCII only in comments and string values, else refused by line") {
+  // Debian's toml++ 3.3 has undefined behaviour on '°', 'µ', 'Ä', ... wherever it tests them for
+  // whitespace (tests/fuzz found two): common/toml_text_check.hpp keeps them where it is safe.
+  using flexloop::toml_text_problem;
+  const char* fine[] = {
+      "x = 1  # 5 \xC2\xB5m\n",                       // comment
+      "unit = \"m/s\xC2\xB2\"\n",                     // basic string value
+      "unit = '\xC2\xB0' # and a quote \" in it\n",   // literal string, quote in a comment
+      "note = \"\"\"first\n\xC3\x84 second\"\"\"\n",  // multi-line basic
+      "note = '''\\\n\xC3\x84'''\n",                  // multi-line literal: no escapes there
+      "x = \"a\\\"\xC3\x84\"\n",                      // escaped quote inside a value
+      "a = [\"\xCE\xA9\", '\xCE\xBC']\n",             // values in an array
+  };
+  for (const char* text : fine) {
+    INFO(text);
+    CHECK_FALSE(toml_text_problem(text));
+  }
+  struct Bad {
+    const char* text;
+    std::size_t line;
+    const char* says;
+  };
+  const Bad bad[] = {
+      {"x = 1\n\xC3\x84\n", 2, "stops being valid TOML"},
+      {"x = [1.0, 2\xC2\xB0]\n", 1, "outside a string or comment"},
+      {"\n\"\xC3\x84pfel\" = 1\n", 2, "key with non-ASCII"},
+      {"a.\"\xCE\xBC\".b = 1\n", 1, "key with non-ASCII"},
+      {"[node.'\xC3\x84']\n", 1, "key with non-ASCII"},
+      {"x = \"\"\"\\\xC3\x84\"\"\"\n", 1, "after a backslash"},
+      {"x = \"\"\"one \\\n\n   \xC3\x84\"\"\"\n", 3, "after a backslash"},
+      {"ok = 'a'\nbad = \xC3\x84\n", 2, "outside a string or comment"},
+      // A quote inside a bare token starts no string (toml++ reads on through the token).
+      {"x = 8.3'''rot \xCF\xB9'''\n", 1, "stops being valid TOML"},
+      {"0=0={'{\xEF\xB3\xBF'\n", 1, "outside a string or comment"},
+      {"[a]\nb = 1 2\n# \xC2\xB5\n", 3, "after line 2"},
+      {"x = -k'\xDD\xBD'\n", 1, "outside a string or comment"},
+  };
+  for (const Bad& b : bad) {
+    INFO(b.text);
+    const auto p = toml_text_problem(b.text);
+    REQUIRE(p);
+    CHECK(p->line == b.line);
+    CHECK(p->what.find(b.says) != std::string::npos);
+  }
 }

@@ -1,16 +1,17 @@
 // The real-time loop end to end (online/hil/hil_run.hpp): the metrology scene for 10 s, plant and
 // controller in two processes on the two cores over LCM in a private loopback-only namespace,
-// judged only against the baselines measured in the same run (DESIGN.md §7):
+// judged only against the baselines measured in the same run, interleaved with it in 5 segments
+// of 2 s (A1 B1 ... A5 B5, online/hil/interleaved_baselines.hpp). Each loop segment is held to
+// the baseline segment just before it (hil::BaselineMargins):
 //   deadline misses  <= 2 x the bare ping-pong's unanswered share + 1 % of the cycles
 //   round trip p99   <= 1.5 x the bare ping-pong's p99 + one bare-timer p99 (the loop has a
 //                       plant and a controller step and a publish more than the bare exchange)
-// plus correctness: every cycle ran, no message was dropped, the controller answered. Two runs,
-// both with the default settings (hybrid wait, direct receive): at 1 kHz, and at the highest rate
-// of 1, 2, 5, 10, 20 kHz that the bare baselines themselves can hold. The
-// margins are generous because this VM's tails come in bursts (a vCPU stalled for milliseconds
-// costs tens of misses at once) that the 3 s baselines and the 10 s loop need not both catch;
-// for the same reason a run outside the margins is repeated once, with its own baselines, and the
-// second run is judged (a loop that is really slower fails both).
+// and the median segment must be within both; plus correctness: every cycle ran, no message was
+// dropped, the controller answered. Two runs, both with the default settings (hybrid wait, direct
+// receive): at 1 kHz, and at the highest rate of 1, 2, 5, 10, 20 kHz that the bare baselines
+// themselves can hold. This VM's tails come in bursts (a vCPU stalled for milliseconds costs tens
+// of misses at once): the median segment is judged, not the worst, and a run outside the margins
+// is repeated once, with its own baselines (a loop that is really slower fails both).
 // Needs root for the namespace; without it the case says so and checks nothing.
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -26,9 +27,6 @@ using test::in_private_network;
 
 namespace {
 
-constexpr double kMissShareFactor = 2.0, kMissShareMargin = 0.01;
-constexpr double kRoundTripFactor = 1.5;
-
 hil::HilOptions options(double rate_hz, rt::WaitMode wait) {
   hil::HilOptions o;
   o.loop.loop_path = test::metrology_scene_path();
@@ -37,23 +35,16 @@ hil::HilOptions options(double rate_hz, rt::WaitMode wait) {
   o.loop.wait = wait;
   o.loop.realtime = {.cpu = 0, .fifo_priority = 80};
   o.controller_cpu = 1;
-  o.baseline_duration_s = 3;
+  o.segments = 5;  // the baselines as long as the loop (the default), in 2 s segments
   o.netns = true;
   return o;
 }
 
 artefact::LoopArtefact loop(const hil::HilOptions& o);
 
-// The timing margins alone (no CHECK): misses and round-trip p99 against the run's baselines.
+// The timing margins alone (no CHECK): the median segment against its baseline segment.
 bool within_margins(const nlohmann::json& r) {
-  const auto& pp = r["baseline"]["pingpong"];
-  const double cycles = r["cycles"].get<double>();
-  const double pp_unanswered_share = pp["unanswered"].get<double>() / pp["sent"].get<double>();
-  return r["deadline_misses"].get<double>() <=
-             (kMissShareFactor * pp_unanswered_share + kMissShareMargin) * cycles &&
-         r["round_trip_ns"]["p99"].get<double>() <=
-             kRoundTripFactor * pp["round_trip_ns"]["p99"].get<double>() +
-                 r["baseline"]["timer"]["wakeup_lateness_ns"]["p99"].get<double>();
+  return r["baseline_ratios"]["median_segment_within_margins"].get<bool>();
 }
 
 // One run, and a second one when the first is outside the margins: this VM's stalls come in
@@ -62,8 +53,9 @@ bool within_margins(const nlohmann::json& r) {
 nlohmann::json run_judged(const hil::HilOptions& o) {
   nlohmann::json r = hil::run_hil(o, loop(o));
   if (within_margins(r)) return r;
-  WARN("outside the margins once (round trip p99 " << r["round_trip_ns"]["p99"] << " ns, misses "
-                                                   << r["deadline_misses"] << "): running again");
+  WARN("outside the margins once (round trip p99 "
+       << r["round_trip_ns"]["p99"] << " ns, misses " << r["deadline_misses"]
+       << ", segments: " << r["baseline_ratios"]["segments"].dump() << "): running again");
   return hil::run_hil(o, loop(o));
 }
 
@@ -72,16 +64,19 @@ void check_against_baselines(const nlohmann::json& r, double rate_hz) {
   const auto& timer = r["baseline"]["timer"];
   const double cycles = r["cycles"].get<double>();
   const double misses = r["deadline_misses"].get<double>();
-  const double pp_unanswered_share = pp["unanswered"].get<double>() / pp["sent"].get<double>();
   const double rtt_p99 = r["round_trip_ns"]["p99"].get<double>();
   const double pp_p99 = pp["round_trip_ns"]["p99"].get<double>();
   const double timer_p99 = timer["wakeup_lateness_ns"]["p99"].get<double>();
+  const auto& ratios = r["baseline_ratios"];
   WARN(rate_hz << " Hz, wait " << r["wait_mode"] << ", receive " << r["receive_path"] << ": cycles "
                << cycles << ", misses " << misses << ", round trip p50/p99/max "
                << r["round_trip_ns"]["p50"] << "/" << rtt_p99 << "/" << r["round_trip_ns"]["max"]
                << " ns; baseline ping-pong p50/p99 " << pp["round_trip_ns"]["p50"] << "/" << pp_p99
                << " ns, unanswered " << pp["unanswered"] << " of " << pp["sent"] << "; timer p99 "
-               << timer_p99 << " ns");
+               << timer_p99 << " ns; per segment: round-trip p99 ratio "
+               << ratios["round_trip_p99_ratio"].dump() << ", margin use "
+               << ratios["margin_use"].dump() << ", " << ratios["segments_within_margins"]
+               << " of 5 within the margins");
   // The loop stops once the grid has covered the duration; a stall in its last cycle skips
   // periods (the overrun policy) and can carry the grid past the end by those.
   const double periods = r["periods"].get<double>();
@@ -93,8 +88,13 @@ void check_against_baselines(const nlohmann::json& r, double rate_hz) {
   CHECK(r["dropped_messages"]["non_finite"] == 0);
   CHECK(r["controller"]["dropped_messages"]["non_finite"] == 0);
   CHECK(r["controller"]["answered"].get<double>() >= cycles - misses);
-  CHECK(misses <= (kMissShareFactor * pp_unanswered_share + kMissShareMargin) * cycles);
-  CHECK(rtt_p99 <= kRoundTripFactor * pp_p99 + timer_p99);
+  // Every segment ran and was compared; the median one within both margins.
+  REQUIRE(ratios["segments"].size() == 5);
+  double segment_periods = 0;
+  for (const auto& s : r["segments"]) segment_periods += s["periods"].get<double>();
+  CHECK(segment_periods == periods);
+  CHECK(ratios["margin_use"]["median"].get<double>() <= 1.0);
+  CHECK(ratios["median_segment_within_margins"] == true);
 }
 
 // The scene's loop at the options' rate (the artefact `flexloop hil` builds).

@@ -135,9 +135,14 @@ void register_hil(CLI::App& app) {
       ->capture_default_str()
       ->check(CLI::Range(-1, 1023));
   cmd->add_option("--baseline-duration", args->hil.baseline_duration_s,
-                  "Length of each same-run baseline [s]")
-      ->capture_default_str()
+                  "Total length of each same-run baseline (timer, ping-pong) over all segments "
+                  "[s] (default: the run's duration)")
       ->check(finite_range(0.01, 600.0));
+  cmd->add_option("--segments", args->hil.segments,
+                  "Interleave baseline and loop in this many segments, A1 B1 A2 B2 ... (default: "
+                  "one per 2 s of the run, 1 to 5); each loop segment is compared with the "
+                  "baseline measured just before it")
+      ->check(CLI::Range(1, 100));
   cmd->add_flag("--netns", args->hil.netns,
                 "Enter a private loopback-only network namespace first (as tools/netns-run)");
   cmd->add_option("--lcm-log", args->hil.lcm_log,
