@@ -85,10 +85,13 @@ class Scanner {
     for (; i_ < t_.size(); ++i_) {
       if (t_[i_] == '\n') ++line_;
       if (!ascii(t_[i_]))
-        return TomlTextProblem{line_, "a non-ASCII character after line " +
-                                          std::to_string(from_line) +
-                                          ", where the text stops being valid TOML (the TOML "
-                                          "library cannot read it safely there)"};
+        return TomlTextProblem{
+            line_, "a non-ASCII character " +
+                       (line_ == from_line ? std::string("on a line that is not valid TOML")
+                                           : "after line " + std::to_string(from_line) +
+                                                 ", where the text stops being valid TOML") +
+                       " (outside a string or comment; the TOML library cannot read it safely "
+                       "there)"};
     }
     return std::nullopt;
   }
