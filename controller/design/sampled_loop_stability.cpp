@@ -8,6 +8,7 @@
 
 #include "controller/design/loop_stability.hpp"
 #include "plant/lti/frequency_response.hpp"
+#include "plant/lti/solve_or_empty.hpp"
 
 namespace flexloop::controller::design {
 
@@ -54,7 +55,8 @@ SampledLoopModel sampled_loop_model(const plant::lti::DiscreteStateSpace& g22,
   const double T = g22.dt;
   const Eigen::FullPivLU<MatrixXd> loop(Ic - c.D * F);
   require(loop.isInvertible(), "I - Dc F is singular: the loop is ill-posed");
-  const MatrixXd u_from_f = loop.solve(c.D), u_from_xc = loop.solve(c.C);
+  const MatrixXd u_from_f = plant::lti::solve_or_empty(loop, c.D),
+                 u_from_xc = plant::lti::solve_or_empty(loop, c.C);
   const bool lag = hw.actuator_lag_s > 0;
   const double one_minus_al = lag ? -std::expm1(-T / hw.actuator_lag_s) : 1.0;
   const double al = 1 - one_minus_al, bl = lag ? hw.actuator_lag_s / T * one_minus_al : 0.0;

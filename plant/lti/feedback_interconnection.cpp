@@ -1,5 +1,7 @@
 #include "plant/lti/feedback_interconnection.hpp"
 
+#include "plant/lti/solve_or_empty.hpp"
+
 #include <stdexcept>
 #include <string>
 
@@ -53,7 +55,12 @@ LoopSolution solve_loop(const Blocks& b, const StateSpace& c) {
     throw std::invalid_argument(
         "close_loop: I - Dc D22 is singular: the loop is ill-posed "
         "(an algebraic loop without a unique solution)");
-  LoopSolution s{lu.solve(c.D * b.C2), lu.solve(c.C), lu.solve(c.D * b.D21), {}, {}, {}};
+  LoopSolution s{solve_or_empty(lu, c.D * b.C2),
+                 solve_or_empty(lu, c.C),
+                 solve_or_empty(lu, c.D * b.D21),
+                 {},
+                 {},
+                 {}};
   s.Yx = b.C2 + b.D22 * s.Ux;
   s.Yc = b.D22 * s.Uc;
   s.Yw = b.D21 + b.D22 * s.Uw;

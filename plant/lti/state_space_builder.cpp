@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "common/input_error.hpp"
+#include "plant/lti/solve_or_empty.hpp"
 #include "plant/model/massless_condensation.hpp"
 #include "plant/model/released_model.hpp"
 
@@ -229,8 +230,10 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
   }
 
   // Dynamics of p: R^T Mdd R p'' = R^T (g - Cdd q' - Kdd q).
-  const Eigen::MatrixXd acc_z = mdd.solve(R.transpose() * (g_z - CDdd * q1_z - KNGdd * q0_z));
-  const Eigen::MatrixXd acc_u = mdd.solve(R.transpose() * (g_u - CDdd * q1_u - KNGdd * q0_u));
+  const Eigen::MatrixXd acc_z =
+      solve_or_empty(mdd, R.transpose() * (g_z - CDdd * q1_z - KNGdd * q0_z));
+  const Eigen::MatrixXd acc_u =
+      solve_or_empty(mdd, R.transpose() * (g_u - CDdd * q1_u - KNGdd * q0_u));
   // q_d'' = R p'' + H g''.
   Eigen::MatrixXd q2_z = R * acc_z, q2_u = R * acc_u;
   if (nb > 0) q2_z += H * g2_z, q2_u += H * g2_u;
