@@ -345,7 +345,9 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   }
 
   // Singular values of the passive floor -> frame path G11 and of the closed loop T.
-  const auto f = lti::log_frequency_grid_hz(grid.f_min_hz, grid.f_max_hz, grid.points);
+  const auto f =
+      lti::with_resonances(lti::log_frequency_grid_hz(grid.f_min_hz, grid.f_max_hz, grid.points),
+                           p.natural_frequencies_hz);
   lti::StateSpace g11 = p.plant;
   g11.B = p.plant.B.leftCols(p.partition.disturbances);
   g11.D = p.plant.D.topLeftCorner(p.partition.performance, p.partition.disturbances);

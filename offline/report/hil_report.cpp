@@ -27,15 +27,24 @@ void plot_bins(const nlohmann::json& bins, const std::string& title, const std::
                            static_cast<int>(kPlotBins * std::log(us / lo) / std::log(hi / lo)));
     counts[static_cast<std::size_t>(i)] += b[2].get<double>();
   }
-  report::PlotSpec spec{title, "[us] (log)", "cycles (log)", true, true, 1000, 500};
+  report::PlotSpec spec{
+      title, "latency [\u00b5s], log scale", "cycles, log scale", true, true, 1000, 500};
   report::plot_histogram(spec, edges, counts, png);
 }
 
+// Microseconds with three significant digits and no exponent (8094, 58.4, 0.015).
+std::string microseconds(double ns) {
+  const double us = ns / 1e3;
+  const int decimals = us >= 100 ? 0 : us >= 10 ? 1 : us >= 1 ? 2 : 3;
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", decimals, us);
+  return text;
+}
+
 std::string figures(const nlohmann::json& s) {
-  char line[160];
-  std::snprintf(line, sizeof line, "p50 %.1f us, p99 %.1f us, max %.1f us", s.value("p50", 0) / 1e3,
-                s.value("p99", 0) / 1e3, s.value("max", 0) / 1e3);
-  return line;
+  return "p50 " + microseconds(s.value("p50", 0.0)) + " / p99 " +
+         microseconds(s.value("p99", 0.0)) + " / max " + microseconds(s.value("max", 0.0)) +
+         " \u00b5s";
 }
 
 void print_line(const char* what, const nlohmann::json& s) {
@@ -62,16 +71,17 @@ std::vector<std::string> write_hil_report(const nlohmann::json& report, const st
   const auto& h = report["histograms"];
   const auto& base = report["baseline"];
   char rate[64];
-  std::snprintf(rate, sizeof rate, "%.6g Hz, wait %s, receive %s", report.value("rate_hz", 0.0),
+  std::snprintf(rate, sizeof rate, "%.6g kHz (%s, %s)", report.value("rate_hz", 0.0) / 1e3,
                 report.value("wait_mode", "?").c_str(), report.value("receive_path", "?").c_str());
   const std::string rtt_png = stem + "_round_trip.png", late_png = stem + "_wakeup_lateness.png";
   plot_bins(h["round_trip_ns"],
-            std::string("sensor -> actuator round trip, ") + rate +
-                " (bare LCM ping-pong: " + figures(base["pingpong"]["round_trip_ns"]) + ")",
+            std::string("round trip at ") + rate + ": " + figures(report["round_trip_ns"]) +
+                "\nbare ping-pong " + figures(base["pingpong"]["round_trip_ns"]),
             rtt_png);
   plot_bins(h["wakeup_lateness_ns"],
-            std::string("plant wake-up lateness, ") + rate +
-                " (bare timer: " + figures(base["timer"]["wakeup_lateness_ns"]) + ")",
+            std::string("plant wake-up lateness at ") + rate + ": " +
+                figures(report["wakeup_lateness_ns"]) + "\nbare timer " +
+                figures(base["timer"]["wakeup_lateness_ns"]),
             late_png);
   written.push_back(rtt_png);
   written.push_back(late_png);

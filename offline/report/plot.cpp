@@ -27,8 +27,21 @@ namespace flexloop::report {
 namespace {
 constexpr double kPi = 3.14159265358979323846264338327950288;
 
-// gnuplot single-quoted string: no escapes except '' for a quote; newlines would end the command.
+// gnuplot string. Single-quoted (no escapes except '' for a quote) unless the text has line
+// breaks: a double-quoted string then, where "\n" breaks the line (a title of two lines).
 std::string quote(const std::string& s) {
+  if (s.find('\n') != std::string::npos) {
+    std::string q = "\"";
+    for (char c : s) {
+      if (c == '\\' || c == '"')
+        q += std::string("\\") + c;
+      else if (c == '\n')
+        q += "\\n";
+      else if (c != '\r')
+        q += c;
+    }
+    return q + "\"";
+  }
   std::string q = "'";
   for (char c : s) {
     if (c == '\'')
@@ -87,7 +100,9 @@ std::string preamble(const PlotSpec& spec, const std::string& out_png) {
     << "set output " << quote(out_png) << "\n"
     << "set encoding utf8\n"
     << "set grid xtics ytics mxtics mytics lw 1 lc rgb '#b8b8b8', lw 1 lc rgb '#e0e0e0'\n"
-    << "set key top right box opaque\n"
+    // Under the plot: never over a curve, however many channels; its box clear of the x label.
+    << "set key below box height 0.6\n"
+    << "set autoscale xfix\n"  // the axis ends where the data do (a spectrum at its Nyquist)
     << "set datafile missing 'NaN'\n";
   return s.str();
 }
@@ -193,6 +208,11 @@ void run_gnuplot(const std::string& png_path, const std::string& body_without_pr
   }
   if (std::rename(image.path.c_str(), png_path.c_str()) != 0)
     throw std::runtime_error("plot " + png_path + ": rename: " + std::strerror(errno));
+  // gnuplot succeeded but said something (a warning: an empty range, a bad tic): pass it on, a
+  // picture drawn around a warning is rarely the one meant (tests/cli/pictures.sh expects none).
+  if (const std::string said = slurp(log.path); !said.empty())
+    std::fprintf(stderr, "warning: plot %s: gnuplot: %s%s", png_path.c_str(), said.c_str(),
+                 said.back() == '\n' ? "" : "\n");
 }
 
 std::string plot_title(const std::string& t) {
@@ -218,28 +238,57 @@ std::vector<double> unwrapped_phase_deg(const std::vector<std::complex<double>>&
     ph[i] = p + offset;
     if (std::isfinite(ph[i])) prev = ph[i];
   }
+  // Whole turns off so that the curve starts in (-180, 180]: a phase that begins near -720 reads
+  // as the same physics, shifted out of the range engineers look in.
+  const auto first = std::find_if(ph.begin(), ph.end(), [](double v) { return std::isfinite(v); });
+  if (first != ph.end()) {
+    const double turns = std::ceil((*first - 180.0) / 360.0);
+    for (double& v : ph) v -= 360.0 * turns;
+  }
   return ph;
 }
 }  // namespace
 
-void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
-                const std::string& png_path) {
+// Datablocks (named $<prefix><k>) and the plot command of a set of lines; `unset key` first when
+// none has a title.
+std::string lines_body(const PlotSpec& spec, const std::vector<Series>& series,
+                       const std::string& prefix, const std::string& png_path) {
   if (series.empty()) throw std::invalid_argument("plot " + png_path + ": no series to draw");
-  std::string body = labels(spec), cmd = "plot ";
+  std::string data, cmd = "plot ";
   for (std::size_t k = 0; k < series.size(); ++k) {
     const Series& s = series[k];
     if (s.x.size() != s.y.size())
       throw std::invalid_argument("plot " + png_path + ": series '" + s.title + "' has " +
                                   std::to_string(s.x.size()) + " x and " +
                                   std::to_string(s.y.size()) + " y values");
-    const std::string name = "$s" + std::to_string(k);
-    body += datablock(name, s.x, {s.y}, spec.logx, spec.logy);
+    const std::string name = "$" + prefix + std::to_string(k);
+    data += datablock(name, s.x, {s.y}, spec.logx, spec.logy);
     cmd += (k ? ", \\\n     " : "") + name + " using 1:2 with " +
            checked_style(s.style, "lines lw 2", png_path) + " " + plot_title(s.title);
   }
-  if (std::all_of(series.begin(), series.end(), [](const Series& x) { return x.title.empty(); }))
-    body += "unset key\n";
-  run_gnuplot(png_path, body + cmd + "\n", spec);
+  const bool untitled =
+      std::all_of(series.begin(), series.end(), [](const Series& x) { return x.title.empty(); });
+  return data + (untitled ? "unset key\n" : "set key\n") + cmd + "\n";
+}
+
+void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
+                const std::string& png_path) {
+  run_gnuplot(png_path, labels(spec) + lines_body(spec, series, "s", png_path), spec);
+}
+
+void plot_stacked(const PlotSpec& spec, const std::vector<Panel>& panels,
+                  const std::string& png_path) {
+  if (panels.empty()) throw std::invalid_argument("plot " + png_path + ": no panel to draw");
+  PlotSpec s = spec;
+  s.title.clear();
+  std::string body = "set multiplot layout " + std::to_string(panels.size()) + ",1 title " +
+                     quote(spec.title) + "\n";
+  for (std::size_t k = 0; k < panels.size(); ++k) {
+    s.ylabel = panels[k].ylabel;
+    s.xlabel = k + 1 == panels.size() ? spec.xlabel : "";  // one x label, under the last panel
+    body += labels(s) + lines_body(s, panels[k].series, "p" + std::to_string(k) + "_", png_path);
+  }
+  run_gnuplot(png_path, body + "unset multiplot\n", spec);
 }
 
 std::vector<std::complex<double>> channel(const std::vector<Eigen::MatrixXcd>& G,
@@ -329,6 +378,23 @@ void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& 
   run_gnuplot(png_path, body + cmd + "\n", s);
 }
 
+namespace {
+
+// Labelled ticks on a log axis from lo to hi: every decade, and 2 and 5 between them when the axis
+// spans less than three decades (a range of 10 to 100 µs then shows 20 and 50, not one "10").
+std::string log_ticks(double lo, double hi) {
+  if (!(lo > 0.0) || !(hi > lo)) return "";
+  if (hi / lo >= 1e3) return "set xtics 10 format '%g'\nset mxtics 10\n";
+  std::string ticks;
+  for (double decade = std::pow(10.0, std::floor(std::log10(lo))); decade <= hi; decade *= 10.0)
+    for (double step : {1.0, 2.0, 5.0})
+      if (const double t = step * decade; t >= lo && t <= hi)
+        ticks += (ticks.empty() ? "" : ", ") + format_number(t);
+  return "set xtics (" + ticks + ") format '%g'\nset mxtics 10\n";
+}
+
+}  // namespace
+
 void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
                     const std::vector<double>& counts, const std::string& png_path) {
   if (counts.empty() || bin_edges.size() != counts.size() + 1)
@@ -356,6 +422,8 @@ void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
   body += "unset key\nset xrange [" + format_number(bin_edges.front()) + ":" +
           format_number(bin_edges.back()) + "]\n";
   body += "set style fill solid 0.6 border lc rgb '#1f4e79'\nset boxwidth 1 absolute\n";
+  if (spec.logx) body += log_ticks(bin_edges.front(), bin_edges.back());
+  if (spec.logy) body += "set ytics 10 format '%g'\nset mytics 10\n";
   if (spec.logy && std::isfinite(min_positive))
     body += "set yrange [" + format_number(min_positive / 2.0) + ":*]\n";
   else if (!spec.logy)

@@ -41,6 +41,18 @@ struct Series {
 void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
                 const std::string& png_path);
 
+/// One panel of a stacked plot: its y label (with units) and its lines.
+struct Panel {
+  std::string ylabel;
+  std::vector<Series> series;
+};
+
+/// Panels one above the other over the same x axis (spec.xlabel under the last, spec.title over
+/// all), each with its own y range: signals of different size or unit side by side (a
+/// disturbance, and a performance output with the controller off and on).
+void plot_stacked(const PlotSpec& spec, const std::vector<Panel>& panels,
+                  const std::string& png_path);
+
 /// One frequency-response channel for a Bode plot.
 struct BodeSeries {
   std::string title;

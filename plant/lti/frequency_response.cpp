@@ -42,6 +42,17 @@ std::vector<double> log_frequency_grid_hz(double f_min_hz, double f_max_hz, int 
   return f;
 }
 
+std::vector<double> with_resonances(std::vector<double> grid_hz,
+                                    const Eigen::VectorXd& resonances_hz) {
+  if (grid_hz.empty()) return grid_hz;
+  const double lo = grid_hz.front(), hi = grid_hz.back();
+  for (const double f : resonances_hz)
+    if (std::isfinite(f) && f > lo && f < hi) grid_hz.push_back(f);
+  std::sort(grid_hz.begin(), grid_hz.end());
+  grid_hz.erase(std::unique(grid_hz.begin(), grid_hz.end()), grid_hz.end());
+  return grid_hz;
+}
+
 Eigen::VectorXd balancing_scaling(const Eigen::MatrixXd& A) {
   if (A.rows() != A.cols()) throw std::invalid_argument("balancing_scaling: A must be square");
   const Eigen::Index n = A.rows();

@@ -28,6 +28,12 @@ namespace flexloop::plant::lti {
 /// @throws std::invalid_argument unless 0 < f_min_hz < f_max_hz (finite) and points >= 2.
 std::vector<double> log_frequency_grid_hz(double f_min_hz, double f_max_hz, int points);
 
+/// grid_hz (increasing) with each finite resonance frequency inside its range added, in order:
+/// a lightly damped peak (0.2 % damping is 0.5 % wide at -3 dB) is then drawn at its height,
+/// not cut off between two grid points.
+std::vector<double> with_resonances(std::vector<double> grid_hz,
+                                    const Eigen::VectorXd& resonances_hz);
+
 struct FrequencyResponseOptions {
   /// Scale A by an exact power-of-two diagonal similarity before the Hessenberg reduction
   /// (no permutations). Harmless when A is already well scaled; helps when state units differ

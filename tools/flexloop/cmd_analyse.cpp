@@ -67,7 +67,8 @@ void run(const AnalyseArgs& a) {
   std::printf("%s%s\n", r.statics.stable() ? "" : "UNSTABLE: ", lti::to_string(r.statics).c_str());
 
   // Frequency response and singular values.
-  const auto f = lti::log_frequency_grid_hz(a.f_min, a.f_max, a.points);
+  const auto f = lti::with_resonances(lti::log_frequency_grid_hz(a.f_min, a.f_max, a.points),
+                                      r.natural_frequencies_hz);
   const auto G = lti::frequency_response(ss, f);
   const Eigen::MatrixXd sv = lti::singular_values(G);
   std::vector<std::string> header{"frequency_hz"};

@@ -150,16 +150,26 @@ void plot_runs(const artefact::LoopArtefact& a, const BothRuns& r, long log_ever
     return v;
   };
   const auto t = column(r.on.log, 0);
-  std::vector<report::Series> ts{
-      {"disturbance " + disturbance.name, t, column(r.on.log, 1), "lines lw 1 lc 3"},
-      {performance[0].name + ", controller off", t, column(r.off.log, 1 + nw), "lines lw 1 lc 1"}};
+  // One panel each (own y range): the disturbance, the output with the controller off, and on;
+  // the "on" trace is tens of dB below the "off" one and would be a flat line beside it.
+  const std::string unit = "[" + performance[0].unit + "]";
+  std::vector<report::Panel> panels{
+      {"disturbance [" + disturbance.unit + "]",
+       {{disturbance.name, t, column(r.on.log, 1), "lines lw 1 lc 3"}}},
+      {"controller off " + unit,
+       {{performance[0].name + ", controller off", t, column(r.off.log, 1 + nw),
+         "lines lw 1 lc 1"}}}};
   if (r.controlled)
-    ts.push_back(
-        {performance[0].name + ", controller on", t, column(r.on.log, 1 + nw), "lines lw 2 lc 2"});
-  report::plot_lines(
-      {a.name + ": disturbance and performance output", "time [s]",
-       "[" + performance[0].unit + "], [" + disturbance.unit + "]", false, false, 1200, 500},
-      ts, dir + "/time_series.png");
+    panels.push_back({"controller on " + unit,
+                      {{performance[0].name + ", controller on", t, column(r.on.log, 1 + nw),
+                        "lines lw 1 lc 2"}}});
+  char window[160] = "";
+  if (keep > 0)
+    std::snprintf(window, sizeof window, ", t = %.4g ... %.4g s (the last %lld logged samples)",
+                  t.front(), t.back(), static_cast<long long>(keep));
+  report::plot_stacked({a.name + ": disturbance and performance output" + window, "time [s]", "",
+                        false, false, 1200, 300 + 250 * static_cast<int>(panels.size())},
+                       panels, dir + "/time_series.png");
   // Welch spectra of every frame channel, off (solid) and on (dashed).
   const double fs = rate_hz / static_cast<double>(log_every);  // the log's sample rate
   const Eigen::Index L = std::min<Eigen::Index>(r.on.log.rows() / 8, 8192);
