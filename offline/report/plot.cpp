@@ -19,13 +19,13 @@
 #include <stdexcept>
 
 #include "offline/report/csv_writer.hpp"
+#include "plant/lti/frequency_response.hpp"
 
 extern char** environ;
 
 namespace flexloop::report {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846264338327950288;
 
 // gnuplot string. Single-quoted (no escapes except '' for a quote) unless the text has line
 // breaks: a double-quoted string then, where "\n" breaks the line (a title of two lines).
@@ -225,28 +225,6 @@ std::vector<double> magnitude_db(const std::vector<std::complex<double>>& g) {
   return db;
 }
 
-// Phase in degrees, unwrapped along the sequence so it does not jump by 360.
-std::vector<double> unwrapped_phase_deg(const std::vector<std::complex<double>>& g) {
-  std::vector<double> ph(g.size());
-  double offset = 0.0, prev = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t i = 0; i < g.size(); ++i) {
-    double p = std::arg(g[i]) * 180.0 / kPi;
-    if (std::isfinite(prev)) {
-      while (p + offset - prev > 180.0) offset -= 360.0;
-      while (p + offset - prev < -180.0) offset += 360.0;
-    }
-    ph[i] = p + offset;
-    if (std::isfinite(ph[i])) prev = ph[i];
-  }
-  // Whole turns off so that the curve starts in (-180, 180]: a phase that begins near -720 reads
-  // as the same physics, shifted out of the range engineers look in.
-  const auto first = std::find_if(ph.begin(), ph.end(), [](double v) { return std::isfinite(v); });
-  if (first != ph.end()) {
-    const double turns = std::ceil((*first - 180.0) / 360.0);
-    for (double& v : ph) v -= 360.0 * turns;
-  }
-  return ph;
-}
 }  // namespace
 
 // Datablocks (named $<prefix><k>) and the plot command of a set of lines; `unset key` first when
@@ -320,8 +298,9 @@ void plot_bode(const PlotSpec& spec, const std::vector<BodeSeries>& series,
                                   std::to_string(b.f_hz.size()) + " frequencies and " +
                                   std::to_string(b.response.size()) + " values");
     const std::string name = "$b" + std::to_string(k);
-    data += datablock(name, b.f_hz, {magnitude_db(b.response), unwrapped_phase_deg(b.response)},
-                      true, false);
+    data += datablock(name, b.f_hz,
+                      {magnitude_db(b.response), plant::lti::unwrapped_phase_deg(b.response)}, true,
+                      false);
     const std::string style = checked_style(b.style, "lines lw 2", png_path);
     const std::string colour = has_colour(style) ? "" : " lc " + std::to_string(k + 1);
     const std::string sep = k ? ", \\\n     " : "";

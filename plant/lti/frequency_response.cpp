@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -51,6 +53,29 @@ std::vector<double> with_resonances(std::vector<double> grid_hz,
   std::sort(grid_hz.begin(), grid_hz.end());
   grid_hz.erase(std::unique(grid_hz.begin(), grid_hz.end()), grid_hz.end());
   return grid_hz;
+}
+
+std::vector<double> unwrapped_phase_deg(const std::vector<std::complex<double>>& g) {
+  constexpr double kDegPerRad = 180.0 / std::numbers::pi;
+  std::vector<double> ph(g.size());
+  double offset = 0.0, prev = std::numeric_limits<double>::quiet_NaN();
+  for (std::size_t i = 0; i < g.size(); ++i) {
+    const double p = std::arg(g[i]) * kDegPerRad;
+    if (std::isfinite(prev)) {
+      while (p + offset - prev > 180.0) offset -= 360.0;
+      while (p + offset - prev < -180.0) offset += 360.0;
+    }
+    ph[i] = std::isfinite(p) ? p + offset : std::numeric_limits<double>::quiet_NaN();
+    if (std::isfinite(ph[i])) prev = ph[i];
+  }
+  // Whole turns off so that the curve starts in (-180, 180]: a phase that begins near -720 reads
+  // as the same physics, shifted out of the range engineers look in.
+  const auto first = std::find_if(ph.begin(), ph.end(), [](double v) { return std::isfinite(v); });
+  if (first != ph.end()) {
+    const double turns = std::ceil((*first - 180.0) / 360.0);
+    for (double& v : ph) v -= 360.0 * turns;
+  }
+  return ph;
 }
 
 Eigen::VectorXd balancing_scaling(const Eigen::MatrixXd& A) {

@@ -34,6 +34,12 @@ std::vector<double> log_frequency_grid_hz(double f_min_hz, double f_max_hz, int 
 std::vector<double> with_resonances(std::vector<double> grid_hz,
                                     const Eigen::VectorXd& resonances_hz);
 
+/// The phase of g in degrees along the sequence, unwrapped (no jump of more than 180 degrees
+/// between neighbours; a fourth-order lag reaches -360), then shifted by whole turns so that the
+/// first finite value lies in (-180, 180]. Non-finite entries stay NaN and do not break the
+/// unwrapping of the rest.
+std::vector<double> unwrapped_phase_deg(const std::vector<std::complex<double>>& g);
+
 struct FrequencyResponseOptions {
   /// Scale A by an exact power-of-two diagonal similarity before the Hessenberg reduction
   /// (no permutations). Harmless when A is already well scaled; helps when state units differ
