@@ -225,8 +225,6 @@ std::vector<double> magnitude_db(const std::vector<std::complex<double>>& g) {
   return db;
 }
 
-}  // namespace
-
 // Datablocks (named $<prefix><k>) and the plot command of a set of lines; `unset key` first when
 // none has a title.
 std::string lines_body(const PlotSpec& spec, const std::vector<Series>& series,
@@ -248,6 +246,8 @@ std::string lines_body(const PlotSpec& spec, const std::vector<Series>& series,
       std::all_of(series.begin(), series.end(), [](const Series& x) { return x.title.empty(); });
   return data + (untitled ? "unset key\n" : "set key\n") + cmd + "\n";
 }
+
+}  // namespace
 
 void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
                 const std::string& png_path) {
