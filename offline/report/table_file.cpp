@@ -66,7 +66,11 @@ bool is_table_file(const std::string& path) {
   return ext == ".csv" || ext == ".mat";
 }
 
-void write_table(const std::string& path, const std::vector<std::string>& names,
+std::string staged_name(const std::string& path) {
+  return path + ".tmp";
+}
+
+void stage_table(const std::string& path, const std::vector<std::string>& names,
                  Eigen::Ref<const Eigen::MatrixXd> data) {
   const std::string ext = extension(path);
   if (!is_table_file(path))
@@ -74,18 +78,32 @@ void write_table(const std::string& path, const std::vector<std::string>& names,
   if (static_cast<Eigen::Index>(names.size()) != data.cols())
     throw std::invalid_argument(path + ": " + std::to_string(names.size()) + " column names for " +
                                 std::to_string(data.cols()) + " columns");
+  const std::string staged = staged_name(path);
   if (ext == ".csv") {
-    write_csv(path, names, data);
+    write_csv(staged, names, data);  // itself atomic: staged appears whole or not at all
     return;
   }
-  const std::string tmp = path + ".tmp";
   const bool contiguous = data.outerStride() == data.rows();
-  if (!(contiguous ? write_mat_file(tmp, names, data)
-                   : write_mat_file(tmp, names, Eigen::MatrixXd(data)))) {
-    std::filesystem::remove(tmp);
+  if (!(contiguous ? write_mat_file(staged, names, data)
+                   : write_mat_file(staged, names, Eigen::MatrixXd(data)))) {
+    discard_table(path);
     throw std::runtime_error(path + ": cannot be written");
   }
-  std::filesystem::rename(tmp, path);
+}
+
+void commit_table(const std::string& path) {
+  std::filesystem::rename(staged_name(path), path);
+}
+
+void discard_table(const std::string& path) noexcept {
+  std::error_code ignored;
+  std::filesystem::remove(staged_name(path), ignored);
+}
+
+void write_table(const std::string& path, const std::vector<std::string>& names,
+                 Eigen::Ref<const Eigen::MatrixXd> data) {
+  stage_table(path, names, data);
+  commit_table(path);
 }
 
 }  // namespace flexloop::report

@@ -54,15 +54,30 @@ BothRuns run_both(const Plant& plant, const artefact::LoopArtefact& a, const Run
   return with_hardware<NW, NC, NS>(a, plant, [&](auto hw) {
     BothRuns r;
     r.controlled = pi || state_space;
-    r.off = run_closed_loop(hw, plant::runtime::NoEffect{}, off, progress("controller off"));
-    if constexpr (NS == NC)
-      if (pi)
-        r.on = run_closed_loop(hw, make_pi<NC>(a.pi, a.actuators()), on, progress("controller on"));
-    if constexpr (kGeneral)
-      if (state_space)
-        r.on = run_closed_loop(
-            hw, controller::runtime::StateSpaceController<double>::from_parameters(a.state_space),
-            on, progress("controller on"));
+    const auto run_off = [&] {
+      r.off = run_closed_loop(hw, plant::runtime::NoEffect{}, off, progress("controller off"));
+    };
+    const auto run_on = [&] {
+      if constexpr (NS == NC)
+        if (pi)
+          r.on =
+              run_closed_loop(hw, make_pi<NC>(a.pi, a.actuators()), on, progress("controller on"));
+      if constexpr (kGeneral)
+        if (state_space)
+          r.on = run_closed_loop(
+              hw, controller::runtime::StateSpaceController<double>::from_parameters(a.state_space),
+              on, progress("controller on"));
+    };
+    const bool on_first = o.on_first && r.controlled;
+    if (on_first) {
+      run_on();
+      if (o.after_first_run) o.after_first_run(r.on);
+      run_off();
+    } else {
+      run_off();
+      if (o.after_first_run) o.after_first_run(r.off);
+      run_on();
+    }
     return r;
   });
 }

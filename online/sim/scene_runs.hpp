@@ -25,6 +25,12 @@ struct SceneRunOptions {
   bool general = false;
   bool log_off = false, log_on = false;
   ProgressFactory progress;
+  /// Run the controller-on run first (the off run first otherwise, and always without a
+  /// controller). The same results in either order: both runs start from the same seeds.
+  bool on_first = false;
+  /// Called with the first run's result as soon as it ends, before the second starts: a caller
+  /// may take its log and write it while the second run goes on.
+  std::function<void(RunResult&)> after_first_run;
 };
 
 /// @throws flexloop::InputError naming the artefact for what its hardware refuses.

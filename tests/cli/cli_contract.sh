@@ -82,6 +82,7 @@ for f in log.csv time_series.png spectra.png; do [[ -s "$tmp/sim/$f" ]] || fail 
 # extension is refused before the run.
 out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1 --log "$tmp/sim/log.mat" 2>&1) ||
   fail "sim --log .mat: $out"
+[[ ! -e "$tmp/sim/log.mat.tmp" ]] || fail "sim --log .mat left its staged file"
 /usr/bin/python3 - "$tmp/sim/log.csv" "$tmp/sim/log.mat" <<'PY' || fail "sim .mat log differs from its CSV"
 import sys, numpy, scipy.io
 csv = numpy.genfromtxt(sys.argv[1], delimiter=",", skip_header=1)

@@ -64,4 +64,8 @@ out=$("$root/tools/netns-run" -- "$plant" "$tmp/bipods.json" --cpu -1 --priority
   fail "diverging plant: exit $rc ($out)"
 grep -q '"divergence": *"plant: the loop diverged' "$tmp/diverged.json" ||
   fail "diverging plant's figures: $(cat "$tmp/diverged.json")"
-echo "online programs: 10 checks passed"
+# sim of the same loop with a log: exit 1, and neither the log nor its staged file is left.
+out=$("$flexloop" sim "$tmp/bipods.json" --duration 2 --log "$tmp/diverged/log.mat" 2>&1); rc=$?
+[[ $rc -eq 1 && "$out" == *"diverged"*"nothing written"* && ! -e "$tmp/diverged/log.mat" &&
+   ! -e "$tmp/diverged/log.mat.tmp" ]] || fail "diverging sim with a log: exit $rc ($out)"
+echo "online programs: 11 checks passed"

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <tuple>
 
 #include "common/atomic_file.hpp"
@@ -235,9 +236,46 @@ void run(const SimArgs& args) {
       artefact::to_string(a.controller).c_str());
   std::printf("floor: %s, seed %llu\neffects: %s\n", floor.c_str(),
               static_cast<unsigned long long>(a.floor.seed), describe_effects(a.effects).c_str());
-  const BothRuns r = sim::run_artefact(a, s,
-                                       {args.path == "general", plots || (log && !on),
-                                        plots || (log && on), progress_lines(s.steps)});
+  if (log)
+    if (const auto dir = std::filesystem::path(args.log).parent_path(); !dir.empty())
+      std::filesystem::create_directories(dir);
+  // The logged run goes first, and its file is written while the other run goes on: on two
+  // cores the writing (formatting, the kernel's copy, fsync) hides behind that run. Declared in
+  // this order so that the writer is joined before the log it reads is freed and before an
+  // unfinished file is removed.
+  sim::RunLog written;
+  struct Staged {
+    const std::string* path = nullptr;
+    bool committed = false;
+    ~Staged() {
+      if (path && !committed) report::discard_table(*path);
+    }
+  } staged;
+  std::exception_ptr write_error;
+  std::jthread writer;
+  const auto write_first = [&](sim::RunResult& first) {
+    if (!log || first.divergence.happened()) return;
+    written = std::move(first.log);
+    staged.path = &args.log;
+    writer = std::jthread([&] {
+      try {
+        report::stage_table(args.log, log_header(a), written.matrix());
+      } catch (...) {
+        write_error = std::current_exception();
+      }
+    });
+  };
+  BothRuns r = sim::run_artefact(a, s,
+                                 {.general = args.path == "general",
+                                  .log_off = plots || (log && !on),
+                                  .log_on = plots || (log && on),
+                                  .progress = progress_lines(s.steps),
+                                  .on_first = on,
+                                  .after_first_run = write_first});
+  if (writer.joinable()) {
+    writer.join();
+    (on ? r.on : r.off).log = std::move(written);  // back for the plots
+  }
 
   for (const auto* run : {&r.off, &r.on})
     if (run == &r.off || r.controlled) require_bounded(a, *run, run == &r.off ? "off" : "on");
@@ -262,9 +300,9 @@ void run(const SimArgs& args) {
                 a.duration_s, a.duration_s / run->loop_seconds);
   }
   if (log) {
-    if (const auto dir = std::filesystem::path(args.log).parent_path(); !dir.empty())
-      std::filesystem::create_directories(dir);
-    report::write_table(args.log, log_header(a), (on ? r.on.log : r.off.log).matrix());
+    if (write_error) std::rethrow_exception(write_error);
+    report::commit_table(args.log);
+    staged.committed = true;
     std::printf("wrote %s (controller %s, every %ld-th sample)\n", args.log.c_str(),
                 on ? "on" : "off", args.log_every);
   }
