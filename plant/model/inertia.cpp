@@ -1,5 +1,6 @@
 #include "plant/model/inertia.hpp"
 
+#include "plant/model/beam_mass.hpp"
 #include "plant/model/element_properties.hpp"
 
 namespace flexloop::plant::model {
@@ -20,8 +21,9 @@ Eigen::MatrixXd translational_mass(const Model& m) {
   for (const auto& n : m.nodes)
     for (int a = 0; a < m.dim; ++a) M(n.first_coordinate + a, n.first_coordinate + a) += n.mass;
   for (const auto& el : m.elements) {
-    if (el.mass == 0.0) continue;
-    const Eigen::MatrixXd Me = element_translational_mass(el.mass, m.dim, el.consistent_mass);
+    if (el.mass == 0.0 || el.mass_model == MassModel::kBeam) continue;  // mass_matrix() adds it
+    const Eigen::MatrixXd Me =
+        element_translational_mass(el.mass, m.dim, el.mass_model == MassModel::kConsistent);
     for (int i = 0; i < 2; ++i)
       for (int j = 0; j < 2; ++j)
         M.block(m.nodes[el.nodes[i]].first_coordinate, m.nodes[el.nodes[j]].first_coordinate, m.dim,
@@ -44,6 +46,15 @@ Eigen::MatrixXd mass_matrix(const Model& m, const Eigen::VectorXd& x) {
       M.block<4, 4>(r, r) += 4.0 * L.transpose() * n.inertia * L;
     }
   }
+  for (const auto& el : m.elements) {
+    if (el.mass_model != MassModel::kBeam) continue;
+    const Eigen::MatrixXd Me = beam_element_mass(m, el, x);
+    const int nn = static_cast<int>(Me.rows()) / 2;
+    for (int i = 0; i < 2; ++i)
+      for (int j = 0; j < 2; ++j)
+        M.block(m.nodes[el.nodes[i]].first_coordinate, m.nodes[el.nodes[j]].first_coordinate, nn,
+                nn) += Me.block(i * nn, j * nn, nn, nn);
+  }
   return M;
 }
 
@@ -54,7 +65,12 @@ Eigen::VectorXd applied_forces(const Model& m) {
     g_rep.segment(n.first_coordinate, m.dim) = m.gravity;
     f.segment(n.first_coordinate, m.dim) = n.force;
   }
-  return f + translational_mass(m) * g_rep;
+  f += translational_mass(m) * g_rep;
+  for (const auto& el : m.elements)  // a beam's weight: half at each end (no end moments)
+    if (el.mass_model == MassModel::kBeam)
+      for (int end : el.nodes)
+        f.segment(m.nodes[end].first_coordinate, m.dim) += el.mass / 2 * m.gravity;
+  return f;
 }
 
 Eigen::VectorXd inertia_forces(const Model& m, const Eigen::VectorXd& x, const Eigen::VectorXd& xd,

@@ -2,6 +2,9 @@
 // Nodal inertia and applied forces in nodal coordinates x.
 //  - translations: lumped node masses plus element masses (lumped: half per end; consistent:
 //    linear interpolation), constant;
+//  - beam elements with mass_model = "beam": their consistent mass with rotary inertia over both
+//    nodes' translations and rotations (beam_mass.hpp), which depends on the configuration; their
+//    weight acts half at each end;
 //  - 2-D rotational node: J phi'';
 //  - 3-D rotational node with Euler parameters lambda, body angular velocity w' = 2 L(lambda)
 //  lambda':

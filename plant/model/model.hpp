@@ -28,6 +28,9 @@ using flexloop::SourceRef;
 
 enum class ElementType { kTruss, kPlanarBeam, kSpatialBeam };
 enum class DeformationKind { kRigid, kFlexible, kReleased };
+// Element mass: half at each end; linear interpolation of the translations; or a beam's
+// consistent mass with rotary inertia (plant/model/beam_mass.hpp).
+enum class MassModel { kLumped, kConsistent, kBeam };
 enum class CoordinateRole { kFixed, kDependent, kDynamic, kPrescribed };
 // kInert: a rigid deformation whose coordinates are all fixed (e.g. the Euler normalisation of a
 // clamped node): identically satisfied, so it is not an equation for the dependent coordinates.
@@ -58,8 +61,9 @@ struct Element {
   Eigen::MatrixXd stiffness;           // S (n_e x n_e); rows/cols of non-flexible modes are zero
   Eigen::MatrixXd damping;             // S_d (n_e x n_e)
   double mass = 0.0;                   // kg
-  bool consistent_mass = false;
-  double length = 0.0;  // undeformed length l0, m
+  MassModel mass_model = MassModel::kLumped;
+  double rho_Iy = 0.0, rho_Iz = 0.0;  // section inertia per length, kg m (planar: rho_Iz = rho I)
+  double length = 0.0;                // undeformed length l0, m
   SpatialBeamReference spatial_ref{};
   PlanarBeamReference planar_ref{};
   int first_deformation = 0;  // index of "e1.<id>" in e

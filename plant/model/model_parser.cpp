@@ -220,9 +220,16 @@ Model parse_model(const std::string& text, const std::string& file) {
       if (!(el.length > 1e-12))
         r.fail("zero-length element: nodes '" + p.id + "' and '" + q.id + "' coincide");
       const std::string mass_model = r.string("mass_model", std::string("lumped"));
-      if (mass_model != "lumped" && mass_model != "consistent")
-        r.fail("'mass_model' must be lumped or consistent", r.get("mass_model"));
-      el.consistent_mass = mass_model == "consistent";
+      if (mass_model != "lumped" && mass_model != "consistent" && mass_model != "beam")
+        r.fail("'mass_model' must be lumped, consistent or beam", r.get("mass_model"));
+      el.mass_model = mass_model == "beam"         ? MassModel::kBeam
+                      : mass_model == "consistent" ? MassModel::kConsistent
+                                                   : MassModel::kLumped;
+      if (el.mass_model == MassModel::kBeam && type == "truss")
+        r.fail(
+            "mass_model = \"beam\" is the mass of a beam element; a truss has lumped or "
+            "consistent",
+            r.get("mass_model"));
 
       if (type == "truss") {
         r.allow_only({"id", "type", "nodes", "stiffness", "damping", "actuator", "mode", "mass",
@@ -251,6 +258,7 @@ Model parse_model(const std::string& text, const std::string& file) {
         read_modes_and_damping(r, el, 3);
         el.stiffness = planar_beam_stiffness(E, A, I, el.length);
         el.mass = r.number("rho", 0.0) * A * el.length;
+        el.rho_Iz = r.number("rho", 0.0) * I;
         el.planar_ref = make_planar_beam_reference(p.position, p.phi, q.position, q.phi);
       } else if (type == "beam") {
         r.allow_only({"id", "type", "nodes", "E", "G", "A", "Iy", "Iz", "J", "rho", "modes",
@@ -280,6 +288,12 @@ Model parse_model(const std::string& text, const std::string& file) {
           if (!(v > 0)) r.fail("section properties E, G, A, Iy, Iz, J must be positive");
         el.stiffness = spatial_beam_stiffness(s, el.length);
         el.mass = s.rho * (r.has("A") ? s.A : 0.0) * el.length;
+        if (el.mass_model == MassModel::kBeam) {  // the section's rotation needs its inertia
+          if (!r.has("A") || !r.has("Iy") || !r.has("Iz"))
+            r.fail("mass_model = \"beam\" needs the section's A, Iy and Iz", r.get("mass_model"));
+          el.rho_Iy = s.rho * s.Iy;
+          el.rho_Iz = s.rho * s.Iz;
+        }
         Eigen::Vector3d hint =
             r.has("y_axis") ? Eigen::Vector3d(r.vector("y_axis", 3)) : Eigen::Vector3d::Zero();
         const Eigen::Vector3d axis = (q.position - p.position).normalized();
