@@ -186,6 +186,33 @@ TEST_CASE(
   }
 }
 
+TEST_CASE(
+    "sampled loop: with the plant's mode above Nyquist the model still gives the runtime's "
+    "growth and the omega_d bound",
+    "[controller][sampled]") {
+  // At 25 Hz the strut's mode (sqrt(k / m) / 2 pi = 36.5 Hz) lies at 2.9 times Nyquist: the
+  // sampled plant aliases it, and only the sampled loop (not the continuous one) can say which
+  // omega_d runs. The refusal's bound is checked in the runtime loop on both sides.
+  const double rate = 25, mode_hz = std::sqrt(5263789.013914328 / 100.0) / (2 * 3.14159265358979);
+  REQUIRE(mode_hz > 2.5 * rate / 2);
+  const auto remedy = scene::stable_sampled_loop_remedy(one_strut(rate, 100.0));
+  REQUIRE(remedy.omega_d_hz);
+  INFO("omega_d bound at " << rate << " Hz: " << *remedy.omega_d_hz << " Hz");
+  CHECK(*remedy.omega_d_hz < 100);
+  const auto below = one_strut(rate, 0.98 * *remedy.omega_d_hz);
+  CHECK_NOTHROW(scene::require_stable_loop(below));
+  const RuntimeRun ok = run_runtime_loop(below, 100000);
+  CHECK(ok.steps == 100000);
+  CHECK(ok.largest <= 10 * ok.initial);
+  const auto above = one_strut(rate, 1.02 * *remedy.omega_d_hz);
+  CHECK_THROWS_AS(scene::require_stable_loop(above), InputError);
+  const RuntimeRun run = run_runtime_loop(above, 1000000, 0, 1000);
+  INFO("runtime growth " << run.growth << ", spectral radius " << radius(above));
+  CHECK(radius(above) > 1);
+  CHECK(run.largest > 1e3 * run.initial);
+  CHECK(std::abs(run.growth / radius(above) - 1) < 1e-3);
+}
+
 TEST_CASE("sampled loop: the sensor path's delay is in the model and in the refusal",
           "[controller][sampled]") {
   // The suggested rate is stable without delay; a transport delay of a few samples makes it
