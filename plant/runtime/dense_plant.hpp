@@ -21,6 +21,7 @@
 
 #include "online/numeric/column_product.hpp"
 #include "online/numeric/fixed_size_matrix.hpp"
+#include "plant/runtime/pole_precision.hpp"
 #include "plant/runtime/state_output.hpp"
 
 namespace flexloop::plant::runtime {
@@ -33,7 +34,8 @@ class DensePlant : public StateOutput<Scalar, NX, NU, NY, NH> {
   /// Start-up only. The matrices are in double (the artefact's precision) and are rounded to
   /// Scalar. The state starts at zero.
   /// @throws std::invalid_argument naming the matrix, its size and the expected size when a
-  /// size differs from (NX, NU, NY), or an entry that is not finite.
+  /// size differs from (NX, NU, NY), or an entry that is not finite; in float, for a decaying
+  /// pole that float would not keep inside the unit circle (pole_precision.hpp).
   static DensePlant from_matrices(const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd,
                                   const Eigen::MatrixXd& Cd, const Eigen::MatrixXd& Dd);
 
@@ -57,6 +59,7 @@ DensePlant<Scalar, NX, NU, NY, NH> DensePlant<Scalar, NX, NU, NY, NH>::from_matr
   using Square = Eigen::Matrix<double, NX, NX>;
   const Square A = to_fixed<Square>("DensePlant: Ad", Ad);
   const auto B = to_fixed<Eigen::Matrix<double, NX, NU>>("DensePlant: Bd", Bd);
+  require_dense_poles_kept_inside<Scalar>(Ad, "DensePlant");
   DensePlant p;
   const auto out = p.load_output("DensePlant", "Cd", Cd, "Dd", Dd);
   // The products in double, rounded to Scalar once.

@@ -81,6 +81,7 @@ GeneralDensePlant<Scalar> GeneralDensePlant<Scalar>::from_matrices(const Eigen::
               "; Ad must be square with as many rows as Bd");
   require_finite(who + ": Ad", Ad);
   require_finite(who + ": Bd", Bd);
+  require_dense_poles_kept_inside<Scalar>(Ad, who);
   GeneralDensePlant p;
   p.load_output(who, Bd, Cd, Dd, held_inputs);
   // The products in double, rounded to Scalar once.

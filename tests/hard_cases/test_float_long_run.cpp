@@ -6,7 +6,8 @@
 // accumulate beyond what the plant's own damping lets them, however long the run.
 //
 // And a decaying pole closer to the unit circle than float resolves is refused when a float modal
-// plant starts, in both the compiled and the general form (plant/runtime/pole_precision.hpp).
+// or dense plant starts, in both the compiled and the general form
+// (plant/runtime/pole_precision.hpp).
 //
 // The input: scene-level floor accelerations and forces for the first half, then nothing, so the
 // second half is the free decay of a lightly damped plant towards rest, where the states pass
@@ -19,6 +20,7 @@
 #include <thread>
 
 #include "plant/lti/modal_form.hpp"
+#include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/general_plant.hpp"
 #include "plant/runtime/modal_plant.hpp"
 #include "rt/denormals.hpp"
@@ -90,7 +92,21 @@ TEST_CASE("a decaying pole that float would put on the unit circle is refused at
   CHECK_THROWS_WITH(plant::runtime::GeneralModalPlant<float>::from_modal_form(L, B, C, D, T, 1),
                     Catch::Contains(kRefused));
   CHECK_NOTHROW(plant::runtime::GeneralModalPlant<double>::from_modal_form(L, B, C, D, T, 1));
+  // The dense plants store Ad - I = L in float: the same pole, the same refusal.
+  const Eigen::MatrixXd Ad = Eigen::Matrix2d::Identity() + L;
+  using DenseFloat = plant::runtime::DensePlant<float, 2, 2, 1>;
+  CHECK_THROWS_WITH(DenseFloat::from_matrices(Ad, B, C, D), Catch::Contains(kRefused));
+  CHECK_NOTHROW(plant::runtime::DensePlant<double, 2, 2, 1>::from_matrices(Ad, B, C, D));
+  CHECK_THROWS_WITH(plant::runtime::GeneralDensePlant<float>::from_matrices(Ad, B, C, D, 1),
+                    Catch::Contains(kRefused));
+  CHECK_NOTHROW(plant::runtime::GeneralDensePlant<double>::from_matrices(Ad, B, C, D, 1));
+  // 0.99 L is well inside (|z|^2 - 1 = 0.02 a): float keeps it.
+  const Eigen::MatrixXd inside = Eigen::Matrix2d::Identity() + 0.99 * L;
+  CHECK_NOTHROW(DenseFloat::from_matrices(inside, B, C, D));
   // The metrology plant keeps every pole inside in float (the 10^8-step run above uses it).
   const auto m = plant::lti::to_modal_form(test::metrology().s.plant);
   CHECK_NOTHROW(plant::runtime::ModalPlant<float, kNx, kNu, kNy>::from_modal_form(m));
+  const auto& d = test::metrology().s.plant.sys;
+  CHECK_NOTHROW(
+      plant::runtime::DensePlant<float, kNx, kNu, kNy>::from_matrices(d.A, d.B, d.C, d.D));
 }
