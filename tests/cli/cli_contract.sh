@@ -177,4 +177,10 @@ for cmd in version linearise analyse discretise reduce build fit-metrology sim h
   # Captured, not piped to grep -q: grep's early exit would SIGPIPE a long help under pipefail.
   out=$("$flexloop" $cmd --help) && [[ "$out" == *"Example"* ]] || fail "$cmd --help has no example"
 done
-echo "cli contract: 21 checks passed"
+# A machine of any size from the arm generator (beams with their consistent mass) simulates.
+out=$("$root/tools/models/make_flexible_arm.py" --elements 4 -o "$tmp/arm4") || fail "make_flexible_arm: $out"
+out=$("$flexloop" sim "$tmp/arm4/scene.toml" --duration 0.2 2>&1) || fail "sim of a generated arm: $out"
+[[ "$out" == *"22 states"* && "$out" == *"real time"* ]] || fail "sim of a generated arm: $out"
+out=$("$root/tools/models/make_flexible_arm.py" --help) && [[ "$out" == *"Example"* ]] ||
+  fail "make_flexible_arm.py --help has no example"
+echo "cli contract: 22 checks passed"
