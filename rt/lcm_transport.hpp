@@ -45,6 +45,7 @@
 #include <string>
 #include <vector>
 
+#include "rt/event_log_recorder.hpp"
 #include "rt/lcm_direct_socket.hpp"
 #include "rt/message_inbox.hpp"
 #include "rt/monotonic_time.hpp"
@@ -75,14 +76,22 @@ class LcmTransport {
   LcmTransport(const LcmTransport&) = delete;
   LcmTransport& operator=(const LcmTransport&) = delete;
 
+  /// Start-up, before subscribe() and the publishers: every message subscribed to and every
+  /// message published from then on is also given to `recorder` (which must outlive the
+  /// transport and its publishers), as it arrives or leaves.
+  void record_to(EventLogRecorder* recorder) noexcept { recorder_ = recorder; }
+  EventLogRecorder* recorder() const noexcept { return recorder_; }
+
   /// Delivers every message on `channel` to `inbox` (which must outlive the transport).
   /// queue_capacity: unhandled messages LCM keeps for this subscription before dropping.
   template <class Msg>
   void subscribe(const std::string& channel, MessageInbox<Msg>& inbox, int queue_capacity = 30) {
+    auto& s = *subscriptions_.emplace_back(std::make_unique<Subscription>(
+        Subscription{&inbox, recorder_, recorder_ ? recorder_->channel(channel) : -1}));
     if (direct_)
-      direct_->subscribe(channel, &LcmTransport::deliver_direct<Msg>, &inbox);
+      direct_->subscribe(channel, &LcmTransport::deliver_direct<Msg>, &s);
     else
-      subscribe_lcm(channel, &LcmTransport::deliver<Msg>, &inbox, queue_capacity);
+      subscribe_lcm(channel, &LcmTransport::deliver<Msg>, &s, queue_capacity);
   }
 
   /// 1 when a message is ready, 0 when none came within timeout_ns (0: just look), -1 on error.
@@ -131,19 +140,29 @@ class LcmTransport {
   int fileno() const noexcept { return fileno_; }
 
  private:
+  struct Subscription {
+    void* inbox;  // MessageInbox<Msg>*
+    EventLogRecorder* recorder;
+    int recorder_channel;
+  };
   template <class Msg>
-  static void deliver(const lcm_recv_buf_t* rbuf, const char*, void* inbox) {
-    static_cast<MessageInbox<Msg>*>(inbox)->offer(rbuf->data, static_cast<int>(rbuf->data_size),
-                                                  monotonic_now_ns());
+  static void deliver(const lcm_recv_buf_t* rbuf, const char*, void* subscription) {
+    deliver_direct<Msg>(static_cast<const std::uint8_t*>(rbuf->data),
+                        static_cast<int>(rbuf->data_size), subscription);
   }
   template <class Msg>
-  static void deliver_direct(const std::uint8_t* data, int size, void* inbox) {
-    static_cast<MessageInbox<Msg>*>(inbox)->offer(data, size, monotonic_now_ns());
+  static void deliver_direct(const std::uint8_t* data, int size, void* subscription) {
+    const auto& s = *static_cast<const Subscription*>(subscription);
+    const std::int64_t now = monotonic_now_ns();
+    if (s.recorder) s.recorder->record(s.recorder_channel, data, size, now);
+    static_cast<MessageInbox<Msg>*>(s.inbox)->offer(data, size, now);
   }
   void subscribe_lcm(const std::string& channel, lcm_msg_handler_t handler, void* user,
                      int queue_capacity);
 
   std::unique_ptr<LcmDirectSocket> direct_;
+  EventLogRecorder* recorder_ = nullptr;
+  std::vector<std::unique_ptr<Subscription>> subscriptions_;  // stable addresses for the callbacks
   lcm_t* lcm_ = nullptr;
   int fileno_ = -1;
   std::vector<pid_t> receive_threads_;
@@ -156,9 +175,12 @@ class LcmPublisher {
   LcmPublisher(LcmTransport& transport, std::string channel)
       : lcm_(transport.lcm()),
         channel_(std::move(channel)),
-        buffer_(static_cast<std::size_t>(max_encoded_size<Msg>())) {}
+        buffer_(static_cast<std::size_t>(max_encoded_size<Msg>())),
+        recorder_(transport.recorder()),
+        recorder_channel_(recorder_ ? recorder_->channel(channel_) : -1) {}
 
-  /// Encodes and sends; false (and counted) when encoding or sending failed.
+  /// Encodes and sends; false (and counted) when encoding or sending failed. What was sent is
+  /// also recorded when the transport records (LcmTransport::record_to).
   bool publish(const Msg& msg) noexcept {
     const int n = msg.encode(buffer_.data(), 0, static_cast<int>(buffer_.size()));
     if (n < 0 ||
@@ -166,6 +188,7 @@ class LcmPublisher {
       ++failures_;
       return false;
     }
+    if (recorder_) recorder_->record(recorder_channel_, buffer_.data(), n, monotonic_now_ns());
     ++published_;
     return true;
   }
@@ -178,6 +201,8 @@ class LcmPublisher {
   lcm_t* lcm_;
   std::string channel_;
   std::vector<std::uint8_t> buffer_;
+  EventLogRecorder* recorder_;
+  int recorder_channel_;
   std::int64_t published_ = 0;
   std::int64_t failures_ = 0;
 };

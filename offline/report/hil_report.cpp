@@ -180,6 +180,9 @@ void print_hil_summary(const nlohmann::json& r) {
         pp.value("sent", 0LL), timer.value("cycles", 0LL), pp.value("min_samples", 0LL));
   print_segment_ratios(r);
   print_physical(r);
+  if (const auto log = r.find("lcm_log"); log != r.end() && log->is_object())
+    std::printf("  LCM log %s: %lld messages, %lld lost\n", log->value("path", "?").c_str(),
+                log->value("messages", 0LL), log->value("dropped", 0LL));
   print_verdict(r);
 }
 

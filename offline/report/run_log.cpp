@@ -19,7 +19,7 @@ namespace flexloop::report {
 
 namespace {
 
-constexpr const char* kChannelMap = "FLEXLOOP_CHANNEL_MAP";  // online/hil/lcm_logger.hpp
+constexpr const char* kChannelMap = "FLEXLOOP_CHANNEL_MAP";  // online/loop/channel_map.hpp
 
 struct Channels {
   std::vector<std::string> sensors, performance, actuators;  // "name [unit]"

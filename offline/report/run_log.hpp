@@ -1,7 +1,7 @@
 #pragma once
 // A recorded run (`flexloop hil --lcm-log FILE`, an LCM log) as a table for MATLAB, Octave and
 // Python users: one row per sensor sample, columns named from the channel map the log carries
-// (FLEXLOOP_CHANNEL_MAP, online/hil/lcm_logger.hpp):
+// (FLEXLOOP_CHANNEL_MAP, online/loop/channel_map.hpp):
 //   t_s                  the sample's plant time from the first sample [s]
 //   seq                  the sample number
 //   sensor <name> [unit], performance <name> [unit]   the sample's readings

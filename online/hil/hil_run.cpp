@@ -11,7 +11,6 @@
 #include "online/hil/baseline_json.hpp"
 #include "online/hil/child_process.hpp"
 #include "online/hil/interleaved_baselines.hpp"
-#include "online/hil/lcm_logger.hpp"
 #include "online/hil/status_line.hpp"
 #include "online/loop/controller_loop.hpp"
 #include "online/loop/plant_loop.hpp"
@@ -68,21 +67,6 @@ void prepare_hil_network(const HilOptions& o) {
 
 namespace {
 
-// What a log needs to be read: the loop, its rate and its channels (name, unit, order).
-nlohmann::json channel_map_json(const artefact::LoopArtefact& loop) {
-  const nlohmann::json a = artefact::to_json(loop);
-  return {{"format", "flexloop channel map"},
-          {"loop", loop.name},
-          {"rate_hz", loop.rate_hz},
-          {"controller", artefact::to_string(loop.controller)},
-          {"channels", a["channels"]},
-          {"provenance", a["provenance"]},
-          {"messages",
-           {{"FLEXLOOP_SENSOR",
-             {{"sensors", "channels.sensors"}, {"performance", "channels.performance"}}},
-            {"FLEXLOOP_COMMAND", {{"commands", "channels.actuators"}}}}}};
-}
-
 // What `flexloop sim` predicts for the same loop, seeds and duration: the RMS of each performance
 // output with the controller off and (a loop with flexloop's own controller) on, and the RMS
 // commands. With every answer in time the real-time run is the same loop sample for sample.
@@ -120,6 +104,7 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   plant_options.quiet = true;
   plant_options.status = status.get();
   plant_options.limits.judge_misses = has_controller;
+  plant_options.lcm_log = o.lcm_log;  // the plant records what it sends and receives
   LoopOptions controller_options = plant_options;
   controller_options.realtime.cpu = o.controller_cpu;
   controller_options.duration_s = 0;  // until stopped, after the plant
@@ -152,12 +137,6 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
     return VerdictFailure{130, "interrupted before the loop ran: nothing was written"};
   };
   if (stop_requested()) throw interrupted_before_loop();
-
-  std::unique_ptr<LcmLogger> logger;
-  if (!o.lcm_log.empty()) {
-    logger = std::make_unique<LcmLogger>(url, o.lcm_log);
-    logger->record(kChannelMapChannel, channel_map_json(loop).dump());
-  }
 
   std::unique_ptr<ChildProcess> controller;
   if (has_controller) {
@@ -218,12 +197,6 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
     }
     controller_json["kind"] = artefact::to_string(loop.controller);
   }
-  if (logger) {
-    const std::string problem = logger->stop();
-    if (!problem.empty() && verdict.result != RunVerdict::Result::kInterrupted)
-      add_failure(verdict, problem);
-    logger.reset();
-  }
 
   report["baseline"] = baselines.totals_json();
   report.update(plant_json);
@@ -257,7 +230,6 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   report["controller_cpu"] = o.controller_cpu;
   report["lcm_url"] = url;
   report["cpu_dma_latency_held"] = dma.active();
-  if (!o.lcm_log.empty()) report["lcm_log"] = o.lcm_log;
   return report;
 }
 

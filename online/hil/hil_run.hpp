@@ -10,16 +10,17 @@
 //      the controller's CPUs (rt/pingpong_baseline.hpp), in segments interleaved with the
 //      loop's (online/hil/interleaved_baselines.hpp): the first here, the others while the loop
 //      pauses between its segments;
-//   4. optionally lcm-logger on the loop's URL (online/hil/lcm_logger.hpp);
-//   5. the controller process (forked, online/loop/controller_loop.hpp), and once it has
+//   4. the controller process (forked, online/loop/controller_loop.hpp), and once it has
 //      subscribed, the plant process (forked, online/loop/plant_loop.hpp) for the duration; then
 //      the controller is stopped (SIGTERM) and both hand back their figures. A loop without a
 //      controller runs the plant alone (report "controller": {"kind": "none"}). Meanwhile a live
-//      status line (online/hil/status_line.hpp).
-//   6. the verdict (online/loop/run_verdict.hpp): the plant's limits, and a controller process or
-//      lcm-logger that failed fails the run. SIGINT / SIGTERM end the loop early; the report then
-//      covers what ran ("partial": true, verdict "interrupted"). Before the loop ran, an
-//      interruption throws VerdictFailure (130) and nothing is reported.
+//      status line (online/hil/status_line.hpp). With lcm_log, the plant process records what
+//      it sends and receives (rt/event_log_recorder.hpp);
+//   5. the verdict (online/loop/run_verdict.hpp): the plant's limits (a log that could not be
+//      written, or lost messages, among them), and a controller process that failed fails the run.
+//      SIGINT / SIGTERM end the loop early; the report then covers what ran ("partial": true,
+//      verdict "interrupted"). Before the loop ran, an interruption throws VerdictFailure (130) and
+//      nothing is reported.
 // The result is the report (keys of offline/report/hil_report.hpp), with the plant's histogram bins
 // under "histograms" for drawing. Orchestration: allocates, throws std::runtime_error /
 // flexloop::InputError.
@@ -40,7 +41,7 @@ struct HilOptions {
   /// most kMaxAutoSegments, at least 1.
   int segments = 0;
   bool netns = false;       ///< enter a private namespace first
-  std::string lcm_log;      ///< record the run with lcm-logger to this file
+  std::string lcm_log;      ///< the plant records the run into this LCM log file
   bool status_line = true;  ///< a live status line on a terminal's standard error
 };
 

@@ -48,6 +48,9 @@ struct LoopOptions {
   /// baseline segment there, online/hil/interleaved_baselines.hpp).
   int segments = 1;
   std::function<void()> between_segments;
+  /// Plant: record every message it sends and receives, after the loop's channel map, into this
+  /// LCM log file (rt/event_log_recorder.hpp); empty: no log.
+  std::string lcm_log;
 };
 
 }  // namespace flexloop::hil

@@ -55,41 +55,52 @@ nlohmann::json segments_json(const std::vector<SegmentFigures>& segments) {
 }  // namespace
 
 RunVerdict plant_verdict(const PlantLoopResult& r, const LoopOptions& o) {
-  return judge_run(r.end, r.cycles, r.deadline_misses, o.limits);
+  RunVerdict v = judge_run(r.end, r.cycles, r.deadline_misses, o.limits);
+  if (!r.lcm_log.error.empty()) add_failure(v, r.lcm_log.error);
+  if (r.lcm_log.dropped > 0)
+    add_failure(v, "the LCM log " + o.lcm_log + " lost " + std::to_string(r.lcm_log.dropped) +
+                       " of " + std::to_string(r.lcm_log.recorded + r.lcm_log.dropped) +
+                       " messages (its writer was kept off the CPU longer than its ring lasts)");
+  return v;
 }
 
 nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o, bool with_bins) {
   const LoopAccounts& a = r.accounts;
-  nlohmann::json j = {{"rate_hz", r.rate_hz},
-                      {"period_ns", static_cast<std::int64_t>(1e9 / r.rate_hz + 0.5)},
-                      {"wait_mode", rt::to_string(o.wait)},
-                      {"receive_path", rt::to_string(o.receive_path)},
-                      {"spin_margin_ns", r.spin_margin_ns},
-                      {"cycles", r.cycles},
-                      {"periods", r.periods},
-                      {"deadline_misses", r.deadline_misses},
-                      {"late_answers", r.late_answers},
-                      {"overruns", r.overruns},
-                      {"skipped_periods", r.skipped_periods},
-                      {"safe_command_cycles", r.safe_command_cycles},
-                      {"safe_after", o.safe_after},
-                      {"safe_ramp_s", o.safe_ramp_s},
-                      {"dropped_messages", drops_json(r.drops)},
-                      {"round_trip_ns", summary_json(*a.round_trip)},
-                      {"wakeup_lateness_ns", summary_json(*a.wakeup_lateness)},
-                      {"plant_compute_ns", summary_json(*a.plant_compute)},
-                      {"controller_compute_ns", summary_json(*a.controller_compute)},
-                      {"stats_published", r.stats_published},
-                      {"publish_failures", r.publish_failures},
-                      {"cpu", o.realtime.cpu},
-                      {"fifo", r.fifo},
-                      {"plant_setup", r.setup},
-                      {"divergence", r.divergence.happened() ? nlohmann::json(r.divergence_message)
-                                                             : nlohmann::json(nullptr)},
-                      {"physical", physical_json(r.physical)},
-                      {"partial", r.end != RunEnd::kDuration},
-                      {"segments", segments_json(r.segments)},
-                      {"verdict", verdict_json(plant_verdict(r, o), r.end, o.limits)}};
+  nlohmann::json j = {
+      {"rate_hz", r.rate_hz},
+      {"period_ns", static_cast<std::int64_t>(1e9 / r.rate_hz + 0.5)},
+      {"wait_mode", rt::to_string(o.wait)},
+      {"receive_path", rt::to_string(o.receive_path)},
+      {"spin_margin_ns", r.spin_margin_ns},
+      {"cycles", r.cycles},
+      {"periods", r.periods},
+      {"deadline_misses", r.deadline_misses},
+      {"late_answers", r.late_answers},
+      {"overruns", r.overruns},
+      {"skipped_periods", r.skipped_periods},
+      {"safe_command_cycles", r.safe_command_cycles},
+      {"safe_after", o.safe_after},
+      {"safe_ramp_s", o.safe_ramp_s},
+      {"dropped_messages", drops_json(r.drops)},
+      {"round_trip_ns", summary_json(*a.round_trip)},
+      {"wakeup_lateness_ns", summary_json(*a.wakeup_lateness)},
+      {"plant_compute_ns", summary_json(*a.plant_compute)},
+      {"controller_compute_ns", summary_json(*a.controller_compute)},
+      {"stats_published", r.stats_published},
+      {"publish_failures", r.publish_failures},
+      {"cpu", o.realtime.cpu},
+      {"fifo", r.fifo},
+      {"plant_setup", r.setup},
+      {"divergence",
+       r.divergence.happened() ? nlohmann::json(r.divergence_message) : nlohmann::json(nullptr)},
+      {"physical", physical_json(r.physical)},
+      {"partial", r.end != RunEnd::kDuration},
+      {"segments", segments_json(r.segments)},
+      {"lcm_log", o.lcm_log.empty() ? nlohmann::json(nullptr)
+                                    : nlohmann::json{{"path", o.lcm_log},
+                                                     {"messages", r.lcm_log.recorded},
+                                                     {"dropped", r.lcm_log.dropped}}},
+      {"verdict", verdict_json(plant_verdict(r, o), r.end, o.limits)}};
   if (with_bins)
     j["histograms"] = {{"round_trip_ns", bins_json(*a.round_trip)},
                        {"wakeup_lateness_ns", bins_json(*a.wakeup_lateness)}};

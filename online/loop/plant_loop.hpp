@@ -65,6 +65,11 @@ struct PlantLoopResult {
   RunEnd end = RunEnd::kDuration;  ///< why the loop ended (online/loop/run_verdict.hpp)
   PhysicalResults physical;
   std::vector<SegmentFigures> segments;  ///< in order; one when the run was not segmented
+  /// LoopOptions::lcm_log: messages written, dropped (the ring full), and what went wrong.
+  struct LogFigures {
+    std::int64_t recorded = 0, dropped = 0;
+    std::string error;
+  } lcm_log;
 };
 
 /// The physical figures as JSON: {"performance": [{"name", "unit", "rms"}], "command": [...],

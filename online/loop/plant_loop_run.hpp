@@ -13,11 +13,13 @@
 #include <string>
 #include <utility>
 
+#include "online/loop/channel_map.hpp"
 #include "online/loop/plant_loop.hpp"
 #include "online/loop/plant_station.hpp"
 #include "online/loop/stop_signal.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "plant/runtime/divergence.hpp"
+#include "rt/event_log_recorder.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
 
@@ -45,7 +47,22 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
                                           .command_limit = r.physical.command_limit,
                                           .safe_ramp_periods = static_cast<std::int64_t>(
                                               o.safe_ramp_s * loop.rate_hz + 0.5)});
+  // The log (before the subscription and the publishers, which record into it): about a second
+  // of the loop's traffic in its ring, the channel map first.
+  std::unique_ptr<rt::EventLogRecorder> recorder;
+  if (!o.lcm_log.empty()) {
+    const std::string map = channel_map_json(loop).dump();
+    const int largest = std::max({rt::max_encoded_size<flexloop_msgs::sensor_sample_t>(),
+                                  rt::max_encoded_size<flexloop_msgs::actuator_command_t>(),
+                                  rt::max_encoded_size<flexloop_msgs::loop_stats_t>(),
+                                  static_cast<int>(map.size())});
+    recorder = std::make_unique<rt::EventLogRecorder>(o.lcm_log, largest,
+                                                      static_cast<int>(2 * loop.rate_hz) + 1024);
+    recorder->record(recorder->channel(kChannelMapChannel), map.data(),
+                     static_cast<int>(map.size()), rt::monotonic_now_ns());
+  }
   rt::LcmTransport lcm(url, o.receive_path);
+  lcm.record_to(recorder.get());
   lcm.subscribe(o.channels.command, station->commands());
   rt::LcmPublisher<flexloop_msgs::sensor_sample_t> sensor(lcm, o.channels.sensor);
   StatsPublisher stats(lcm, o.channels.stats, loop.rate_hz, o.status);
@@ -163,6 +180,11 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   r.physical.rms_performance = station->rms_performance();
   r.physical.rms_command = station->rms_command();
   r.physical.saturated_share = station->saturated_share();
+  if (recorder) {
+    r.lcm_log.error = recorder->finish();
+    r.lcm_log.recorded = recorder->recorded();
+    r.lcm_log.dropped = recorder->dropped();
+  }
 }
 
 /// The loop on the fixed-size kernels of the compiled loop that matches the artefact

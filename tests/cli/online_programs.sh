@@ -28,7 +28,7 @@ out=$("$root/tools/netns-run" -- bash -c "
   '$controller' '$tmp/loop.json' --cpu -1 --priority 0 > '$tmp/controller.txt' 2>&1 &
   sleep 0.5
   '$plant' '$tmp/loop.json' --cpu -1 --priority 0 --duration 1 --max-miss-share 20 \\
-    --json '$tmp/plant.json'
+    --json '$tmp/plant.json' --lcm-log '$tmp/plant.lcmlog'
   rc=\$?
   kill -TERM %1; wait %1
   exit \$rc" 2>&1); rc=$?
@@ -46,6 +46,12 @@ for reason in ("decode_failure", "channel_count", "non_finite"):
     assert r["dropped_messages"][reason] == 0, reason
 PY
 grep -q "answered" "$tmp/controller.txt" || fail "controller summary: $(cat "$tmp/controller.txt")"
+# Its --lcm-log holds every sample it published (flexloop log counts them), none lost.
+out=$("$flexloop" log "$tmp/plant.lcmlog" -o "$tmp/plant_log.csv" 2>&1) || fail "flexloop log: $out"
+cycles=$(python3 -c "import json; print(json.load(open('$tmp/plant.json'))['cycles'])")
+[[ "$out" == *"loop two_mass_chain, $cycles samples"* ]] || fail "plant log vs $cycles cycles: $out"
+[[ $(python3 -c "import json; print(json.load(open('$tmp/plant.json'))['lcm_log']['dropped'])") == 0 ]] ||
+  fail "plant log lost messages: $(cat "$tmp/plant.json")"
 
 # A plant that diverges (the payload's Ad scaled by 1.01 by hand, no controller): the plant
 # process stops at the sample where its outputs leave the stated range, says when and where,
@@ -68,4 +74,4 @@ grep -q '"divergence": *"plant: the loop diverged' "$tmp/diverged.json" ||
 out=$("$flexloop" sim "$tmp/bipods.json" --duration 2 --log "$tmp/diverged/log.mat" 2>&1); rc=$?
 [[ $rc -eq 1 && "$out" == *"diverged"*"nothing written"* && ! -e "$tmp/diverged/log.mat" &&
    ! -e "$tmp/diverged/log.mat.tmp" ]] || fail "diverging sim with a log: exit $rc ($out)"
-echo "online programs: 11 checks passed"
+echo "online programs: 12 checks passed"

@@ -74,7 +74,7 @@ TEST_CASE("run verdict: an interrupted run is 'interrupted' (130) whatever else 
 
 TEST_CASE("run verdict: a failure found outside the loop fails a passing run") {
   RunVerdict v = judge_run(RunEnd::kDuration, 1000, 0, RunLimits{});
-  add_failure(v, "lcm-logger ended during the run (exit code 1): fopen failed");
+  add_failure(v, "the controller process failed: it ended at start (exit code 1)");
   CHECK(v.result == RunVerdict::Result::kFail);
   CHECK(exit_code(v) == 3);
 }

@@ -3,7 +3,8 @@
 // loopback-only namespace, on the general runtime path (channel counts 2/2/2/2, 6/8/8/8 and
 // 3/2/2/2; 8, 24 and 106 states). Correctness only, no timing bound: every period ran, the
 // messages carried the loop's channel counts (no drop of any kind), the PI answered, a loop with
-// no controller ran its plant alone; and a run recorded with --lcm-log carries the channel map.
+// no controller ran its plant alone; and a run recorded with --lcm-log holds every sample it
+// sent, after the channel map.
 // The flexible arm's plant step at 10 kHz is reported (WARN). Needs root for the namespace;
 // without it each case says so and checks nothing.
 #include <catch2/catch.hpp>
@@ -17,7 +18,7 @@
 #include "offline/scene/loop_input.hpp"
 #include "online/hil/baseline_json.hpp"
 #include "online/hil/hil_run.hpp"
-#include "online/hil/lcm_logger.hpp"
+#include "online/loop/channel_map.hpp"
 #include "tests/timing/private_network.hpp"
 
 using namespace flexloop;
@@ -85,51 +86,49 @@ TEST_CASE("hil machines: any channel counts run as plant and controller processe
   }
 }
 
-TEST_CASE("hil machines: a run recorded with --lcm-log carries its channel map", "[hil][general]") {
-  hil::HilOptions o = options("tools/scenes/payload_bipods.toml", 0.5);
+TEST_CASE("hil machines: a run recorded with --lcm-log holds every sample and its channel map",
+          "[hil][general]") {
+  // The plant records what it sends and receives (rt/event_log_recorder.hpp): every sample it
+  // published and every answer it received are in the log, after the channel map, at 10 kHz.
+  hil::HilOptions o = options("tools/scenes/metrology_frame.toml", 1);
   if (!in_private_network(o)) return;
   const auto log = std::filesystem::temp_directory_path() / "flexloop_test_channel_map.lcmlog";
+  std::filesystem::remove(log);
   o.lcm_log = log.string();
   const auto a = scene::load_loop(o.loop.loop_path);
-  struct Recorded {
-    long sensor_events = 0;
-    nlohmann::json map;
-  };
-  const auto record = [&] {
-    std::filesystem::remove(log);
-    hil::run_hil(o, a);
+  const nlohmann::json r = hil::run_hil(o, a);
+  long sensor_events = 0, command_events = 0, events = 0, first_map = -1;
+  nlohmann::json map;
+  {
     lcm::LogFile file(log.string(), "r");
     REQUIRE(file.good());
-    Recorded r;
     for (const lcm::LogEvent* e = file.readNextEvent(); e != nullptr; e = file.readNextEvent()) {
       if (e->channel == hil::kChannelMapChannel) {
         const auto* text = static_cast<const char*>(e->data);
-        r.map = nlohmann::json::parse(text, text + e->datalen);
+        map = nlohmann::json::parse(text, text + e->datalen);
+        if (first_map < 0) first_map = events;
       }
-      if (e->channel == "FLEXLOOP_SENSOR") ++r.sensor_events;
+      sensor_events += e->channel == "FLEXLOOP_SENSOR";
+      command_events += e->channel == "FLEXLOOP_COMMAND";
+      ++events;
     }
-    std::filesystem::remove(log);
-    return r;
-  };
-  // The logger runs beside the loop, unpinned, at normal priority (online/hil/lcm_logger.cpp):
-  // it records the samples (all but those of its first moments and of a stalled vCPU). On this
-  // 2-vCPU VM a stall can cost it half a run, so a short recording is repeated once.
-  const double expected = 0.8 * 0.5 * a.rate_hz;
-  Recorded rec = record();
-  if (rec.sensor_events < expected) {
-    WARN("the logger recorded " << rec.sensor_events << " samples of " << 0.5 * a.rate_hz
-                                << ": running again");
-    rec = record();
   }
-  const long sensor_events = rec.sensor_events;
-  const nlohmann::json& map = rec.map;
-  CHECK(sensor_events >= expected);
+  std::filesystem::remove(log);
+  long answers = 0;
+  for (const auto& segment : r["segments"]) answers += segment["answers"].get<long>();
+  WARN("log: " << events << " messages, " << sensor_events << " samples of " << r["cycles"]
+               << " cycles, " << command_events << " commands for " << answers << " answers");
+  CHECK(first_map == 0);
+  CHECK(r["lcm_log"]["dropped"] == 0);
+  CHECK(r["lcm_log"]["messages"] == events);
+  CHECK(sensor_events == r["cycles"].get<long>());
+  CHECK(command_events >= answers);  // late and stale answers are received (and logged) too
+  CHECK(command_events <= sensor_events);
   REQUIRE(map.is_object());
   CHECK(map["format"] == "flexloop channel map");
-  CHECK(map["loop"] == "payload_bipods");
-  CHECK(map["channels"]["sensors"].size() == 8);
-  CHECK(map["channels"]["actuators"].size() == 8);
-  CHECK(map["channels"]["disturbances"].size() == 6);
+  CHECK(map["loop"] == "metrology_frame");
+  CHECK(map["channels"]["sensors"].size() == 6);
+  CHECK(map["channels"]["actuators"].size() == 6);
   CHECK(map["channels"]["sensors"][0]["name"] == a.channels.sensors[0].name);
   CHECK(map["channels"]["sensors"][0]["unit"] == a.channels.sensors[0].unit);
 }

@@ -146,8 +146,9 @@ void register_hil(CLI::App& app) {
   cmd->add_flag("--netns", args->hil.netns,
                 "Enter a private loopback-only network namespace first (as tools/netns-run)");
   cmd->add_option("--lcm-log", args->hil.lcm_log,
-                  "Record the run with lcm-logger to this file (replay: lcm-logplayer-gui FILE, "
-                  "watch: lcm-spy, in the same namespace)");
+                  "Record every message the plant sends and receives, after the loop's channel "
+                  "map, into this LCM log file (flexloop log FILE -o OUT.csv|.mat; replay: "
+                  "lcm-logplayer-gui FILE)");
   cmd->add_flag("--sweep", args->sweep, "Run every rate of --sweep-rates and print a table");
   cmd->add_option("--sweep-rates", args->sweep_rates, "Rates for --sweep [Hz]")
       ->capture_default_str();
@@ -160,7 +161,8 @@ void register_hil(CLI::App& app) {
       "  flexloop hil tools/scenes/metrology_frame.toml --netns --sweep --duration 5 \\\n"
       "      --report out/hil/sweep.json\n"
       "Exit: 0 pass; 3 verdict fail (deadline misses above --max-miss-share, stopped by "
-      "--stop-after-misses, the controller process or lcm-logger failed); 130 interrupted "
+      "--stop-after-misses, the controller process failed, the --lcm-log file could not be written "
+      "or lost messages); 130 interrupted "
       "(SIGINT/SIGTERM: the report covers what ran, \"partial\": true); 1 also when the plant "
       "diverged (|[z; u]| > 1e12 or not finite). The report is written in each of these cases and "
       "says why (\"verdict\", \"divergence\"); --sweep runs every rate and exits with the "

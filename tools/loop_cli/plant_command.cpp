@@ -1,5 +1,6 @@
 // `flexloop plant SCENE|LOOP.json` and `flexloop-plant LOOP.json` [--rate HZ] [--duration S]
-// [--wait sleep|hybrid|spin] [--cpu N] [--safe-after N] [--safe-ramp S] [--json OUT.json]: the
+// [--wait sleep|hybrid|spin] [--cpu N] [--safe-after N] [--safe-ramp S] [--json OUT.json]
+// [--lcm-log LOG]: the
 // plant process of the real-time loop (online/loop/plant_loop.hpp). Owns the clock, publishes
 // FLEXLOOP_SENSOR every period and FLEXLOOP_STATS every second, applies the answers from
 // FLEXLOOP_COMMAND, prints the figures at the end. Refuses to run outside the private network
@@ -28,6 +29,7 @@ struct PlantArgs : LoopArgs {
 void run(const PlantArgs& a, const LoopSource& source) {
   const hil::LoopOptions o = apply_loop_options(a);
   if (!a.json.empty()) require_writable(a.json);  // before the run, not after it
+  if (!o.lcm_log.empty()) require_writable(o.lcm_log);
   const hil::PlantLoopResult r = hil::run_plant_loop(
       o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
   const hil::LoopAccounts& acc = r.accounts;
@@ -50,6 +52,10 @@ void run(const PlantArgs& a, const LoopSource& source) {
                 i + 1 < ph.performance.size() ? "," : "\n");
   std::printf("RMS command (largest channel) %.4g, saturated in %.3f %% of the periods\n",
               ph.rms_command.size() ? ph.rms_command.maxCoeff() : 0.0, 100 * ph.saturated_share);
+  if (!o.lcm_log.empty())
+    std::printf("LCM log %s: %lld messages, %lld lost\n", o.lcm_log.c_str(),
+                static_cast<long long>(r.lcm_log.recorded),
+                static_cast<long long>(r.lcm_log.dropped));
   if (!a.json.empty()) {
     write_json_atomically(a.json, hil::plant_result_json(r, o, false));
     std::printf("wrote %s\n", a.json.c_str());
@@ -69,6 +75,9 @@ void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
                   "Run time [s] (default: the loop's [run] duration)")
       ->check(finite_positive());
   cmd->add_option("--json", args->json, "Write the figures as JSON to this file");
+  cmd->add_option("--lcm-log", args->options.lcm_log,
+                  "Record every message the plant sends and receives, after the loop's channel "
+                  "map, into this LCM log file (flexloop log FILE -o OUT.csv|.mat)");
   cmd->footer(
       "Example (start the controller first, in the same namespace), inside one\n"
       "tools/netns-run -- bash:\n"
@@ -80,7 +89,8 @@ void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
       " --rate 1000 --duration 10\n"
       "  kill %1\n"
       "Exit: 0 pass; 3 verdict fail (deadline misses above --max-miss-share, or stopped by "
-      "--stop-after-misses); 130 interrupted (SIGINT/SIGTERM: the figures cover what ran, "
+      "--stop-after-misses, or the --lcm-log file could not be written or lost messages); 130 "
+      "interrupted (SIGINT/SIGTERM: the figures cover what ran, "
       "\"partial\": true); 1 also when the plant diverged (|[z; u]| > 1e12 or not finite). --json "
       "is written in every case and says why (\"verdict\", \"divergence\").");
   cmd->callback([args, source] { run(*args, source); });
