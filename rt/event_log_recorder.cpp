@@ -12,14 +12,16 @@
 #include <ctime>
 #include <stdexcept>
 
+#include "rt/monotonic_time.hpp"
+
 namespace flexloop::rt {
 
 namespace {
 
-std::int64_t clock_ns(clockid_t id) {
+std::int64_t wall_clock_now_ns() {
   timespec t{};
-  clock_gettime(id, &t);
-  return static_cast<std::int64_t>(t.tv_sec) * 1'000'000'000 + t.tv_nsec;
+  clock_gettime(CLOCK_REALTIME, &t);
+  return static_cast<std::int64_t>(t.tv_sec) * kNsPerSecond + t.tv_nsec;
 }
 
 // The writer must not inherit the loop's real-time priority or its CPU: it runs whenever and
@@ -49,7 +51,7 @@ EventLogRecorder::EventLogRecorder(const std::string& path, int max_message_byte
                              ")");
   log_ = log;
   channels_.reserve(kMaxChannels);  // never reallocated while the writer reads it
-  wall_minus_monotonic_ns_ = clock_ns(CLOCK_REALTIME) - clock_ns(CLOCK_MONOTONIC);
+  wall_minus_monotonic_ns_ = wall_clock_now_ns() - monotonic_now_ns();
   writer_ = std::thread([this] {
     run_as_ordinary_thread();
     write_loop();

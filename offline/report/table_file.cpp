@@ -14,6 +14,11 @@ namespace flexloop::report {
 
 namespace {
 
+// Where stage_table() writes before commit_table() renames.
+std::string staged_name(const std::string& path) {
+  return path + ".tmp";
+}
+
 std::string extension(const std::string& path) {
   return std::filesystem::path(path).extension().string();
 }
@@ -64,10 +69,6 @@ bool write_mat_file(const std::string& file, const std::vector<std::string>& nam
 bool is_table_file(const std::string& path) {
   const std::string ext = extension(path);
   return ext == ".csv" || ext == ".mat";
-}
-
-std::string staged_name(const std::string& path) {
-  return path + ".tmp";
 }
 
 void stage_table(const std::string& path, const std::vector<std::string>& names,

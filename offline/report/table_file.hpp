@@ -20,13 +20,12 @@ void write_table(const std::string& path, const std::vector<std::string>& names,
                  Eigen::Ref<const Eigen::MatrixXd> data);
 
 /// write_table() in two steps, so that the slow one can run beside other work: stage_table()
-/// writes the whole file under staged_name(path), where nobody reading `path` sees it (same
+/// writes the whole file under PATH.tmp, where nobody reading `path` sees it (same
 /// errors as write_table(); a failed write leaves nothing); commit_table() puts it in place with
 /// one rename; discard_table() removes it.
 void stage_table(const std::string& path, const std::vector<std::string>& names,
                  Eigen::Ref<const Eigen::MatrixXd> data);
 void commit_table(const std::string& path);
 void discard_table(const std::string& path) noexcept;
-std::string staged_name(const std::string& path);
 
 }  // namespace flexloop::report

@@ -15,6 +15,17 @@ Eigen::Matrix<double, 3, 4> euler_l_matrix(const Eigen::Vector4d& l) {
 
 namespace {
 
+// Adds an element's mass matrix, over (node p's coordinates, node q's coordinates) in two equal
+// halves, to the model's.
+void add_element_mass(Eigen::MatrixXd& M, const Model& m, const Element& el,
+                      const Eigen::MatrixXd& Me) {
+  const Eigen::Index n = Me.rows() / 2;
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      M.block(m.nodes[el.nodes[i]].first_coordinate, m.nodes[el.nodes[j]].first_coordinate, n, n) +=
+          Me.block(i * n, j * n, n, n);
+}
+
 // Translational mass matrix (constant): nodes and elements.
 Eigen::MatrixXd translational_mass(const Model& m) {
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(m.nx(), m.nx());
@@ -22,12 +33,9 @@ Eigen::MatrixXd translational_mass(const Model& m) {
     for (int a = 0; a < m.dim; ++a) M(n.first_coordinate + a, n.first_coordinate + a) += n.mass;
   for (const auto& el : m.elements) {
     if (el.mass == 0.0 || el.mass_model == MassModel::kBeam) continue;  // mass_matrix() adds it
-    const Eigen::MatrixXd Me =
-        element_translational_mass(el.mass, m.dim, el.mass_model == MassModel::kConsistent);
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j)
-        M.block(m.nodes[el.nodes[i]].first_coordinate, m.nodes[el.nodes[j]].first_coordinate, m.dim,
-                m.dim) += Me.block(i * m.dim, j * m.dim, m.dim, m.dim);
+    add_element_mass(
+        M, m, el,
+        element_translational_mass(el.mass, m.dim, el.mass_model == MassModel::kConsistent));
   }
   return M;
 }
@@ -47,13 +55,7 @@ Eigen::MatrixXd mass_matrix(const Model& m, const Eigen::VectorXd& x) {
     }
   }
   for (const auto& el : m.elements) {
-    if (el.mass_model != MassModel::kBeam) continue;
-    const Eigen::MatrixXd Me = beam_element_mass(m, el, x);
-    const int nn = static_cast<int>(Me.rows()) / 2;
-    for (int i = 0; i < 2; ++i)
-      for (int j = 0; j < 2; ++j)
-        M.block(m.nodes[el.nodes[i]].first_coordinate, m.nodes[el.nodes[j]].first_coordinate, nn,
-                nn) += Me.block(i * nn, j * nn, nn, nn);
+    if (el.mass_model == MassModel::kBeam) add_element_mass(M, m, el, beam_element_mass(m, el, x));
   }
   return M;
 }

@@ -22,13 +22,8 @@ void require_dense_poles_kept_inside(const Eigen::MatrixXd& Ad, const Eigen::Mat
     (kept.array() - z).abs().minCoeff(&nearest);
     const double stored_margin = std::norm(kept(nearest)) - 1;
     if (stored_margin < 0) continue;
-    std::ostringstream os;
-    os.precision(3);
-    os << who << ": the pole z = 1 + (" << a << (b < 0 ? " - " : " + ") << std::abs(b)
-       << "j) is closer to the unit circle than float resolves (|z|^2 - 1 = " << margin
-       << " in double, " << stored_margin
-       << " with Ad - I stored in float): the plant would not decay; run it in double";
-    throw std::invalid_argument(os.str());
+    throw_pole_not_kept(who, "a pole of Ad", a, b, margin, stored_margin,
+                        "with Ad - I stored in float");
   }
 }
 

@@ -66,11 +66,14 @@ def main():
     a = p.parse_args()
     if a.elements < 2:
         sys.exit("make_flexible_arm.py: --elements must be at least 2")
-    os.makedirs(a.out_dir, exist_ok=True)
-    for name, text in (("model.toml", model_text(a.elements, a.mass_model)),
-                       ("scene.toml", scene_text(a.elements))):
-        with open(os.path.join(a.out_dir, name), "w") as f:
-            f.write(text)
+    try:
+        os.makedirs(a.out_dir, exist_ok=True)
+        for name, text in (("model.toml", model_text(a.elements, a.mass_model)),
+                           ("scene.toml", scene_text(a.elements))):
+            with open(os.path.join(a.out_dir, name), "w") as f:
+                f.write(text)
+    except OSError as e:
+        sys.exit(f"make_flexible_arm.py: {a.out_dir}: cannot be written ({e.strerror})")
     print(f"wrote {a.out_dir}/model.toml and {a.out_dir}/scene.toml "
           f"({a.elements} beams, {4 * a.elements + 6} states)")
 
