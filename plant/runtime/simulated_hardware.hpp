@@ -84,7 +84,7 @@ class SimulatedHardware {
   }
 
   /// The sample at instant k: what the sensors read (after the transport delay, if any).
-  const Reading& sample() noexcept {
+  [[gnu::flatten]] const Reading& sample() noexcept {
     const Eigen::Index nw = floor_channels(), nz = z_.size(), ns = reading_.sensors.size();
     in_.template head<NW>(nw) = floor_.step();  // the tail holds the actuator force since k-1
     const auto& out = plant_.output(in_.template head<NW>(nw));
@@ -105,7 +105,7 @@ class SimulatedHardware {
 
   /// The controller's command for [k, k+1): through the actuator, then the plant advances.
   template <typename U>
-  void apply(const Eigen::MatrixBase<U>& u) noexcept {
+  [[gnu::flatten]] void apply(const Eigen::MatrixBase<U>& u) noexcept {
     const Eigen::Index nw = floor_channels(), nc = in_.size() - nw;
     if constexpr (kPresent<Actuator>)
       in_.template segment<NC>(nw, nc) = actuator_.step(u);

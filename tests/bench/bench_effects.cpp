@@ -101,7 +101,8 @@ void BM_Floor(benchmark::State& state) {
 
 // One standard normal draw per channel for 18 channels (the floor's 6 and two sensor chains of 6,
 // as the default scene draws them each sample), each channel with its own engine: the engine the
-// noise effects use against std::mt19937_64 (same-run baseline), both through Boost's ziggurat.
+// noise effects use against std::mt19937_64 (same-run baseline), both through Boost's scalar
+// ziggurat (the noise's transform before the lanes below).
 template <class Engine>
 void BM_NormalDraws18(benchmark::State& s) {
   std::array<Engine, 18> engines;
@@ -114,6 +115,32 @@ void BM_NormalDraws18(benchmark::State& s) {
 }
 BENCHMARK_TEMPLATE(BM_NormalDraws18, flexloop::plant::runtime::effects::Xoshiro256PlusPlus);
 BENCHMARK_TEMPLATE(BM_NormalDraws18, std::mt19937_64);
+
+// The same 18 draws as the effects take them: three 6-channel sources (floor, force sensors,
+// accelerometers), each channel's engine in a SIMD lane of the ziggurat (gaussian_noise.hpp);
+// against the scalar ziggurat on each engine in turn (the same numbers) and Boost's above.
+static void BM_NormalDraws18Lanes(benchmark::State& s) {
+  using flexloop::plant::runtime::effects::GaussianNoise;
+  auto a = GaussianNoise<double, 6>::from_seed(1), b = GaussianNoise<double, 6>::from_seed(2),
+       c = GaussianNoise<double, 6>::from_seed(3);
+  for (auto _ : s) {
+    auto x = a.sample(), y = b.sample(), z = c.sample();
+    benchmark::DoNotOptimize(x);
+    benchmark::DoNotOptimize(y);
+    benchmark::DoNotOptimize(z);
+  }
+}
+BENCHMARK(BM_NormalDraws18Lanes);
+static void BM_NormalDraws18Scalar(benchmark::State& s) {
+  namespace fx = flexloop::plant::runtime::effects;
+  std::array<fx::Xoshiro256PlusPlus, 18> engines;
+  for (std::size_t c = 0; c < engines.size(); ++c) engines[c] = fx::Xoshiro256PlusPlus(c + 1);
+  double sum = 0;
+  for (auto _ : s)
+    for (auto& e : engines) sum += fx::ziggurat::normal(e);
+  benchmark::DoNotOptimize(sum);
+}
+BENCHMARK(BM_NormalDraws18Scalar);
 
 BENCHMARK_TEMPLATE(BM_Piezo, double);
 BENCHMARK_TEMPLATE(BM_Piezo, float);

@@ -2,24 +2,22 @@
 // N independent standard normal sequences n_k (mean 0, variance 1), one per channel, for the
 // sensor noise and the floor generator.
 //
-// Channel c draws from its own xoshiro256++ stream c of the seed (xoshiro256.hpp), and
-// Boost.Random's normal_distribution<double> (Marsaglia and Tsang's ziggurat: about 1.1 engine
-// draws per normal, no logarithm or square root on the usual path; about twice as fast as
-// std::normal_distribution's polar method here). Cast to Scalar, so float and double runs see the
-// same numbers. Channel c's sequence depends only on (seed, c), not on N. Reproducibility: the
-// same seed gives the same sequence on every build and platform (the engine is fully specified,
-// the ziggurat is Boost's code, not the standard library's implementation-defined transform).
-// Give every effect its own seed: two effects with one seed get the same numbers.
-// Memory: 32 bytes of engine state per channel (for N = Eigen::Dynamic in a vector sized at
-// start-up). A draw costs no allocation and no system call.
+// Channel c draws from its own xoshiro256++ stream c of the seed (xoshiro256.hpp) through the
+// ziggurat (ziggurat_normal.hpp); the channels draw side by side, kLanes to a group of SIMD lanes,
+// so a sample of 18 channels costs a few group draws instead of 18 scalar ones. Cast to Scalar, so
+// float and double runs see the same numbers. Channel c's sequence depends only on (seed, c), not
+// on N, and is the same on every build and platform (the engine and the ziggurat's usual path are
+// exact integer and IEEE arithmetic on a fixed table). Give every effect its own seed: two
+// effects with one seed get the same numbers.
+// Memory: 32 bytes of engine state per lane, in place (for N = Eigen::Dynamic the lanes of
+// kMaxChannels channels, of which the first n draw). A draw costs no allocation and no system
+// call.
+#include <algorithm>
 #include <array>
-#include <boost/random/normal_distribution.hpp>
 #include <cstdint>
-#include <type_traits>
-#include <vector>
 
 #include "plant/runtime/effects/channels.hpp"
-#include "plant/runtime/effects/xoshiro256.hpp"
+#include "plant/runtime/effects/ziggurat_normal.hpp"
 
 namespace flexloop::plant::runtime::effects {
 
@@ -32,34 +30,32 @@ class GaussianNoise {
   static GaussianNoise from_seed(std::uint64_t seed, Eigen::Index n = N) {
     GaussianNoise g;
     g.n_ = channel_count<N>("gaussian noise", n);
-    if constexpr (N == Eigen::Dynamic) {
-      g.engines_.resize(static_cast<std::size_t>(g.n_));
-      g.normals_.resize(static_cast<std::size_t>(g.n_));
-    }
-    for (int c = 0; c < g.n_; ++c) g.engines_[c] = Xoshiro256PlusPlus(seed, c);
+    for (int group = 0; group < kGroups; ++group)
+      g.groups_[group] = ziggurat::EngineLanes(seed, std::uint64_t{kLanes} * group);
     return g;
   }
 
   /// One draw per channel.
   ChannelVector<Scalar, N> sample() noexcept {
-    ChannelVector<Scalar, N> n(n_);
-    for (int c = 0; c < n_; ++c) n(c) = sample(c);
-    return n;
+    alignas(64) double draws[kGroups * kLanes];
+    for (int group = 0, first = 0; first < n_; ++group, first += kLanes)
+      groups_[group].normals(draws + first, std::min(kLanes, n_ - first));
+    return Eigen::Map<const ChannelVector<double, N>>(draws, n_).template cast<Scalar>();
   }
 
-  /// The next draw of channel c (0 <= c < channels(), unchecked).
-  Scalar sample(int c) noexcept { return static_cast<Scalar>(normals_[c](engines_[c])); }
+  /// The next draw of channel c alone (0 <= c < channels(), unchecked).
+  Scalar sample(int c) noexcept {
+    return static_cast<Scalar>(groups_[c / kLanes].normal(c % kLanes));
+  }
 
   int channels() const noexcept { return n_; }
 
  private:
-  // Fixed N: in place; N = Eigen::Dynamic: sized once at start-up.
-  template <class T>
-  using PerChannel = std::conditional_t<N == Eigen::Dynamic, std::vector<T>, std::array<T, N>>;
+  static constexpr int kLanes = ziggurat::kLanes;
+  static constexpr int kGroups = (kChannelRows<N> + kLanes - 1) / kLanes;
 
   GaussianNoise() = default;
-  PerChannel<Xoshiro256PlusPlus> engines_;
-  PerChannel<boost::random::normal_distribution<double>> normals_;
+  std::array<ziggurat::EngineLanes, kGroups> groups_;
   int n_ = 0;
 };
 

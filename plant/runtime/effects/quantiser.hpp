@@ -1,14 +1,16 @@
 #pragma once
 // ADC quantisation: a b-bit bipolar converter over the full-scale range R (peak to peak, centred
 // on zero, per channel), mid-tread (zero is a level), two's-complement codes, clipping at range:
-//   q = R / 2^b                                   (one LSB)
-//   k = clamp(rint(x / q), -2^(b-1), 2^(b-1) - 1)  (the code)
-//   y = k q                                        (the reading, in the input's unit)
+//   q = R / 2^b                                       (one LSB)
+//   k = clamp(rint(x (1/q)), -2^(b-1), 2^(b-1) - 1)    (the code)
+//   y = k q                                            (the reading, in the input's unit)
 // rint rounds to nearest with ties to even in the default floating-point rounding mode (never
-// changed in this program), so |y - x| <= q/2 inside the range. x / q is correctly rounded, so
-// the result is exact whenever q is a power of two; otherwise a value within one rounding of a
-// tie may go either way. ±inf clip to the end codes; NaN passes through as NaN (a fault stays
-// visible). bits <= digits of Scalar (24 for float, 53 for double) so every code is exact.
+// changed in this program), so |y - x| <= q/2 inside the range. When q is a power of two, 1/q
+// and x (1/q) are exact and so is the result; otherwise x (1/q) is within two roundings of x / q
+// and a value that close to a tie may go either way (the product, not the quotient: a division's
+// latency was the larger part of a sensor chain's step). ±inf clip to the end codes; NaN passes
+// through as NaN (a fault stays visible). bits <= digits of Scalar (24 for float, 53 for double)
+// so every code is exact.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -33,13 +35,14 @@ class Quantiser {
                     [](double v) { return v > 0; });
     const double levels = std::ldexp(1.0, bits);
     return Quantiser((full_scale_range / levels).template cast<Scalar>(),
+                     (levels * full_scale_range.cwiseInverse()).template cast<Scalar>(),
                      static_cast<Scalar>(-levels / 2), static_cast<Scalar>(levels / 2 - 1));
   }
 
   ChannelVector<Scalar, N> step(const ChannelVector<Scalar, N>& x) const noexcept {
     ChannelVector<Scalar, N> y(x.size());
     for (Eigen::Index c = 0; c < x.size(); ++c)
-      y(c) = std::clamp(std::rint(x(c) / lsb_(c)), code_min_, code_max_) * lsb_(c);
+      y(c) = std::clamp(std::rint(x(c) * per_lsb_(c)), code_min_, code_max_) * lsb_(c);
     return y;
   }
 
@@ -47,9 +50,11 @@ class Quantiser {
   const ChannelVector<Scalar, N>& lsb() const noexcept { return lsb_; }
 
  private:
-  Quantiser(const ChannelVector<Scalar, N>& lsb, Scalar code_min, Scalar code_max)
-      : lsb_(lsb), code_min_(code_min), code_max_(code_max) {}
+  Quantiser(const ChannelVector<Scalar, N>& lsb, const ChannelVector<Scalar, N>& per_lsb,
+            Scalar code_min, Scalar code_max)
+      : lsb_(lsb), per_lsb_(per_lsb), code_min_(code_min), code_max_(code_max) {}
   ChannelVector<Scalar, N> lsb_;
+  ChannelVector<Scalar, N> per_lsb_;  // 1/q
   Scalar code_min_, code_max_;
 };
 

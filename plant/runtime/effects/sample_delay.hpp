@@ -26,8 +26,10 @@ class SampleDelay {
   /// Fills the line with `value`: the next D outputs.
   void reset(const ChannelVector<Scalar, N>& value) noexcept { ring_.fill(value); }
 
-  // Ring of D + 1 slots: write x_k at head, then the slot after head holds x_{k-D}.
+  // Ring of D + 1 slots: write x_k at head, then the slot after head holds x_{k-D}. D = 0 (a
+  // sensor without latency, the usual case) passes x through without the ring's two copies.
   ChannelVector<Scalar, N> step(const ChannelVector<Scalar, N>& x) noexcept {
+    if (delay_ == 0) return x;
     ring_[head_] = x;
     head_ = head_ == delay_ ? 0 : head_ + 1;
     return ring_[head_];

@@ -57,6 +57,9 @@ class Xoshiro256PlusPlus {
     return result;
   }
 
+  /// The 256 bits of state.
+  constexpr const std::array<std::uint64_t, 4>& state() const noexcept { return s_; }
+
  private:
   static constexpr std::uint64_t rotl(std::uint64_t x, int k) noexcept {
     return (x << k) | (x >> (64 - k));
