@@ -89,7 +89,15 @@ double finish(std::uint64_t bits, Engine& engine) noexcept {
 
 static_assert((kLayers & (kLayers - 1)) == 0 && kLayers <= 2048, "layer and sign in bits 0-11");
 
+/// Lanes of one SIMD register of 64-bit words: 8 with AVX-512, 4 with AVX2, 2 otherwise (wider
+/// vectors than the build's registers compile to slow code). A lane's draws do not depend on it.
+#if defined(__AVX512F__)
 inline constexpr int kLanes = 8;
+#elif defined(__AVX2__)
+inline constexpr int kLanes = 4;
+#else
+inline constexpr int kLanes = 2;
+#endif
 
 /// kLanes xoshiro256++ engines side by side: lane l is Xoshiro256PlusPlus(seed, first + l), and
 /// normals() gives each lane the draw normal() would give on that engine alone.
@@ -106,12 +114,14 @@ class EngineLanes {
     Words bits;
     next(bits);
     const Words i = bits & (kLayers - 1);
-    const Reals edge = gather(kEdge, i), inner = gather(kEdge + 1, i);
-    const Reals one_plus_u = reinterpret<Reals>((bits >> 12) | 0x3FF0000000000000ull);
+    Reals edge, inner;
+    gather(kEdge, i, edge);
+    gather(kEdge + 1, i, inner);
+    const Reals one_plus_u = std::bit_cast<Reals>((bits >> 12) | 0x3FF0000000000000ull);
     const Reals value = (one_plus_u - 1.0) * edge;
     const Masks rejected = value >= inner;
     const Words sign = (bits >> 10) << 63;
-    const Reals draw = reinterpret<Reals>(reinterpret<Words>(value) ^ sign);
+    const Reals draw = std::bit_cast<Reals>(std::bit_cast<Words>(value) ^ sign);
     std::memcpy(x, &draw, sizeof draw);
     unsigned finish_lanes = lane_bits(rejected) & ((1u << active) - 1);
     while (finish_lanes != 0) [[unlikely]] {
@@ -136,34 +146,25 @@ class EngineLanes {
   typedef double Reals __attribute__((vector_size(8 * kLanes)));
   typedef std::int64_t Masks __attribute__((vector_size(8 * kLanes)));
 
-  template <class To, class From>
-  static To reinterpret(const From& from) noexcept {
-    return std::bit_cast<To>(from);
-  }
-
-  // table[index[l]] on every lane. A gather instruction where the build has one: assembling the
-  // vector through memory lane by lane stalls on store forwarding, which cost more than the rest
-  // of the draw.
-  static Reals gather(const double* table, const Words& index) noexcept {
+  // out[l] = table[index[l]] on every lane. A gather instruction where the build has one:
+  // assembling the vector through memory lane by lane stalls on store forwarding, which cost more
+  // than the rest of the draw.
+  static void gather(const double* table, const Words& index, Reals& out) noexcept {
 #if defined(__AVX512F__)
-    return reinterpret<Reals>(_mm512_i64gather_pd(reinterpret<__m512i>(index), table, 8));
+    out = std::bit_cast<Reals>(_mm512_i64gather_pd(std::bit_cast<__m512i>(index), table, 8));
 #elif defined(__AVX2__)
-    const auto half = reinterpret<std::array<__m256i, 2> >(index);
-    return reinterpret<Reals>(std::array<__m256d, 2>{_mm256_i64gather_pd(table, half[0], 8),
-                                                     _mm256_i64gather_pd(table, half[1], 8)});
+    out = std::bit_cast<Reals>(_mm256_i64gather_pd(table, std::bit_cast<__m256i>(index), 8));
 #else
-    return Reals{table[index[0]], table[index[1]], table[index[2]], table[index[3]],
-                 table[index[4]], table[index[5]], table[index[6]], table[index[7]]};
+    for (int l = 0; l < kLanes; ++l) out[l] = table[index[l]];
 #endif
   }
 
   // Bit l set when lane l of the mask is set.
   static unsigned lane_bits(const Masks& mask) noexcept {
 #if defined(__AVX512DQ__)
-    return _mm512_movepi64_mask(reinterpret<__m512i>(mask));
-#elif defined(__AVX2__)
-    const auto half = reinterpret<std::array<__m256d, 2> >(mask);
-    return static_cast<unsigned>(_mm256_movemask_pd(half[0]) | _mm256_movemask_pd(half[1]) << 4);
+    return _mm512_movepi64_mask(std::bit_cast<__m512i>(mask));
+#elif defined(__AVX2__) && !defined(__AVX512F__)
+    return static_cast<unsigned>(_mm256_movemask_pd(std::bit_cast<__m256d>(mask)));
 #else
     unsigned bits = 0;
     for (int l = 0; l < kLanes; ++l) bits |= (mask[l] != 0 ? 1u : 0u) << l;
