@@ -2,9 +2,10 @@
 # Two hosts on one machine: the plant and the controller in two network namespaces joined by a
 # veth pair with private addresses (10.231.0.1/30 and 10.231.0.2/30, multicast routed to the
 # veth), LCM across the link with ttl=1 (the lowest TTL that crosses one link; nothing is
-# forwarded beyond it). Shows the loop closes and reports its latency; removes the namespaces
-# (and with them the veth pair) on every exit. The veth is created inside the namespaces, never
-# in the caller's. Exit 77 (ctest SKIP_RETURN_CODE) when namespaces cannot be created.
+# forwarded beyond it). Shows the loop closes (or, after a stall of one side, closes again) and
+# reports its latency; removes the namespaces (and with them the veth pair) on every exit. The
+# veth is created inside the namespaces, never in the caller's. Exit 77 (ctest SKIP_RETURN_CODE)
+# when namespaces cannot be created.
 #
 #   tests/hil/veth_loop.sh build/release/tools/flexloop tools/scenes/metrology_frame.toml [RATE_HZ] [DURATION_S]
 set -euo pipefail
@@ -51,17 +52,25 @@ ip netns exec "$ns_plant" "$flexloop" plant "$scene" --rate "$rate" --duration "
 kill -TERM "$ctrl_pid"; wait "$ctrl_pid" || true; ctrl_pid=
 cat "$work/plant.log"; cat "$work/controller.log"
 
-python3 - "$work/plant.json" <<'PY'
-import json, sys
+python3 - "$work/plant.json" "$work/controller.log" <<'PY'
+import json, re, sys
 r = json.load(open(sys.argv[1]))
+resumes = re.search(r"bumpless resumes (\d+)", open(sys.argv[2]).read())
 rtt = r["round_trip_ns"]
 cycles, misses = r["cycles"], r["deadline_misses"]
 answered = rtt["count"]
 print(f"veth loop: {cycles} cycles at {r['rate_hz']:g} Hz, {answered} answered in time, "
       f"{misses} deadline misses; round trip p50 {rtt['p50']/1e3:.1f} us, "
       f"p99 {rtt['p99']/1e3:.1f} us, max {rtt['max']/1e3:.1f} us")
-# The loop closes when nearly every sample is answered in time across the link.
-ok = cycles > 0 and answered >= 0.95 * cycles and r["safe_command_cycles"] == 0
+# The loop closes when nearly every sample is answered in time across the link. A shared VM can
+# stall one side for tens of periods (its vCPU not scheduled); the plant then applies its safe
+# command, and the loop has closed again only if the controller resumed bumplessly afterwards.
+safe = r["safe_command_cycles"]
+recovered = safe == 0 or (resumes is not None and int(resumes.group(1)) >= 1)
+if safe:
+    print(f"veth loop: a stall engaged the safe command for {safe} periods; "
+          f"the controller {'resumed bumplessly' if recovered else 'did NOT resume'}")
+ok = cycles > 0 and answered >= 0.95 * cycles and safe <= 0.05 * cycles and recovered
 print("veth loop closed" if ok else "veth loop did NOT close")
 sys.exit(0 if ok else 1)
 PY
