@@ -2,6 +2,7 @@
 // commands handled; the first-order lag equals the analytic step response at the sample instants
 // and its sample means equal the analytic integrals, and for a random held input it matches an
 // independent fine RK4 integration of τ f' = -f + v.
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <limits>
@@ -54,6 +55,52 @@ TEST_CASE("piezo actuator: NaN command gives zero force and counts as saturated,
   CHECK(f == ChannelVector<double, 3>(0.0, 4.0, 0.0));  // channel 2 has gain -1: -inf -> min 0
   CHECK(act.saturated().all());
   CHECK(std::isnan(act.unsaturated_force()(0)));
+}
+
+namespace {
+// The actuator's definition channel by channel (header of piezo_actuator.hpp), for any count and
+// every SIMD position: random commands with NaN, ±inf and ±0 among them, ranges on both sides of
+// zero and ranges that do not contain it (a NaN then gives the limit nearest zero).
+template <int N>
+void check_against_definition(Eigen::Index n) {
+  std::mt19937_64 rng(11 + n);
+  std::uniform_real_distribution<double> u(-2, 2);
+  PiezoActuatorParameters<N> p(n);
+  for (Eigen::Index c = 0; c < n; ++c) {
+    p.gain(c) = c % 3 == 2 ? -1.5 : 0.75;
+    p.force_min(c) = c % 4 == 3 ? 0.5 : -1.0 - 0.1 * c;
+    p.force_max(c) = c % 5 == 4 ? -0.25 : 1.0 + 0.1 * c;
+    if (p.force_min(c) >= p.force_max(c)) p.force_min(c) = -2.0;
+  }
+  auto act = PiezoActuator<double, N>::from_parameters(p, 1e-3);
+  const double inf = std::numeric_limits<double>::infinity(), nan = std::nan("");
+  const double specials[] = {nan, inf, -inf, 0.0, -0.0};
+  for (int k = 0; k < 400; ++k) {
+    ChannelVector<double, N> command(n);
+    for (Eigen::Index c = 0; c < n; ++c)
+      command(c) = (k + c) % 3 == 0 ? specials[(k + c) % 5] : u(rng);
+    const ChannelVector<double, N> f = act.step(command);
+    for (Eigen::Index c = 0; c < n; ++c) {
+      INFO(n << " channels, channel " << c << ", command " << command(c));
+      const double commanded = p.gain(c) * command(c);
+      const double finite = std::isnan(commanded) ? 0.0 : commanded;
+      const double limited = std::clamp(finite, p.force_min(c), p.force_max(c));
+      CHECK(f(c) == limited);
+      CHECK(act.limited_force()(c) == limited);
+      CHECK((act.unsaturated_force()(c) == commanded || std::isnan(commanded)));
+      CHECK(act.saturated()(c) == (std::isnan(commanded) || limited != finite));
+    }
+  }
+}
+}  // namespace
+
+TEST_CASE("piezo actuator: every channel of any count follows the definition, NaN and inf too") {
+  check_against_definition<1>(1);
+  check_against_definition<5>(5);
+  check_against_definition<6>(6);
+  check_against_definition<7>(7);
+  check_against_definition<12>(12);
+  for (const Eigen::Index n : {1, 6, 9, 64}) check_against_definition<Eigen::Dynamic>(n);
 }
 
 TEST_CASE("first-order lag: unit step equals 1 - e^(-t/τ) at the instants and its integral mean") {

@@ -48,6 +48,47 @@ TEST_CASE("quantiser: clips at the end codes, ±inf included, NaN stays NaN") {
   CHECK(std::isnan(adc.step(both(std::numeric_limits<double>::quiet_NaN()))(0)));
 }
 
+namespace {
+// Every channel of an n-channel quantiser (each in another SIMD position, a tail included) clips
+// ±inf and large values to the end codes, keeps NaN and rounds to even at a tie.
+template <class Scalar, int N>
+void check_every_channel(Eigen::Index n) {
+  const auto adc = Quantiser<Scalar, N>::from_parameters(8, ChannelParameters<N>::Constant(n, 2));
+  const Scalar q = Scalar(1) / 128, inf = std::numeric_limits<Scalar>::infinity();
+  const Scalar nan = std::numeric_limits<Scalar>::quiet_NaN();
+  for (Eigen::Index c = 0; c < n; ++c) {
+    INFO(n << " channels, channel " << c);
+    for (const Scalar other : {Scalar(0), nan, inf}) {
+      ChannelVector<Scalar, N> x = ChannelVector<Scalar, N>::Constant(n, other);
+      x(c) = nan;
+      CHECK(std::isnan(adc.step(x)(c)));
+      x(c) = inf;
+      CHECK(adc.step(x)(c) == 127 * q);
+      x(c) = -inf;
+      CHECK(adc.step(x)(c) == -1);
+      x(c) = Scalar(1e9);
+      CHECK(adc.step(x)(c) == 127 * q);
+      x(c) = Scalar(2.5) * q;
+      CHECK(adc.step(x)(c) == 2 * q);
+    }
+  }
+}
+}  // namespace
+
+TEST_CASE("quantiser: every channel of any count clips, keeps NaN and rounds ties to even") {
+  check_every_channel<double, 1>(1);
+  check_every_channel<double, 3>(3);
+  check_every_channel<double, 6>(6);
+  check_every_channel<double, 7>(7);
+  check_every_channel<double, 12>(12);
+  check_every_channel<float, 6>(6);
+  check_every_channel<float, 9>(9);
+  for (const Eigen::Index n : {1, 5, 6, 13, 64}) {
+    check_every_channel<double, Eigen::Dynamic>(n);
+    check_every_channel<float, Eigen::Dynamic>(n);
+  }
+}
+
 TEST_CASE("quantiser: per-channel ranges, a reading is a level within q/2 (16 bits, 20 N range)") {
   ChannelVector<double, 2> range;
   range << 20.0, 3.0;

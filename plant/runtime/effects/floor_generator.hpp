@@ -59,8 +59,7 @@ class FloorGenerator {
 
   /// The floor acceleration of this sample [m/s²], one per channel; advances the filters.
   Vector step() noexcept {
-    Lanes n = Lanes::Zero();
-    n.template head<N>(channels()) = noise_.sample();
+    const Lanes n = noise_.template sample_lanes<NP>();
     const Lanes a = column_product(x_, c_) + d_ * n;
     Lanes next[NF];
     for (int i = 0; i < NF; ++i) next[i] = column_product(x_, a_t_.col(i)) + b_(i) * n;

@@ -69,16 +69,17 @@ class PiezoActuator {
   }
 
   /// Command u_k held over the sample; returns the force the struts get during it.
+  // Eigen expressions with the packets of the stages around it: no branch per channel, and no
+  // change of SIMD width that would pass the force through memory.
   Vector step(const Vector& command) noexcept {
-    for (Eigen::Index c = 0; c < gain_.size(); ++c) {
-      const Scalar commanded = gain_(c) * command(c);
-      const bool nan = commanded != commanded;
-      const Scalar finite = nan ? Scalar(0) : commanded;
-      const Scalar limited = finite < min_(c) ? min_(c) : (finite > max_(c) ? max_(c) : finite);
-      unsaturated_(c) = commanded;
-      limited_(c) = limited;
-      saturated_(c) = nan || limited != finite;
-    }
+    unsaturated_ = gain_.cwiseProduct(command);
+    const auto commanded = unsaturated_.array();
+    // A NaN command as zero: max(0, c) + min(0, c) is c for every number and 0 for NaN (std::max
+    // and std::min return their first argument when the second is NaN; so do Eigen's).
+    const auto zero = Vector::Zero(command.size()).array();
+    const auto finite = zero.max(commanded) + zero.min(commanded);
+    limited_ = finite.max(min_.array()).min(max_.array()).matrix();
+    saturated_ = limited_.array() != commanded;  // NaN != anything: a NaN counts as saturated
     if constexpr (kLagged)
       return lag_.step(limited_);
     else

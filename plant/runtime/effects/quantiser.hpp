@@ -39,11 +39,13 @@ class Quantiser {
                      static_cast<Scalar>(-levels / 2), static_cast<Scalar>(levels / 2 - 1));
   }
 
+  // One Eigen expression, like the stages around it: the same packets from end to end keep the
+  // chain in registers (a loop here was vectorised with other widths than Eigen's, and each change
+  // of width went through memory with a stalled store-to-load forward). max then min as std::max
+  // and std::min: a NaN code stays NaN.
   ChannelVector<Scalar, N> step(const ChannelVector<Scalar, N>& x) const noexcept {
-    ChannelVector<Scalar, N> y(x.size());
-    for (Eigen::Index c = 0; c < x.size(); ++c)
-      y(c) = std::clamp(std::rint(x(c) * per_lsb_(c)), code_min_, code_max_) * lsb_(c);
-    return y;
+    return ((x.array() * per_lsb_.array()).rint().max(code_min_).min(code_max_) * lsb_.array())
+        .matrix();
   }
 
   /// One LSB per channel, q = R / 2^b.
