@@ -1,5 +1,5 @@
-// The plant loop on every compiled loop (online/numeric/compiled_loops.hpp), each with every
-// effect combination.
+// The plant loop on every compiled loop (online/numeric/compiled_loops.hpp), each with the
+// hardware compositions of online/sim/loop_hardware.hpp.
 #include "online/loop/plant_loop_run.hpp"
 
 namespace flexloop::hil::detail {

@@ -1,5 +1,5 @@
-// The plant loop on the general path: any state and channel count, sized at start-up, with every
-// effect combination, in the plant form the artefact holds.
+// The plant loop on the general path: any state and channel count, sized at start-up, with the
+// effects chosen at start-up (online/sim/loop_hardware.hpp), in the plant form the artefact holds.
 #include "online/loop/plant_loop_run.hpp"
 #include "plant/runtime/general_plant.hpp"
 

@@ -2,7 +2,7 @@
 // The plant loop's body (online/loop/plant_loop.hpp) for one composed hardware type, and its
 // instantiations with the artefact's effects (online/sim/loop_hardware.hpp): the compiled loops
 // (plant_loop_compiled.cpp) and the general path (plant_loop_general.cpp), in separate
-// translation units so that the effect combinations compile in parallel.
+// translation units so that they compile in parallel.
 #include <unistd.h>
 
 #include <algorithm>

@@ -24,8 +24,12 @@ struct CompiledLoop {
   static_assert(NX > 0 && NW > 0 && NC > 0 && NZ > 0 && NS > 0, "a compiled loop has every kind");
 };
 
+/// A list of types to dispatch on at start-up (first_match).
+template <class... Ts>
+struct TypeList {};
+
 template <class... Loops>
-struct LoopList {};
+using LoopList = TypeList<Loops...>;
 
 using CompiledLoops =
     LoopList<CompiledLoop<12, 6, 6, 6, 6, PlantForm::kDense>,   // the metrology frame
@@ -44,23 +48,23 @@ constexpr bool matches(const LoopCounts& n) {
          n.performance == Loop::NZ && n.sensors == Loop::NS && n.form == Loop::kForm;
 }
 
-namespace detail {
+/// Start-up: f(T{}) for the first T of the list with match(T{}), otherwise() when there is none
+/// (every call returns the same type).
 template <class Match, class F, class Otherwise>
-decltype(auto) first_match(LoopList<>, Match&&, F&&, Otherwise&& otherwise) {
+decltype(auto) first_match(TypeList<>, Match&&, F&&, Otherwise&& otherwise) {
   return otherwise();
 }
-template <class Loop, class... Rest, class Match, class F, class Otherwise>
-decltype(auto) first_match(LoopList<Loop, Rest...>, Match&& match, F&& f, Otherwise&& otherwise) {
-  if (match(Loop{})) return f(Loop{});
-  return first_match(LoopList<Rest...>{}, match, f, otherwise);
+template <class T, class... Rest, class Match, class F, class Otherwise>
+decltype(auto) first_match(TypeList<T, Rest...>, Match&& match, F&& f, Otherwise&& otherwise) {
+  if (match(T{})) return f(T{});
+  return first_match(TypeList<Rest...>{}, match, f, otherwise);
 }
-}  // namespace detail
 
 /// Start-up: f(Loop{}) for the first compiled loop whose counts and form equal n, otherwise()
 /// when there is none (both return the same type).
 template <class F, class Otherwise>
 decltype(auto) with_compiled_loop(const LoopCounts& n, F&& f, Otherwise&& otherwise) {
-  return detail::first_match(
+  return first_match(
       CompiledLoops{}, [&n](auto loop) { return matches<decltype(loop)>(n); }, f, otherwise);
 }
 
@@ -69,7 +73,7 @@ decltype(auto) with_compiled_loop(const LoopCounts& n, F&& f, Otherwise&& otherw
 template <class F, class Otherwise>
 decltype(auto) with_compiled_channels(Eigen::Index actuators, Eigen::Index sensors, F&& f,
                                       Otherwise&& otherwise) {
-  return detail::first_match(
+  return first_match(
       CompiledLoops{},
       [=](auto loop) { return actuators == decltype(loop)::NC && sensors == decltype(loop)::NS; },
       f, otherwise);

@@ -2,8 +2,8 @@
 // The body shared by the scene_runs_*.cpp translation units: controller off, then on, over the
 // artefact's hardware with every effect it carries. The PI runs on compiled and general paths;
 // the state-space controller, sized at start-up, on the general path only (one more
-// instantiation of every effect combination per compiled loop would double their build time for
-// a step that the controller's own products dominate).
+// instantiation of every hardware composition per compiled loop, for a step that the
+// controller's own products dominate).
 #include <stdexcept>
 #include <string>
 

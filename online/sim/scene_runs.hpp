@@ -39,7 +39,7 @@ BothRuns run_artefact(const artefact::LoopArtefact& a, const RunSettings& s,
 
 namespace detail {
 // One per translation unit: the compiled loop that matches the artefact (nothing when none does),
-// and the general path; each with every effect combination.
+// and the general path; each with the hardware compositions of online/sim/loop_hardware.hpp.
 std::optional<BothRuns> run_compiled(const artefact::LoopArtefact&, const RunSettings&,
                                      const SceneRunOptions&);
 BothRuns run_general(const artefact::LoopArtefact&, const RunSettings&, const SceneRunOptions&);

@@ -1,5 +1,6 @@
 // The compiled fast paths of `flexloop sim`: every entry of the typed list of compiled loops
-// (online/numeric/compiled_loops.hpp), each with every effect combination.
+// (online/numeric/compiled_loops.hpp), each with the hardware compositions of
+// online/sim/loop_hardware.hpp.
 #include "online/sim/run_both.hpp"
 
 namespace flexloop::sim::detail {

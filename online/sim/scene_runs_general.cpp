@@ -1,5 +1,5 @@
-// The general path of `flexloop sim`: any state and channel count, sized at start-up, with every
-// effect combination; dense and modal form.
+// The general path of `flexloop sim`: any state and channel count, sized at start-up, with the
+// effects chosen at start-up (online/sim/loop_hardware.hpp); dense and modal form.
 #include "online/sim/run_both.hpp"
 #include "plant/runtime/general_plant.hpp"
 

@@ -15,9 +15,15 @@ for exe in "$@"; do
   if [[ -n "$hits" ]]; then
     echo "$name defines offline symbols:"; echo "$hits"; fail=1
   fi
-  link=$(find "$build" -path "*/CMakeFiles/$name.dir/link.txt" | head -1)
-  if [[ -z "$link" ]]; then echo "$name: no link.txt under $build"; fail=1; continue; fi
-  libs=$(grep -oE "$offline_libs" "$link" | sort -u || true)
+  # The link line: Ninja's command for the program (Makefile builds: its link.txt).
+  if [[ -f "$build/build.ninja" ]]; then
+    link=$(ninja -C "$build" -t commands "$(realpath --relative-to="$build" "$exe")" | tail -1)
+  else
+    link_txt=$(find "$build" -path "*/CMakeFiles/$name.dir/link.txt" | head -1)
+    link=${link_txt:+$(cat "$link_txt")}
+  fi
+  if [[ -z "$link" ]]; then echo "$name: no link line found under $build"; fail=1; continue; fi
+  libs=$(grep -oE "$offline_libs" <<<"$link" | sort -u || true)
   if [[ -n "$libs" ]]; then echo "$name links offline libraries: $libs"; fail=1; fi
   # The check must look at a loop program: each one defines the artefact reader.
   if ! grep -q "flexloop::artefact::" <<<"$symbols"; then

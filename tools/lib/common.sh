@@ -3,7 +3,7 @@
 
 FLEXLOOP_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 FLEXLOOP_PACKAGES=(
-  build-essential cmake git pkg-config clang-format
+  build-essential cmake ninja-build ccache git pkg-config clang-format
   libeigen3-dev liblcm-dev liblcm-bin libglib2.0-dev
   libboost-dev catch2 libbenchmark-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libssl-dev iproute2 util-linux bsdutils rt-tests gnuplot-nox python3 python3-matplotlib valgrind
@@ -30,12 +30,39 @@ ensure_packages() {
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
 }
 
-# configure_and_build BUILD_DIR BUILD_TYPE [cmake options...]
-configure_and_build() {
+# Compiler cache: objects are looked up by their preprocessed source, with paths under the
+# repository taken relative to it, so a second clone or a build directory made anew reuses them.
+export CCACHE_BASEDIR="$FLEXLOOP_ROOT"
+export CCACHE_NOHASHDIR=true
+
+# configure BUILD_DIR BUILD_TYPE [cmake options...]: Ninja (its log, .ninja_log, times every
+# translation unit: tools/compile-times), ccache when present. A build directory that an older
+# version configured with another generator is configured anew.
+configure() {
   local dir=$1 type=$2
   shift 2
+  local cache="$FLEXLOOP_ROOT/$dir/CMakeCache.txt"
+  if [[ -f "$cache" ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$cache"; then
+    say "$dir was configured with another generator: configuring it anew"
+    rm -rf "${FLEXLOOP_ROOT:?}/$dir/CMakeCache.txt" "${FLEXLOOP_ROOT:?}/$dir/CMakeFiles"
+  fi
+  local launcher=()
+  command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
   say "configure $dir ($type $*)"
-  cmake -S "$FLEXLOOP_ROOT" -B "$FLEXLOOP_ROOT/$dir" -DCMAKE_BUILD_TYPE="$type" "$@" >/dev/null
-  say "build $dir"
-  cmake --build "$FLEXLOOP_ROOT/$dir" -j "$(nproc)" -- --no-print-directory
+  cmake -G Ninja -S "$FLEXLOOP_ROOT" -B "$FLEXLOOP_ROOT/$dir" -DCMAKE_BUILD_TYPE="$type" \
+    "${launcher[@]}" "$@" >/dev/null
+}
+
+# build BUILD_DIR [targets...]: every target when none is named.
+build() {
+  local dir=$1
+  shift
+  say "build $dir${*:+ (}$*${*:+)}"
+  cmake --build "$FLEXLOOP_ROOT/$dir" -j "$(nproc)" ${*:+--target "$@"}
+}
+
+# configure_and_build BUILD_DIR BUILD_TYPE [cmake options...]: configure, then build everything.
+configure_and_build() {
+  configure "$@"
+  build "$1"
 }
