@@ -13,7 +13,7 @@ using nlohmann::json;
 namespace {
 
 // The longest delay in samples the effects and the PI's feedthrough removal follow.
-constexpr int kMaxDelaySamples = controller::runtime::kMaxFeedthroughDelay;
+constexpr int kMaxDelaySamples = artefact::kMaxFeedthroughDelay;
 
 const char* const kChannelKinds[] = {"disturbances", "actuators", "performance", "sensors"};
 
@@ -126,7 +126,7 @@ json to_json(const LoopArtefact& a) {
     controller["u_max"] = vector_json(c.u_max);
     controller["feedthrough"] = matrix_to_json(c.feedthrough);
     controller["feedthrough_delay"] = c.feedthrough_delay;
-    controller["anti_windup"] = controller::runtime::to_string(c.anti_windup);
+    controller["anti_windup"] = to_string(c.anti_windup);
   }
   json floor = {{"spectrum", a.floor.spectrum}, {"seed", a.floor.seed}};
   if (a.floor.spectrum == "white")
@@ -189,9 +189,9 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
     const json& list = ch.get(kChannelKinds[k]);
     const std::string where = ch.place(kChannelKinds[k]);
     require(list.is_array(), where, "expected a list of channels, found " + json_type_of(list));
-    require(!list.empty() && list.size() <= static_cast<std::size_t>(kMaxArtefactChannels), where,
+    require(!list.empty() && list.size() <= static_cast<std::size_t>(numeric::kMaxChannels), where,
             "has " + std::to_string(list.size()) + " channels; each kind takes 1 .. " +
-                std::to_string(kMaxArtefactChannels));
+                std::to_string(numeric::kMaxChannels));
     for (std::size_t i = 0; i < list.size(); ++i) {
       const JsonReader c(list[i], where + " entry " + std::to_string(i + 1));
       kind(a.channels, k).push_back({c.string("name"), c.string("unit")});
@@ -252,8 +252,8 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
   } else if (type == "state_space") {
     a.controller = ControllerKind::kStateSpace;
     auto& c = a.state_space;
-    const auto nxc = static_cast<std::size_t>(
-        co.integer("states", 0, controller::runtime::kMaxControllerStates));
+    const auto nxc =
+        static_cast<std::size_t>(co.integer("states", 0, artefact::kMaxControllerStates));
     c.A = co.matrix("A", nxc, nxc, "controller state", "controller state");
     c.B = co.matrix("B", nxc, ns, "controller state", "sensor");
     c.C = co.matrix("C", nc, nxc, "actuator", "controller state");
@@ -269,7 +269,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
     c.feedthrough = co.matrix("feedthrough", ns, nc, "sensor", "actuator");
     c.feedthrough_delay = static_cast<int>(co.integer("feedthrough_delay", 0, kMaxDelaySamples));
     try {
-      c.anti_windup = controller::runtime::parse_anti_windup(co.string("anti_windup"));
+      c.anti_windup = artefact::parse_anti_windup(co.string("anti_windup"));
     } catch (const std::invalid_argument& e) {
       throw InputError(co.place("anti_windup"), e.what());
     }
@@ -330,9 +330,9 @@ void validate(const LoopArtefact& a) {
   };
   for (int k = 0; k < 4; ++k) {
     const auto n = kind(a.channels, k).size();
-    if (n < 1 || n > static_cast<std::size_t>(kMaxArtefactChannels))
+    if (n < 1 || n > static_cast<std::size_t>(numeric::kMaxChannels))
       fail(std::string(kChannelKinds[k]) + ": " + std::to_string(n) +
-           " channels; each kind takes 1 .. " + std::to_string(kMaxArtefactChannels));
+           " channels; each kind takes 1 .. " + std::to_string(numeric::kMaxChannels));
   }
   const Eigen::Index nx = static_cast<Eigen::Index>(a.plant.states.size()),
                      nu = a.disturbances() + a.actuators(), ny = a.performance() + a.sensors();
@@ -362,9 +362,9 @@ void validate(const LoopArtefact& a) {
   if (a.controller == ControllerKind::kStateSpace) {
     const auto& c = a.state_space;
     const Eigen::Index nxc = c.A.rows(), ns = a.sensors(), nc = a.actuators();
-    if (nxc > controller::runtime::kMaxControllerStates)
+    if (nxc > artefact::kMaxControllerStates)
       fail("controller: " + std::to_string(nxc) + " states; the runtime takes up to " +
-           std::to_string(controller::runtime::kMaxControllerStates));
+           std::to_string(artefact::kMaxControllerStates));
     const auto controller_sized = [&](const char* name, const Eigen::MatrixXd& m, Eigen::Index r,
                                       Eigen::Index cols) {
       sized((std::string("controller ") + name).c_str(), m, r, cols);

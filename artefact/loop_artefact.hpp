@@ -16,17 +16,15 @@
 #include <vector>
 
 #include "artefact/hardware_settings.hpp"
-#include "controller/runtime/pi_parameters.hpp"
-#include "controller/runtime/state_space_parameters.hpp"
+#include "artefact/pi_parameters.hpp"
+#include "artefact/state_space_parameters.hpp"
+#include "numeric/channel_limits.hpp"
 
 namespace flexloop::artefact {
 
 /// The format this build reads and writes.
 inline constexpr int kLoopArtefactVersion = 1;
 inline constexpr const char* kLoopArtefactFormat = "flexloop loop artefact";
-
-/// The most channels of one kind (one LCM sample carries them in one datagram).
-inline constexpr int kMaxArtefactChannels = 64;
 
 struct Channel {
   std::string name;  ///< the model's channel name, e.g. "acc:x.3", "stress:e1.4"
@@ -76,9 +74,9 @@ struct LoopArtefact {
   ChannelMap channels;
   DiscretePlant plant;
   ControllerKind controller = ControllerKind::kNone;
-  controller::runtime::PiParameters pi;  ///< kPiForceFeedback: at dt = 1 / rate_hz
+  artefact::PiParameters pi;  ///< kPiForceFeedback: at dt = 1 / rate_hz
   /// kStateSpace: discrete at dt = 1 / rate_hz, sensors in, actuators out (channel map order)
-  controller::runtime::StateSpaceParameters state_space;
+  artefact::StateSpaceParameters state_space;
   FloorSettings floor;
   FloorFilter floor_filter;  ///< empty for a white floor
   EffectsSettings effects;

@@ -8,7 +8,7 @@
 // offer() is what the LCM subscription calls (rt/lcm_transport.hpp), and what tests call with
 // hand-made buffers. Everything after construction is noexcept and allocation-free: the channel
 // counts are checked in the buffer before the generated decode sizes its vectors from them, and
-// the vectors have room for kMaxMessageChannels from the start; not thread-safe: one thread
+// the vectors have room for numeric::kMaxChannels from the start; not thread-safe: one thread
 // offers and takes.
 #include <cstdint>
 #include <optional>

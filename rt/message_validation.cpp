@@ -21,7 +21,7 @@ bool count_at(const void* data, int size, int offset, int expected) noexcept {
   if (data == nullptr || size < offset + 2) return false;
   const auto* b = static_cast<const unsigned char*>(data) + offset;
   const int n = static_cast<std::int16_t>(static_cast<std::uint16_t>((b[0] << 8) | b[1]));
-  return n >= 1 && n <= kMaxMessageChannels && (expected == 0 || n == expected);
+  return n >= 1 && n <= numeric::kMaxChannels && (expected == 0 || n == expected);
 }
 
 // Byte offsets of the counts: fingerprint, then the int64 fields before them
@@ -64,16 +64,16 @@ bool check_counts(const flexloop_msgs::loop_stats_t*, const void*, int, ChannelC
 
 int max_encoded_size(const flexloop_msgs::sensor_sample_t*) {
   flexloop_msgs::sensor_sample_t m{};
-  m.n_sensors = m.n_performance = kMaxMessageChannels;
-  m.sensors.assign(kMaxMessageChannels, 0.0);
-  m.performance.assign(kMaxMessageChannels, 0.0);
+  m.n_sensors = m.n_performance = numeric::kMaxChannels;
+  m.sensors.assign(numeric::kMaxChannels, 0.0);
+  m.performance.assign(numeric::kMaxChannels, 0.0);
   return m.getEncodedSize();
 }
 
 int max_encoded_size(const flexloop_msgs::actuator_command_t*) {
   flexloop_msgs::actuator_command_t m{};
-  m.n_commands = kMaxMessageChannels;
-  m.commands.assign(kMaxMessageChannels, 0.0);
+  m.n_commands = numeric::kMaxChannels;
+  m.commands.assign(numeric::kMaxChannels, 0.0);
   return m.getEncodedSize();
 }
 
@@ -82,12 +82,12 @@ int max_encoded_size(const flexloop_msgs::loop_stats_t*) {
 }
 
 void reserve_channels(flexloop_msgs::sensor_sample_t& m) {
-  m.sensors.reserve(kMaxMessageChannels);
-  m.performance.reserve(kMaxMessageChannels);
+  m.sensors.reserve(numeric::kMaxChannels);
+  m.performance.reserve(numeric::kMaxChannels);
 }
 
 void reserve_channels(flexloop_msgs::actuator_command_t& m) {
-  m.commands.reserve(kMaxMessageChannels);
+  m.commands.reserve(numeric::kMaxChannels);
 }
 
 bool all_finite(const flexloop_msgs::sensor_sample_t& m) noexcept {

@@ -5,8 +5,8 @@
 // applied. Every function here is noexcept and allocation-free, for use inside the loop.
 //
 // Channel counts are read from the buffer before it is decoded (check_counts): the generated
-// decode would size its vectors from them, so a count outside 1 .. kMaxMessageChannels (or other
-// than the loop's) never reaches it, and vectors reserved for kMaxMessageChannels
+// decode would size its vectors from them, so a count outside 1 .. numeric::kMaxChannels (or other
+// than the loop's) never reaches it, and vectors reserved for numeric::kMaxChannels
 // (reserve_channels) are never reallocated.
 //
 // Ordering uses an OrderKey (epoch, seq, t_ns) per message type:
@@ -29,6 +29,8 @@
 #include <flexloop_msgs/sensor_sample_t.hpp>
 #include <optional>
 
+#include "numeric/channel_limits.hpp"
+
 namespace flexloop::rt {
 
 enum class DropReason {
@@ -40,10 +42,6 @@ enum class DropReason {
   kOutOfOrder
 };
 inline constexpr int kDropReasonCount = 6;
-
-/// The most channels of one kind a message carries (one sample of 64 sensors and 64
-/// performance channels still fits one UDP datagram: 1076 bytes).
-inline constexpr int kMaxMessageChannels = 64;
 
 /// "decode_failure", "channel_count", "non_finite", "stale", "duplicate", "out_of_order" (JSON
 /// keys).
@@ -67,7 +65,7 @@ class DropCounts {
 };
 
 /// The channel counts a receiver expects: sensor_sample_t (sensors, performance),
-/// actuator_command_t (commands, unused); 0 takes any count 1 .. kMaxMessageChannels.
+/// actuator_command_t (commands, unused); 0 takes any count 1 .. numeric::kMaxChannels.
 struct ChannelCounts {
   int first = 0, second = 0;
 };
@@ -91,7 +89,7 @@ bool has_fingerprint(const void* data, int size) noexcept {
   return static_cast<std::int64_t>(h) == Msg::getHash();
 }
 
-/// The encoded size of the largest message of this type (kMaxMessageChannels in every channel
+/// The encoded size of the largest message of this type (numeric::kMaxChannels in every channel
 /// vector): what a publisher's buffer must hold.
 int max_encoded_size(const flexloop_msgs::sensor_sample_t*);
 int max_encoded_size(const flexloop_msgs::actuator_command_t*);
@@ -101,7 +99,7 @@ int max_encoded_size() {
   return max_encoded_size(static_cast<const Msg*>(nullptr));
 }
 
-/// Start-up: room for kMaxMessageChannels in every channel vector, so that decoding and copying
+/// Start-up: room for numeric::kMaxChannels in every channel vector, so that decoding and copying
 /// never allocate.
 void reserve_channels(flexloop_msgs::sensor_sample_t& m);
 void reserve_channels(flexloop_msgs::actuator_command_t& m);

@@ -7,7 +7,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "controller/runtime/pi_parameters.hpp"
+#include "artefact/pi_parameters.hpp"
 
 namespace flexloop::controller::runtime {
 
@@ -33,7 +33,7 @@ class CommandHistory {
   }
 
  private:
-  static constexpr int kEntries = kMaxFeedthroughDelay + 1;
+  static constexpr int kEntries = artefact::kMaxFeedthroughDelay + 1;
   std::size_t index(int back) const noexcept {
     const int i = head_ - back;
     return static_cast<std::size_t>(i < 0 ? i + kEntries : i);

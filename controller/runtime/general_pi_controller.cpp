@@ -6,16 +6,16 @@
 namespace flexloop::controller::runtime {
 
 template <typename Scalar>
-GeneralPiController<Scalar> GeneralPiController<Scalar>::from_parameters(const PiParameters& p,
-                                                                         Eigen::Index n) {
+GeneralPiController<Scalar> GeneralPiController<Scalar>::from_parameters(
+    const artefact::PiParameters& p, Eigen::Index n) {
   const std::string who = "GeneralPiController";
-  if (n < 1 || n > plant::runtime::kMaxChannels)
+  if (n < 1 || n > numeric::kMaxChannels)
     throw std::invalid_argument(who + ": " + std::to_string(n) + " channels; it takes 1 .. " +
-                                std::to_string(plant::runtime::kMaxChannels));
+                                std::to_string(numeric::kMaxChannels));
   const PiStepGains g = pi_step_gains(p, n, who);
   GeneralPiController c;
-  c.G_f_ = plant::runtime::padded_matrix<Scalar>(g.G_f);
-  c.G_x_ = plant::runtime::padded_matrix<Scalar>(g.G_x);
+  c.G_f_ = numeric::padded_matrix<Scalar>(g.G_f);
+  c.G_x_ = numeric::padded_matrix<Scalar>(g.G_x);
   c.G_x_inv_ = g.G_x_inv.cast<Scalar>();
   c.D22_ = g.D22.cast<Scalar>();
   c.identity_feedthrough_ = g.identity_feedthrough;
@@ -26,7 +26,7 @@ GeneralPiController<Scalar> GeneralPiController<Scalar>::from_parameters(const P
   c.u_min_ = g.u_min.cast<Scalar>();
   c.u_max_ = g.u_max.cast<Scalar>();
   c.f_ = c.u_ = Vector::Zero(n);
-  c.s_ = c.v_ = c.g_ = Vector::Zero(plant::runtime::padded_row_count<Scalar>(n));
+  c.s_ = c.v_ = c.g_ = Vector::Zero(numeric::padded_row_count<Scalar>(n));
   return c;
 }
 

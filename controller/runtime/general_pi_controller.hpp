@@ -2,7 +2,7 @@
 // The discrete PI force feedback on the general path: any channel count 1 .. kMaxChannels, sized
 // at start-up. The same law, start-up checks and gains as the compiled PiController<Scalar, N>
 // (pi_controller.hpp has the law; pi_step_gains.hpp the shared start-up), with the products of
-// online/numeric/dynamic_product.hpp on matrices whose rows are padded to whole SIMD packets, into
+// numeric/dynamic_product.hpp on matrices whose rows are padded to whole SIMD packets, into
 // storage sized once:
 //
 //   f = y - D22 u_{k-1-d},  v = G_f f + s,  u = clamp(v),  s += u - v,  s = a s + b G_x (f + D22 u)
@@ -12,23 +12,23 @@
 #include <algorithm>
 #include <vector>
 
+#include "artefact/pi_parameters.hpp"
 #include "controller/runtime/command_history.hpp"
-#include "controller/runtime/pi_parameters.hpp"
 #include "controller/runtime/pi_step_gains.hpp"
-#include "online/numeric/channel_limits.hpp"
-#include "online/numeric/dynamic_product.hpp"
+#include "numeric/channel_limits.hpp"
+#include "numeric/dynamic_product.hpp"
 
 namespace flexloop::controller::runtime {
 
 template <typename Scalar>
 class GeneralPiController {
  public:
-  using Vector = plant::runtime::BoundedVector<Scalar, plant::runtime::kMaxChannels>;
+  using Vector = numeric::BoundedVector<Scalar, numeric::kMaxChannels>;
   using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
 
   /// n channels, 1 .. kMaxChannels. @throws std::invalid_argument as pi_step_gains, or for n
   /// outside the range.
-  static GeneralPiController from_parameters(const PiParameters& p, Eigen::Index n);
+  static GeneralPiController from_parameters(const artefact::PiParameters& p, Eigen::Index n);
 
   Eigen::Index channels() const noexcept { return u_.size(); }
   Eigen::Index sensors() const noexcept { return u_.size(); }
@@ -42,16 +42,16 @@ class GeneralPiController {
     // checks, peeling for alignment) cost more than the arithmetic.
     const Eigen::Index n = u_.size();
     Scalar *f = f_.data(), *u = u_.data(), *s = s_.data();
-    plant::runtime::read_entries(y, f);  // entry by entry: see read_entries
+    numeric::read_entries(y, f);  // entry by entry: see read_entries
     add_feedthrough(history_.measured(delay_), Scalar(-1));
-    plant::runtime::product(G_f_.data(), n, f, G_f_.rows(), s, v_.data());  // v = G_f f + s
+    numeric::product(G_f_.data(), n, f, G_f_.rows(), s, v_.data());  // v = G_f f + s
     const Scalar *v = v_.data(), *lo = u_min_.data(), *hi = u_max_.data();
     for (Eigen::Index i = 0; i < n; ++i) {
       u[i] = std::min(std::max(v[i], lo[i]), hi[i]);
       s[i] += u[i] - v[i];  // exactly zero while no channel saturates
     }
     add_feedthrough(u_, Scalar(1));
-    plant::runtime::product(G_x_.data(), n, f, G_x_.rows(), nullptr, g_.data());  // g = G_x f
+    numeric::product(G_x_.data(), n, f, G_x_.rows(), nullptr, g_.data());  // g = G_x f
     const Scalar* g = g_.data();
     for (Eigen::Index i = 0; i < s_.size(); ++i) s[i] = a_ * s[i] + b_ * g[i];
     history_.remember(u_);

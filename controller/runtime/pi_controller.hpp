@@ -47,10 +47,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "controller/runtime/pi_parameters.hpp"
+#include "artefact/pi_parameters.hpp"
 #include "controller/runtime/pi_step_gains.hpp"
-#include "online/numeric/column_product.hpp"
-#include "online/numeric/fixed_size_matrix.hpp"
+#include "numeric/column_product.hpp"
+#include "numeric/fixed_size_matrix.hpp"
 
 namespace flexloop::controller::runtime {
 
@@ -65,7 +65,7 @@ class PiController {
   /// @throws std::invalid_argument for gains or feedthrough that are not N x N, non-finite
   /// numbers, dt <= 0, w_l < 0, limits of the wrong size or with u_min > u_max, I + K_P D22
   /// singular (ill-posed loop), or K_I singular (no anti-windup or bumpless start possible).
-  static PiController from_parameters(const PiParameters& p);
+  static PiController from_parameters(const artefact::PiParameters& p);
 
   /// One sample: y = measured forces (including the command held since the previous sample),
   /// any vector expression of N entries (read entry by entry: a tail() of the plant's output is
@@ -88,15 +88,15 @@ class PiController {
 #pragma GCC unroll 16
       for (int j = 0; j < N; ++j) f_entries[j] = y.coeff(j) - u_measured[j];
       const Eigen::Map<const Vector> f(f_entries);
-      const Lanes u = command(plant::runtime::column_product(G_f_, f));
-      integrate(plant::runtime::column_product(G_x_, f + u.template head<N>()), u);
+      const Lanes u = command(numeric::column_product(G_f_, f));
+      integrate(numeric::column_product(G_x_, f + u.template head<N>()), u);
       return u.template head<N>();
     }
     Lanes f = pad(y);
     subtract_feedthrough(f, measured_command());
-    const Lanes u = command(plant::runtime::column_product(G_f_, f.template head<N>()));
+    const Lanes u = command(numeric::column_product(G_f_, f.template head<N>()));
     subtract_feedthrough(f, -u);
-    integrate(plant::runtime::column_product(G_x_, f.template head<N>()), u);
+    integrate(numeric::column_product(G_x_, f.template head<N>()), u);
     return u.template head<N>();
   }
 
@@ -116,7 +116,7 @@ class PiController {
     history_.fill(u);  // the actuator has been holding u_now
     Lanes f = pad(y_now);
     subtract_feedthrough(f, u);
-    s_ = u - plant::runtime::column_product(G_f_, f.template head<N>());
+    s_ = u - numeric::column_product(G_f_, f.template head<N>());
   }
 
   /// The actuator applied u instead of the last answer (a held or safe command): u's force is
@@ -140,9 +140,9 @@ class PiController {
   }
 
  private:
-  // Vectors padded to whole SIMD packets (online/numeric/column_product.hpp); the padding lanes
+  // Vectors padded to whole SIMD packets (numeric/column_product.hpp); the padding lanes
   // stay exactly zero: the padded rows of G_f, G_x and D22 are zero and so are both limits.
-  static constexpr int NP = plant::runtime::kPaddedRows<Scalar, N>;
+  static constexpr int NP = numeric::kPaddedRows<Scalar, N>;
   using Lanes = Eigen::Matrix<Scalar, NP, 1>;
   using LaneMatrix = Eigen::Matrix<Scalar, NP, N>;  // N columns of NP rows
 
@@ -166,7 +166,7 @@ class PiController {
 
   template <typename V>
   static Lanes pad(const Eigen::MatrixBase<V>& v) noexcept {
-    return plant::runtime::padded_rows<NP>(v);
+    return numeric::padded_rows<NP>(v);
   }
 
   // f <- f - D22 u; D22 = I (force sensors in series with the actuators) skips the product.
@@ -174,10 +174,10 @@ class PiController {
     if (identity_feedthrough_)
       f -= u;
     else
-      f -= plant::runtime::column_product(D22_, u.template head<N>());
+      f -= numeric::column_product(D22_, u.template head<N>());
   }
 
-  static constexpr int kHistory = kMaxFeedthroughDelay + 1;
+  static constexpr int kHistory = artefact::kMaxFeedthroughDelay + 1;
   // u_{k-1-d}: the command the current measurement contains (d = feedthrough_delay).
   const Lanes& measured_command() const noexcept {
     const int i = head_ - delay_;
@@ -199,15 +199,14 @@ class PiController {
 };
 
 template <typename Scalar, int N>
-PiController<Scalar, N> PiController<Scalar, N>::from_parameters(const PiParameters& p) {
+PiController<Scalar, N> PiController<Scalar, N>::from_parameters(const artefact::PiParameters& p) {
   using M = Eigen::Matrix<double, N, N>;
   const PiStepGains g = pi_step_gains(p, N, "PiController");
   PiController c;
-  using plant::runtime::padded_rows;
-  c.G_f_ = padded_rows<NP>(M(g.G_f).template cast<Scalar>());
-  c.G_x_ = padded_rows<NP>(M(g.G_x).template cast<Scalar>());
+  c.G_f_ = numeric::padded_rows<NP>(M(g.G_f).template cast<Scalar>());
+  c.G_x_ = numeric::padded_rows<NP>(M(g.G_x).template cast<Scalar>());
   c.G_x_inv_ = M(g.G_x_inv).template cast<Scalar>();
-  c.D22_ = padded_rows<NP>(M(g.D22).template cast<Scalar>());
+  c.D22_ = numeric::padded_rows<NP>(M(g.D22).template cast<Scalar>());
   c.identity_feedthrough_ = g.identity_feedthrough;
   c.delay_ = g.delay;
   c.history_.fill(Lanes::Zero());

@@ -25,7 +25,7 @@ const Eigen::MatrixXd& square(const Eigen::MatrixXd& m, Eigen::Index n, const st
 
 }  // namespace
 
-PiStepGains pi_step_gains(const PiParameters& p, Eigen::Index n, const std::string& who) {
+PiStepGains pi_step_gains(const artefact::PiParameters& p, Eigen::Index n, const std::string& who) {
   using M = Eigen::MatrixXd;
   const M& K_P = square(p.K_P, n, who, "K_P");
   const M& K_I = square(p.K_I, n, who, "K_I");
@@ -46,9 +46,9 @@ PiStepGains pi_step_gains(const PiParameters& p, Eigen::Index n, const std::stri
   const Eigen::FullPivLU<M> integral(K_I);
   require(integral.isInvertible(), who,
           "K_I is singular; anti-windup and bumpless start need it invertible");
-  require(p.feedthrough_delay >= 0 && p.feedthrough_delay <= kMaxFeedthroughDelay, who,
-          "feedthrough_delay must be 0 .. " + std::to_string(kMaxFeedthroughDelay) + ", got " +
-              std::to_string(p.feedthrough_delay));
+  require(p.feedthrough_delay >= 0 && p.feedthrough_delay <= artefact::kMaxFeedthroughDelay, who,
+          "feedthrough_delay must be 0 .. " + std::to_string(artefact::kMaxFeedthroughDelay) +
+              ", got " + std::to_string(p.feedthrough_delay));
   g.G_f = -loop.solve(K_P);
   g.G_x = -loop.solve(K_I);
   g.G_x_inv = -integral.solve(I + K_P * D22);

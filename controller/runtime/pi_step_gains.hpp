@@ -6,7 +6,7 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "controller/runtime/pi_parameters.hpp"
+#include "artefact/pi_parameters.hpp"
 
 namespace flexloop::controller::runtime {
 
@@ -24,6 +24,6 @@ struct PiStepGains {
 /// non-finite numbers, dt <= 0, w_l < 0, limits of the wrong size or with u_min > u_max,
 /// I + K_P D22 singular (ill-posed loop), K_I singular (no anti-windup or bumpless start), or a
 /// feedthrough delay outside 0 .. kMaxFeedthroughDelay.
-PiStepGains pi_step_gains(const PiParameters& p, Eigen::Index n, const std::string& who);
+PiStepGains pi_step_gains(const artefact::PiParameters& p, Eigen::Index n, const std::string& who);
 
 }  // namespace flexloop::controller::runtime

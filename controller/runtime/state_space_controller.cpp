@@ -30,12 +30,12 @@ void require_size(const Eigen::MatrixXd& m, Eigen::Index rows, Eigen::Index cols
 
 template <typename Scalar>
 StateSpaceController<Scalar> StateSpaceController<Scalar>::from_parameters(
-    const StateSpaceParameters& p) {
+    const artefact::StateSpaceParameters& p) {
   using M = Eigen::MatrixXd;
   const Eigen::Index nx = p.A.rows(), ns = p.B.cols(), nc = p.C.rows();
-  constexpr int kMax = plant::runtime::kMaxChannels;
-  require(nx <= kMaxControllerStates,
-          std::to_string(nx) + " states; it takes up to " + std::to_string(kMaxControllerStates));
+  constexpr int kMax = numeric::kMaxChannels;
+  require(nx <= artefact::kMaxControllerStates, std::to_string(nx) + " states; it takes up to " +
+                                                    std::to_string(artefact::kMaxControllerStates));
   require(ns >= 1 && ns <= kMax && nc >= 1 && nc <= kMax,
           std::to_string(ns) + " sensors and " + std::to_string(nc) +
               " actuators; each must be 1 .. " + std::to_string(kMax));
@@ -48,9 +48,9 @@ StateSpaceController<Scalar> StateSpaceController<Scalar>::from_parameters(
   require_size(D22, ns, nc, "the feedthrough D22");
   require(std::isfinite(p.dt) && p.dt > 0,
           "dt must be finite and > 0, got " + std::to_string(p.dt));
-  require(p.feedthrough_delay >= 0 && p.feedthrough_delay <= kMaxFeedthroughDelay,
-          "feedthrough_delay must be 0 .. " + std::to_string(kMaxFeedthroughDelay) + ", got " +
-              std::to_string(p.feedthrough_delay));
+  require(p.feedthrough_delay >= 0 && p.feedthrough_delay <= artefact::kMaxFeedthroughDelay,
+          "feedthrough_delay must be 0 .. " + std::to_string(artefact::kMaxFeedthroughDelay) +
+              ", got " + std::to_string(p.feedthrough_delay));
   const CommandLimits limits = command_limits(p.u_min, p.u_max, nc, kWho);
 
   const M I = M::Identity(nc, nc);
@@ -66,10 +66,10 @@ StateSpaceController<Scalar> StateSpaceController<Scalar>::from_parameters(
   StateSpaceController c;
   c.nx_ = nx;
   c.ns_ = ns;
-  c.out_ = plant::runtime::padded_matrix<Scalar>(out);
-  c.next_ = plant::runtime::padded_matrix<Scalar>(next);
-  c.next_u_ = plant::runtime::padded_matrix<Scalar>(p.B * D22);
-  c.F_ = plant::runtime::padded_matrix<Scalar>(D22);
+  c.out_ = numeric::padded_matrix<Scalar>(out);
+  c.next_ = numeric::padded_matrix<Scalar>(next);
+  c.next_u_ = numeric::padded_matrix<Scalar>(p.B * D22);
+  c.F_ = numeric::padded_matrix<Scalar>(D22);
   c.start_u_ = nx > 0 ? M(c_pinv.solve(I - p.D * D22)).cast<Scalar>() : Matrix(0, nc);
   c.start_f_ = nx > 0 ? M(c_pinv.solve(p.D)).cast<Scalar>() : Matrix(0, ns);
   c.feedthrough_ = feedthrough;

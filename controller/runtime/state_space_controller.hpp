@@ -31,32 +31,32 @@
 // C x = (I - D D22) u_now - D f, f = y_now - D22 u_now: the next step(y_now) returns u_now exactly
 // when C has full row rank (a state per command at least), the closest command otherwise.
 //
-// The step is two products over contiguous storage (online/numeric/dynamic_product.hpp), on rows
+// The step is two products over contiguous storage (numeric/dynamic_product.hpp), on rows
 // padded to whole SIMD packets:  v = [E C, E D] [x; f],  x+ = [A, B] [x; f] + (B D22) u.
 // step() never allocates, locks, throws or makes a system call (tests/alloc checks it).
 #include <Eigen/Core>
 #include <algorithm>
 #include <vector>
 
+#include "artefact/pi_parameters.hpp"
+#include "artefact/state_space_parameters.hpp"
 #include "controller/runtime/command_history.hpp"
-#include "controller/runtime/pi_parameters.hpp"
-#include "controller/runtime/state_space_parameters.hpp"
-#include "online/numeric/channel_limits.hpp"
-#include "online/numeric/dynamic_product.hpp"
+#include "numeric/channel_limits.hpp"
+#include "numeric/dynamic_product.hpp"
 
 namespace flexloop::controller::runtime {
 
 template <typename Scalar>
 class StateSpaceController {
  public:
-  using Vector = plant::runtime::BoundedVector<Scalar, plant::runtime::kMaxChannels>;
+  using Vector = numeric::BoundedVector<Scalar, numeric::kMaxChannels>;
   using Matrix = Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic>;
 
   /// @throws std::invalid_argument "StateSpaceController: ..." for sizes that do not close
   /// (sensors and actuators 1 .. kMaxChannels, states 0 .. kMaxControllerStates), non-finite
   /// entries, dt <= 0, limits of the wrong size or with u_min > u_max, a delay outside 0 ..
   /// kMaxFeedthroughDelay, or I - D D22 singular (the loop through the feedthrough is ill-posed).
-  static StateSpaceController from_parameters(const StateSpaceParameters& p);
+  static StateSpaceController from_parameters(const artefact::StateSpaceParameters& p);
 
   Eigen::Index states() const noexcept { return nx_; }
   Eigen::Index sensors() const noexcept { return ns_; }
@@ -68,22 +68,22 @@ class StateSpaceController {
   const Vector& step(const Eigen::MatrixBase<Y>& y) noexcept {
     const Eigen::Index nc = u_.size();
     Scalar *w = w_.data(), *f = w + nx_, *u = u_.data();
-    plant::runtime::read_entries(y, f);
+    numeric::read_entries(y, f);
     if (feedthrough_) {  // f = y - D22 u_{k-1-d}
-      plant::runtime::product(F_.data(), nc, history_.measured(delay_).data(), F_.rows(), nullptr,
-                              fu_.data());
+      numeric::product(F_.data(), nc, history_.measured(delay_).data(), F_.rows(), nullptr,
+                       fu_.data());
       for (Eigen::Index i = 0; i < ns_; ++i) f[i] -= fu_[i];
     }
-    plant::runtime::product(out_.data(), nx_ + ns_, w, out_.rows(), nullptr, v_.data());
+    numeric::product(out_.data(), nx_ + ns_, w, out_.rows(), nullptr, v_.data());
     const Scalar *v = v_.data(), *lo = u_min_.data(), *hi = u_max_.data();
     bool clamped = false;
     for (Eigen::Index i = 0; i < nc; ++i) {
       u[i] = std::min(std::max(v[i], lo[i]), hi[i]);
       clamped |= u[i] != v[i];
     }
-    if (nx_ > 0 && !(clamped && anti_windup_ == AntiWindup::kHold)) {
-      plant::runtime::product_sum(next_.data(), nx_ + ns_, w, next_u_.data(), nc, u, next_.rows(),
-                                  static_cast<const Scalar*>(nullptr), x_next_.data());
+    if (nx_ > 0 && !(clamped && anti_windup_ == artefact::AntiWindup::kHold)) {
+      numeric::product_sum(next_.data(), nx_ + ns_, w, next_u_.data(), nc, u, next_.rows(),
+                           static_cast<const Scalar*>(nullptr), x_next_.data());
       std::copy_n(x_next_.data(), nx_, w);
     }
     history_.remember(u_);
@@ -125,7 +125,7 @@ class StateSpaceController {
   Matrix out_, next_, next_u_, F_;
   Matrix start_u_, start_f_;  // C^+ (I - D D22), C^+ D: the bumpless start's state
   bool feedthrough_ = false;
-  AntiWindup anti_windup_ = AntiWindup::kHold;
+  artefact::AntiWindup anti_windup_ = artefact::AntiWindup::kHold;
   int delay_ = 0;
   CommandHistory<Vector> history_;
   // w = [x; f], contiguous: both products read it in place. The products' outputs have padded

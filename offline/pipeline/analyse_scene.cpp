@@ -10,6 +10,7 @@
 
 #include "common/input_error.hpp"
 #include "controller/design/disk_margins.hpp"
+#include "numeric/constants.hpp"
 #include "offline/pipeline/numerical_health.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "offline/report/csv_writer.hpp"
@@ -24,7 +25,7 @@ namespace flexloop::cli {
 namespace {
 
 namespace lti = plant::lti;
-constexpr double kTwoPi = 2 * std::numbers::pi;
+using numeric::kTwoPi;
 
 std::vector<double> to_vector(const Eigen::VectorXd& v) {
   return std::vector<double>(v.data(), v.data() + v.size());

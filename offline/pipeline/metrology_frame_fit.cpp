@@ -6,6 +6,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "numeric/constants.hpp"
 #include "offline/report/csv_writer.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/model/linearisation.hpp"
@@ -15,7 +16,7 @@ namespace flexloop::cli {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using numeric::kPi;
 
 std::string vec(std::initializer_list<double> v) {
   std::string s = "[";

@@ -45,8 +45,8 @@ double command_limit(const Scene& sc) {
 
 }  // namespace
 
-controller::runtime::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double dt) {
-  controller::runtime::PiParameters pi = pi_parameters(p, dt);
+artefact::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double dt) {
+  artefact::PiParameters pi = pi_parameters(p, dt);
   pi.feedthrough_delay = feedthrough_delay(p.scene);
   if (p.scene.effects.actuator.present) {
     const double limit = command_limit(p.scene);
@@ -56,9 +56,9 @@ controller::runtime::PiParameters pi_parameters_with_hardware(const ScenePlant& 
   return pi;
 }
 
-controller::runtime::StateSpaceParameters state_space_parameters_with_hardware(
-    const ScenePlant& p, const SampledScene& sampled) {
-  controller::runtime::StateSpaceParameters c;
+artefact::StateSpaceParameters state_space_parameters_with_hardware(const ScenePlant& p,
+                                                                    const SampledScene& sampled) {
+  artefact::StateSpaceParameters c;
   const auto& d = p.state_space->discrete.sys;
   c.A = d.A;
   c.B = d.B;
@@ -75,7 +75,7 @@ controller::runtime::StateSpaceParameters state_space_parameters_with_hardware(
   c.feedthrough = D.bottomRightCorner(static_cast<Eigen::Index>(p.scene.sensors.size()),
                                       static_cast<Eigen::Index>(p.scene.actuators.size()));
   c.feedthrough_delay = feedthrough_delay(p.scene);
-  c.anti_windup = controller::runtime::parse_anti_windup(p.scene.controller.anti_windup);
+  c.anti_windup = artefact::parse_anti_windup(p.scene.controller.anti_windup);
   return c;
 }
 

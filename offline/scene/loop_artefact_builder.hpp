@@ -17,12 +17,12 @@ namespace flexloop::scene {
 std::string channel_unit(const std::string& channel);
 
 /// The PI parameters of a scene at sample time dt with what its hardware effects imply.
-controller::runtime::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double dt);
+artefact::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double dt);
 
 /// A state-space scene's controller (p.state_space) with what its hardware effects imply, and
 /// the sampled plant's own actuator -> sensor feedthrough D22, which the runtime removes.
-controller::runtime::StateSpaceParameters state_space_parameters_with_hardware(
-    const ScenePlant& p, const SampledScene& sampled);
+artefact::StateSpaceParameters state_space_parameters_with_hardware(const ScenePlant& p,
+                                                                    const SampledScene& sampled);
 
 /// form: "dense" or "modal" (the modal form is computed here; a defective plant is refused).
 /// @throws flexloop::InputError naming the scene when the modal form is refused.

@@ -10,8 +10,8 @@
 
 namespace flexloop::scene {
 
-inline controller::runtime::PiParameters pi_parameters(const ScenePlant& p, double dt) {
-  controller::runtime::PiParameters pi;
+inline artefact::PiParameters pi_parameters(const ScenePlant& p, double dt) {
+  artefact::PiParameters pi;
   pi.K_P = p.gains.K_P;
   pi.K_I = p.gains.K_I;
   pi.dt = dt;

@@ -7,6 +7,7 @@
 
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
+#include "numeric/constants.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/model_reduction.hpp"
 #include "plant/lti/state_space_builder.hpp"
@@ -17,7 +18,7 @@ namespace flexloop::scene {
 
 namespace {
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
+using numeric::kTwoPi;
 
 std::vector<std::string> concat(std::vector<std::string> a, const std::vector<std::string>& b) {
   a.insert(a.end(), b.begin(), b.end());

@@ -66,7 +66,7 @@ struct Measurement {
   double period_share = 0;
   /// balanced: the a-priori bound 2 Σ σ_discarded (absolute); else NaN
   double reduction_bound = 0;
-  /// "compiled" (a fast path of online/numeric/compiled_loops.hpp) or "general"
+  /// "compiled" (a fast path of plant/runtime/compiled_loops.hpp) or "general"
   std::string kernel;
   double closed_loop_radius = 0;  ///< spectral radius of the sampled closed loop (> 1: unstable)
 };

@@ -1,14 +1,14 @@
 #pragma once
 // The controller of a loop artefact as the controller process runs it: the PI force feedback, on
 // the fixed-size kernels where the loop's channel counts have a compiled loop
-// (online/numeric/compiled_loops.hpp), sized at start-up for any other count; or the user's
+// (plant/runtime/compiled_loops.hpp), sized at start-up for any other count; or the user's
 // state-space controller, sized at start-up.
 #include "artefact/loop_artefact.hpp"
 #include "common/input_error.hpp"
 #include "controller/runtime/general_pi_controller.hpp"
 #include "controller/runtime/pi_controller.hpp"
 #include "controller/runtime/state_space_controller.hpp"
-#include "online/numeric/compiled_loops.hpp"
+#include "plant/runtime/compiled_loops.hpp"
 
 namespace flexloop::hil {
 

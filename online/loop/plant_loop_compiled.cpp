@@ -1,4 +1,4 @@
-// The plant loop on every compiled loop (online/numeric/compiled_loops.hpp), each with the
+// The plant loop on every compiled loop (plant/runtime/compiled_loops.hpp), each with the
 // hardware compositions of online/sim/loop_hardware.hpp.
 #include "online/loop/plant_loop_run.hpp"
 

@@ -188,7 +188,7 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
 }
 
 /// The loop on the fixed-size kernels of the compiled loop that matches the artefact
-/// (online/numeric/compiled_loops.hpp), with its hardware effects: false when none matches.
+/// (plant/runtime/compiled_loops.hpp), with its hardware effects: false when none matches.
 bool run_plant_compiled(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
                         PlantLoopResult&);
 void run_plant_general(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,

@@ -21,7 +21,7 @@
 
 #include "artefact/loop_artefact.hpp"
 #include "common/input_error.hpp"
-#include "online/numeric/compiled_loops.hpp"
+#include "plant/runtime/compiled_loops.hpp"
 #include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/effect_choice.hpp"
 #include "plant/runtime/effects/floor_generator.hpp"
@@ -143,7 +143,7 @@ struct ComposedEffects {
                                   .transport_delay = TransportDelay};
 };
 
-/// The effect sets that the compiled loops (online/numeric/compiled_loops.hpp) run in a
+/// The effect sets that the compiled loops (plant/runtime/compiled_loops.hpp) run in a
 /// composition of their own, every absent effect NoEffect: not stored, not stepped, not tested
 /// for. Every other set, on any loop, runs in the composition chosen at start-up
 /// (with_chosen_hardware), one instantiation for all of them. Each entry costs one instantiation
@@ -233,12 +233,12 @@ template <int NW, int NC, int NS = NC, class Plant, class F>
 decltype(auto) with_chosen_hardware(const artefact::LoopArtefact& a, const Plant& plant, F&& f) {
   constexpr int NY = Plant::Output::RowsAtCompileTime;
   constexpr int NZ = NY == Eigen::Dynamic || NS == Eigen::Dynamic ? Eigen::Dynamic : NY - NS;
-  using plant::runtime::ChannelsOf;
   using plant::runtime::EffectChoice;
-  using Actuator = EffectChoice<ChannelsOf<double, NC>, fx::PiezoActuator<double, NC, false>,
-                                fx::PiezoActuator<double, NC, true>>;
-  using Sensor = EffectChoice<ChannelsOf<double, NS>, fx::SensorChain<double, NS>>;
-  using Performance = EffectChoice<ChannelsOf<double, NZ>, fx::SensorChain<double, NZ>>;
+  using Actuator =
+      EffectChoice<numeric::ChannelsOf<double, NC>, fx::PiezoActuator<double, NC, false>,
+                   fx::PiezoActuator<double, NC, true>>;
+  using Sensor = EffectChoice<numeric::ChannelsOf<double, NS>, fx::SensorChain<double, NS>>;
+  using Performance = EffectChoice<numeric::ChannelsOf<double, NZ>, fx::SensorChain<double, NZ>>;
   const EffectSet set = effect_set(a);
   const auto& e = a.effects;
   Actuator actuator;

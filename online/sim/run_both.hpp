@@ -18,7 +18,7 @@ namespace flexloop::sim::detail {
 
 /// The PI of NC channels: compiled for a compiled NC, start-up-sized for Eigen::Dynamic.
 template <int NC>
-auto make_pi(const controller::runtime::PiParameters& pi, Eigen::Index channels) {
+auto make_pi(const artefact::PiParameters& pi, Eigen::Index channels) {
   if constexpr (NC == Eigen::Dynamic)
     return controller::runtime::GeneralPiController<double>::from_parameters(pi, channels);
   else

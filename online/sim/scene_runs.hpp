@@ -1,7 +1,7 @@
 #pragma once
 // `flexloop sim`'s runs of a loop artefact: the same floor and hardware (same seeds) once with the
 // controller off and once on (a loop without a controller runs once). An artefact whose counts
-// and form have a compiled fast path (online/numeric/compiled_loops.hpp) runs on it; every other
+// and form have a compiled fast path (plant/runtime/compiled_loops.hpp) runs on it; every other
 // one runs on the general path, sized at start-up. The compiled loops and the general path live
 // in separate translation units (scene_runs_*.cpp) so that they build in parallel.
 #include <functional>

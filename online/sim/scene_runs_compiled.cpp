@@ -1,5 +1,5 @@
 // The compiled fast paths of `flexloop sim`: every entry of the typed list of compiled loops
-// (online/numeric/compiled_loops.hpp), each with the hardware compositions of
+// (plant/runtime/compiled_loops.hpp), each with the hardware compositions of
 // online/sim/loop_hardware.hpp.
 #include "online/sim/run_both.hpp"
 

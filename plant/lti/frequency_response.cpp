@@ -11,11 +11,13 @@
 #include <stdexcept>
 #include <string>
 
+#include "numeric/constants.hpp"
+
 namespace flexloop::plant::lti {
 
 namespace {
 using cd = std::complex<double>;
-constexpr double kTwoPi = 6.283185307179586476925286766559;
+using numeric::kTwoPi;
 
 std::string to_string_g(double v) {
   std::ostringstream s;

@@ -1,5 +1,6 @@
 #include "plant/lti/modal_analysis.hpp"
 
+#include "numeric/constants.hpp"
 #include "plant/lti/frequency_response.hpp"
 
 #include <Eigen/Eigenvalues>
@@ -18,8 +19,8 @@ namespace flexloop::plant::lti {
 
 namespace {
 using cd = std::complex<double>;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-constexpr double kTwoPi = 6.283185307179586476925286766559;
+using numeric::kEps;
+using numeric::kTwoPi;
 // Relative asymmetry accepted as rounding noise from assembly (then symmetrised).
 constexpr double kSymmetryTol = 1e-10;
 

@@ -11,6 +11,7 @@
 #include <numeric>
 #include <stdexcept>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/frequency_response.hpp"
 
 // SLICOT (Fortran 77; gfortran passes each CHARACTER argument's length after the others).
@@ -26,8 +27,8 @@ namespace {
 
 using Eigen::Index;
 using Eigen::MatrixXd;
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-constexpr double kTwoPi = 2 * 3.14159265358979323846;
+using numeric::kEps;
+using numeric::kTwoPi;
 
 struct Mode {
   Index start = 0;  // first state in the modal coordinates

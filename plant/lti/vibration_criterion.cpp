@@ -6,6 +6,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/frequency_response.hpp"
 
 namespace flexloop::plant::lti {
@@ -13,7 +14,7 @@ namespace flexloop::plant::lti {
 namespace {
 
 using Eigen::MatrixXd;
-constexpr double kTwoPi = 2 * std::numbers::pi;
+using numeric::kTwoPi;
 
 struct CriterionName {
   VibrationCriterion criterion;

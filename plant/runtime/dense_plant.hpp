@@ -19,8 +19,8 @@
 // matrices [Ad - I; C Ad] and [Bd; C Bd + [0 D_h]].
 #include <Eigen/Core>
 
-#include "online/numeric/column_product.hpp"
-#include "online/numeric/fixed_size_matrix.hpp"
+#include "numeric/column_product.hpp"
+#include "numeric/fixed_size_matrix.hpp"
 #include "plant/runtime/pole_precision.hpp"
 #include "plant/runtime/state_output.hpp"
 
@@ -42,7 +42,7 @@ class DensePlant : public StateOutput<Scalar, NX, NU, NY, NH> {
   /// x <- x + ((Ad - I) x + Bd u), and C x + D_h h of the new state, h = the held part of u.
   void advance(const typename Base::Input& u) noexcept {
     // Rows 0 .. NX-1: the increment; rows NX ..: C x_{k+1} + D_h h (column_product.hpp).
-    this->take_next(product_sum(from_x_, this->x_, from_u_, u), u);
+    this->take_next(numeric::product_sum(from_x_, this->x_, from_u_, u), u);
   }
 
  private:
@@ -57,8 +57,8 @@ DensePlant<Scalar, NX, NU, NY, NH> DensePlant<Scalar, NX, NU, NY, NH>::from_matr
     const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& Bd, const Eigen::MatrixXd& Cd,
     const Eigen::MatrixXd& Dd) {
   using Square = Eigen::Matrix<double, NX, NX>;
-  const Square A = to_fixed<Square>("DensePlant: Ad", Ad);
-  const auto B = to_fixed<Eigen::Matrix<double, NX, NU>>("DensePlant: Bd", Bd);
+  const Square A = numeric::to_fixed<Square>("DensePlant: Ad", Ad);
+  const auto B = numeric::to_fixed<Eigen::Matrix<double, NX, NU>>("DensePlant: Bd", Bd);
   require_dense_poles_kept_inside<Scalar>(Ad, "DensePlant");
   DensePlant p;
   const auto out = p.load_output("DensePlant", "Cd", Cd, "Dd", Dd);

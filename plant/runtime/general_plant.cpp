@@ -43,30 +43,30 @@ void GeneralStateOutput<Scalar>::load_output(const std::string& who, const Eigen
   require(nu >= 2 && nu <= kMaxInputs,
           who + ": " + std::to_string(nu) + " inputs; the runtime takes 2 .. " +
               std::to_string(kMaxInputs) + " (at least one sampled and one held)");
-  require(held_inputs >= 1 && held_inputs < nu && held_inputs <= kMaxChannels &&
-              nu - held_inputs <= kMaxChannels,
+  require(held_inputs >= 1 && held_inputs < nu && held_inputs <= numeric::kMaxChannels &&
+              nu - held_inputs <= numeric::kMaxChannels,
           who + ": " + std::to_string(held_inputs) + " held inputs of " + std::to_string(nu) +
-              "; each kind takes 1 .. " + std::to_string(kMaxChannels) + " channels");
+              "; each kind takes 1 .. " + std::to_string(numeric::kMaxChannels) + " channels");
   require_finite(who + ": C", C);
   require_finite(who + ": D", D);
   const Eigen::Index ns = nu - held_inputs;
   nu_ = nu;
-  C_ = padded_matrix<Scalar>(C);
-  D_held_ = padded_matrix<Scalar>(D.rightCols(held_inputs));
-  D_sampled_ = padded_matrix<Scalar>(D.leftCols(ns));
+  C_ = numeric::padded_matrix<Scalar>(C);
+  D_held_ = numeric::padded_matrix<Scalar>(D.rightCols(held_inputs));
+  D_sampled_ = numeric::padded_matrix<Scalar>(D.leftCols(ns));
   x_ = State::Zero(nx);
-  next_ = State::Zero(padded_row_count<Scalar>(nx));
+  next_ = State::Zero(numeric::padded_row_count<Scalar>(nx));
   held_ = Held::Zero(held_inputs);
   w_ = decltype(w_)::Zero(ns);
   u_ = Input::Zero(nu);
-  cx_ = decltype(cx_)::Zero(padded_row_count<Scalar>(ny));
+  cx_ = decltype(cx_)::Zero(numeric::padded_row_count<Scalar>(ny));
   // output() writes the padded rows of y_'s inline storage too (never read; after a copy of the
   // plant, which copies ny entries, they hold whatever the copy left until the next output()).
   y_ = Output::Zero(kMaxOutputs);
   y_.conservativeResize(ny);
   Eigen::MatrixXd from_input = C * B;
   from_input.rightCols(held_inputs) += D.rightCols(held_inputs);
-  out_from_u_ = padded_matrix<Scalar>(from_input);
+  out_from_u_ = numeric::padded_matrix<Scalar>(from_input);
 }
 
 template <typename Scalar>
@@ -85,9 +85,10 @@ GeneralDensePlant<Scalar> GeneralDensePlant<Scalar>::from_matrices(const Eigen::
   GeneralDensePlant p;
   p.load_output(who, Bd, Cd, Dd, held_inputs);
   // The products in double, rounded to Scalar once.
-  p.increment_from_x_ = padded_matrix<Scalar>(Ad - Eigen::MatrixXd::Identity(Ad.rows(), Ad.cols()));
-  p.increment_from_u_ = padded_matrix<Scalar>(Bd);
-  p.out_from_x_ = padded_matrix<Scalar>(Cd * Ad);
+  p.increment_from_x_ =
+      numeric::padded_matrix<Scalar>(Ad - Eigen::MatrixXd::Identity(Ad.rows(), Ad.cols()));
+  p.increment_from_u_ = numeric::padded_matrix<Scalar>(Bd);
+  p.out_from_x_ = numeric::padded_matrix<Scalar>(Cd * Ad);
   return p;
 }
 
@@ -140,8 +141,8 @@ GeneralModalPlant<Scalar> GeneralModalPlant<Scalar>::from_modal_form(
     p.d_(k) = static_cast<Scalar>(Lambda_minus_I(k, k));
   }
   const Eigen::MatrixXd Lambda = Lambda_minus_I + Eigen::MatrixXd::Identity(n, n);
-  p.bm_ = padded_matrix<Scalar>(Bm);
-  p.out_from_x_ = padded_matrix<Scalar>(Cm * Lambda);
+  p.bm_ = numeric::padded_matrix<Scalar>(Bm);
+  p.out_from_x_ = numeric::padded_matrix<Scalar>(Cm * Lambda);
   p.T_ = T;
   return p;
 }

@@ -15,7 +15,7 @@
 //
 // Storage: the matrices and the state are allocated at start-up (from_matrices, from_modal_form),
 // with their rows padded to whole SIMD packets for the step's products
-// (online/numeric/dynamic_product.hpp); the channel vectors are bounded (inline). output() and
+// (numeric/dynamic_product.hpp); the channel vectors are bounded (inline). output() and
 // advance() only write into that storage: they never allocate, lock, throw or make a system call
 // (tests/alloc checks it at several sizes).
 #include <Eigen/Core>
@@ -24,8 +24,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "online/numeric/channel_limits.hpp"
-#include "online/numeric/dynamic_product.hpp"
+#include "numeric/channel_limits.hpp"
+#include "numeric/dynamic_product.hpp"
 
 namespace flexloop::plant::runtime {
 
@@ -34,11 +34,12 @@ template <typename Scalar>
 class GeneralStateOutput {
  public:
   /// Inputs: sampled (disturbances) then held (actuator commands); outputs: any.
-  static constexpr int kMaxInputs = 2 * kMaxChannels, kMaxOutputs = 2 * kMaxChannels;
+  static constexpr int kMaxInputs = 2 * numeric::kMaxChannels,
+                       kMaxOutputs = 2 * numeric::kMaxChannels;
   using State = Eigen::Matrix<Scalar, Eigen::Dynamic, 1>;
-  using Input = BoundedVector<Scalar, kMaxInputs>;
-  using Held = BoundedVector<Scalar, kMaxChannels>;
-  using Output = BoundedVector<Scalar, kMaxOutputs>;
+  using Input = numeric::BoundedVector<Scalar, kMaxInputs>;
+  using Held = numeric::BoundedVector<Scalar, numeric::kMaxChannels>;
+  using Output = numeric::BoundedVector<Scalar, kMaxOutputs>;
 
   Eigen::Index states() const noexcept { return x_.size(); }
   Eigen::Index inputs() const noexcept { return nu_; }
@@ -50,8 +51,8 @@ class GeneralStateOutput {
   template <typename W>
   const Output& output(const Eigen::MatrixBase<W>& w) noexcept {
     // Writes the padded rows too: y_'s inline storage holds kMaxOutputs >= padded rows.
-    product(D_sampled_.data(), D_sampled_.cols(), contiguous(w, w_), D_sampled_.rows(), cx_.data(),
-            y_.data());
+    numeric::product(D_sampled_.data(), D_sampled_.cols(), contiguous(w, w_), D_sampled_.rows(),
+                     cx_.data(), y_.data());
     return y_;
   }
 
@@ -99,8 +100,8 @@ class GeneralStateOutput {
   template <typename U>
   const Scalar* next_output(const Eigen::MatrixBase<U>& u) noexcept {
     const Scalar* in = contiguous(u, u_);
-    product_sum(out_from_x_.data(), x_.size(), x_.data(), out_from_u_.data(), nu_, in,
-                out_from_x_.rows(), nullptr, cx_.data());
+    numeric::product_sum(out_from_x_.data(), x_.size(), x_.data(), out_from_u_.data(), nu_, in,
+                         out_from_x_.rows(), nullptr, cx_.data());
     std::copy_n(in + (nu_ - held_.size()), held_.size(), held_.data());
     return in;
   }
@@ -112,11 +113,12 @@ class GeneralStateOutput {
   Matrix C_, D_held_, D_sampled_, out_from_x_, out_from_u_;
   State x_, next_;  // next_: the increment of x in advance(), padded rows
   Held held_;
-  BoundedVector<Scalar, kMaxChannels> w_;  // the sampled inputs, contiguous for the product
-  Input u_;                                // the inputs, where they are not contiguous
+  numeric::BoundedVector<Scalar, numeric::kMaxChannels>
+      w_;    // the sampled inputs, contiguous for the product
+  Input u_;  // the inputs, where they are not contiguous
   // C x + D_h h with padded rows (the padding zero), and the last output, whose inline storage
   // also takes the padded rows output() writes.
-  BoundedVector<Scalar, kMaxOutputs> cx_;
+  numeric::BoundedVector<Scalar, kMaxOutputs> cx_;
   Output y_;
 };
 
@@ -136,8 +138,8 @@ class GeneralDensePlant : public GeneralStateOutput<Scalar> {
   void advance(const Eigen::MatrixBase<U>& u) noexcept {
     const Scalar* in = this->next_output(u);
     auto& x = this->x_;
-    product_sum(increment_from_x_.data(), x.size(), x.data(), increment_from_u_.data(), this->nu_,
-                in, increment_from_x_.rows(), nullptr, this->next_.data());
+    numeric::product_sum(increment_from_x_.data(), x.size(), x.data(), increment_from_u_.data(),
+                         this->nu_, in, increment_from_x_.rows(), nullptr, this->next_.data());
     x += this->next_.head(x.size());
   }
 
@@ -171,7 +173,7 @@ class GeneralModalPlant : public GeneralStateOutput<Scalar> {
     auto& z = this->x_;
     auto& next = this->next_;
     const Eigen::Index n = z.size();
-    product(bm_.data(), this->nu_, in, bm_.rows(), nullptr, next.data());
+    numeric::product(bm_.data(), this->nu_, in, bm_.rows(), nullptr, next.data());
     // Pairs: [[a, b], [-b, a]] - I as d = a - 1 on the diagonal, o = ±b off it. On raw
     // pointers that cannot alias, so that the compiler may take several pairs per instruction.
     Scalar* __restrict zp = z.data();

@@ -29,8 +29,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "online/numeric/column_product.hpp"
-#include "online/numeric/fixed_size_matrix.hpp"
+#include "numeric/column_product.hpp"
+#include "numeric/fixed_size_matrix.hpp"
 #include "plant/runtime/pole_precision.hpp"
 #include "plant/runtime/state_output.hpp"
 
@@ -73,7 +73,7 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY, NH> {
 #pragma GCC unroll 16
       for (int p = 0; p < kFirst; ++p) {
         const Packet zp = ei::ploadu<Packet>(z.data() + p * kPacket);
-        const Packet swapped = detail::swap_neighbours<Scalar>(zp);
+        const Packet swapped = numeric::detail::swap_neighbours<Scalar>(zp);
         next.packets[p] = ei::pmadd(
             ei::ploadu<Packet>(d_.data() + p * kPacket), zp,
             ei::pmadd(ei::ploadu<Packet>(o_.data() + p * kPacket), swapped, next.packets[p]));
@@ -92,16 +92,16 @@ class ModalPlant : public StateOutput<Scalar, NX, NU, NY, NH> {
  private:
   ModalPlant() = default;
 
-  using Packet = typename detail::PacketLevel<Scalar, 0>::type;
-  static constexpr int kPacket = detail::kPacketSize<Scalar, 0>;
+  using Packet = typename numeric::detail::PacketLevel<Scalar, 0>::type;
+  static constexpr int kPacket = numeric::detail::kPacketSize<Scalar, 0>;
   // The state rows stepped as d ∘ z + o ∘ swap(z): whole widest packets from row 0 (none without
   // SIMD). The stacked rows from there on (the other state rows, Cm z, padding) are whole packets
   // too, one product of z.
   static constexpr int kSwapRows = kPacket >= 2 ? NX / kPacket * kPacket : 0;
   static constexpr int kRestRows = Base::kStackedRows - kSwapRows;
   // The sums in registers (column_product.hpp): all stacked rows, and the rows from kSwapRows on.
-  using StackedSums = detail::Accumulator<Scalar, Base::kStackedRows>;
-  using RestSums = detail::Accumulator<Scalar, kRestRows>;
+  using StackedSums = numeric::detail::Accumulator<Scalar, Base::kStackedRows>;
+  using RestSums = numeric::detail::Accumulator<Scalar, kRestRows>;
   static_assert(kSwapRows == 0 || (StackedSums::kRest == 0 && RestSums::kRest == 0),
                 "the swapped rows and the rest must be whole packets of the stacked sums");
 
@@ -117,15 +117,15 @@ ModalPlant<Scalar, NX, NU, NY, NH> ModalPlant<Scalar, NX, NU, NY, NH>::from_moda
     const Eigen::MatrixXd& Lambda_minus_I, const Eigen::MatrixXd& Bm, const Eigen::MatrixXd& Cm,
     const Eigen::MatrixXd& D, const Eigen::MatrixXd& T) {
   using Square = Eigen::Matrix<double, NX, NX>;
-  const Square L = to_fixed<Square>("ModalPlant: Lambda - I", Lambda_minus_I);
-  const auto B = to_fixed<Eigen::Matrix<double, NX, NU>>("ModalPlant: Bm", Bm);
+  const Square L = numeric::to_fixed<Square>("ModalPlant: Lambda - I", Lambda_minus_I);
+  const auto B = numeric::to_fixed<Eigen::Matrix<double, NX, NU>>("ModalPlant: Bm", Bm);
   ModalPlant p;
   const auto out = p.load_output("ModalPlant", "Cm", Cm, "D", D);
   // The products in double, rounded to Scalar once.
   p.from_u_ = Base::stacked(B, out.next_output_from_input(B));
   p.from_z_ = Base::stacked(L, Eigen::Matrix<double, NY, NX>(out.C * (L + Square::Identity())))
                   .template bottomRows<kRestRows>();
-  p.T_ = to_fixed<Eigen::Matrix<Scalar, NX, NX>>("ModalPlant: T", T);
+  p.T_ = numeric::to_fixed<Eigen::Matrix<Scalar, NX, NX>>("ModalPlant: T", T);
   // Walk the diagonal block by block; anything outside the blocks must be exactly zero. d and o
   // of every row; the step uses those of the first kSwapRows (the pairs never straddle row
   // kSwapRows: they start at even rows, and kSwapRows is even).

@@ -22,7 +22,7 @@
 #include <type_traits>
 #include <utility>
 
-#include "online/numeric/channel_limits.hpp"
+#include "numeric/channel_limits.hpp"
 
 namespace flexloop::plant::runtime {
 
@@ -44,10 +44,10 @@ class SimulatedHardware {
   static constexpr int NY = Plant::Output::RowsAtCompileTime;
   static constexpr int NZ = NY == Eigen::Dynamic || NS == Eigen::Dynamic ? Eigen::Dynamic : NY - NS;
   static_assert(NY == Eigen::Dynamic || NZ > 0, "outputs: performance signals, then sensors");
-  using Disturbance = ChannelsOf<Scalar, NW>;
-  using Command = ChannelsOf<Scalar, NC>;
-  using Sensors = ChannelsOf<Scalar, NS>;
-  using Performance = ChannelsOf<Scalar, NZ>;
+  using Disturbance = numeric::ChannelsOf<Scalar, NW>;
+  using Command = numeric::ChannelsOf<Scalar, NC>;
+  using Sensors = numeric::ChannelsOf<Scalar, NS>;
+  using Performance = numeric::ChannelsOf<Scalar, NZ>;
   struct Reading {
     Sensors sensors;          ///< what the sensors read (e.g. strut forces [N])
     Performance performance;  ///< what the performance sensors read (e.g. accelerations [m/s^2])
@@ -74,11 +74,12 @@ class SimulatedHardware {
                                                   " actuators");
     require(NW == Eigen::Dynamic || nw == NW,
             "the plant samples " + std::to_string(nw) + " inputs, expected " + std::to_string(NW));
-    require(nc >= 1 && nc <= kMaxChannels && nw >= 1 && nw <= kMaxChannels && sensors >= 1 &&
-                sensors <= kMaxChannels && nz >= 1 && nz <= kMaxChannels,
+    require(nc >= 1 && nc <= numeric::kMaxChannels && nw >= 1 && nw <= numeric::kMaxChannels &&
+                sensors >= 1 && sensors <= numeric::kMaxChannels && nz >= 1 &&
+                nz <= numeric::kMaxChannels,
             std::to_string(nw) + " disturbances, " + std::to_string(nc) + " actuators, " +
                 std::to_string(nz) + " performance outputs and " + std::to_string(sensors) +
-                " sensors; each count must be 1 .. " + std::to_string(kMaxChannels));
+                " sensors; each count must be 1 .. " + std::to_string(numeric::kMaxChannels));
     in_ = Plant::Input::Zero(nu);
     z_ = Performance::Zero(nz);
     reading_.sensors = Sensors::Zero(sensors);

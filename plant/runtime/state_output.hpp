@@ -26,8 +26,8 @@
 #include <Eigen/Core>
 #include <string>
 
-#include "online/numeric/column_product.hpp"
-#include "online/numeric/fixed_size_matrix.hpp"
+#include "numeric/column_product.hpp"
+#include "numeric/fixed_size_matrix.hpp"
 
 namespace flexloop::plant::runtime {
 
@@ -53,7 +53,7 @@ class StateOutput {
   EIGEN_ALWAYS_INLINE Output output(const Eigen::MatrixBase<W>& w) const noexcept {
     static_assert(W::SizeAtCompileTime == kSampledInputs,
                   "output(w): w is the sampled inputs, NU - NH entries (the held ones are kept)");
-    return (cx_ + column_product(D_sampled_, w)).template head<NY>();
+    return (cx_ + numeric::column_product(D_sampled_, w)).template head<NY>();
   }
 
   static constexpr Eigen::Index states() noexcept { return NX; }
@@ -83,11 +83,11 @@ class StateOutput {
   // Output-sized columns are padded to whole SIMD packets (column_product.hpp) with zero rows: 12
   // doubles take 16 lanes, two aligned 8-wide packets, where 12 rows would put every other
   // column across a cache-line boundary; 12 floats take one 16-wide packet.
-  static constexpr int kOutputLanes = kPaddedRows<Scalar, NY>;
+  static constexpr int kOutputLanes = numeric::kPaddedRows<Scalar, NY>;
   using OutputLanes = Eigen::Matrix<Scalar, kOutputLanes, 1>;
   // The rows of advance()'s products, which give the next state's increment (rows 0 .. NX-1) and
   // its C x (rows NX .. NX+NY-1) together; padded the same way.
-  static constexpr int kStackedRows = kPaddedRows<Scalar, NX + NY>;
+  static constexpr int kStackedRows = numeric::kPaddedRows<Scalar, NX + NY>;
   using Stacked = Eigen::Matrix<Scalar, kStackedRows, 1>;
 
   /// C and D of the artefact, checked, in double (start-up).
@@ -108,11 +108,11 @@ class StateOutput {
   /// checked, in double (for the stacked products of advance()).
   CheckedOutput load_output(const std::string& who, const char* c_name, const Eigen::MatrixXd& C,
                             const char* d_name, const Eigen::MatrixXd& D) {
-    CheckedOutput checked{to_fixed<Eigen::Matrix<double, NY, NX>>(who + ": " + c_name, C),
-                          to_fixed<Eigen::Matrix<double, NY, NU>>(who + ": " + d_name, D)};
+    CheckedOutput checked{numeric::to_fixed<Eigen::Matrix<double, NY, NX>>(who + ": " + c_name, C),
+                          numeric::to_fixed<Eigen::Matrix<double, NY, NU>>(who + ": " + d_name, D)};
     C_ = checked.C.template cast<Scalar>();
     D_held_ = checked.D.template rightCols<NH>().template cast<Scalar>();
-    D_sampled_ = padded_rows<kOutputLanes>(Eigen::Matrix<Scalar, NY, kSampledInputs>(
+    D_sampled_ = numeric::padded_rows<kOutputLanes>(Eigen::Matrix<Scalar, NY, kSampledInputs>(
         checked.D.template leftCols<kSampledInputs>().template cast<Scalar>()));
     return checked;
   }

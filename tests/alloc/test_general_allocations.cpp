@@ -57,7 +57,7 @@ std::uint64_t closed_loop_allocations(Plant plant, const Size& n, long steps) {
          fx::SensorChain<double, kAny>::from_parameters(sensor),
          fx::SensorChain<double, kAny>::from_parameters(performance),
          fx::TransportDelay<double, kAny, kAny>::from_parameters(1, nc, nz), nc);
-  controller::runtime::PiParameters p;
+  artefact::PiParameters p;
   p.K_P = 2.0 * Eigen::MatrixXd::Identity(nc, nc);
   p.K_I = 100.0 * Eigen::MatrixXd::Identity(nc, nc);
   p.dt = dt;
@@ -108,9 +108,8 @@ TEST_CASE("allocation: the state-space controller's step allocates nothing", "[a
   // 40 states, 8 sensors, 6 actuators, a coupled feedthrough with a delay, clamped commands with
   // both anti-windup policies (the hold branch and the update branch both run).
   const auto c = test::discrete_system({{0.9, 0.1}, {0.8, 0.3}, {0.7, 0}}, 8, 6, 17);
-  for (const auto policy :
-       {controller::runtime::AntiWindup::kHold, controller::runtime::AntiWindup::kNone}) {
-    controller::runtime::StateSpaceParameters p;
+  for (const auto policy : {artefact::AntiWindup::kHold, artefact::AntiWindup::kNone}) {
+    artefact::StateSpaceParameters p;
     p.A = Eigen::MatrixXd::Zero(40, 40);
     p.A.topLeftCorner(5, 5) = c.sys.A;
     p.A.bottomRightCorner(35, 35) = 0.5 * Eigen::MatrixXd::Identity(35, 35);

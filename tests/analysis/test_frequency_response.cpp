@@ -10,6 +10,7 @@
 #include <numbers>
 #include <random>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "tests/discretise/reference.hpp"  // labelled
 
@@ -23,7 +24,7 @@ using flexloop::test::labelled;
 using cd = std::complex<double>;
 
 namespace {
-constexpr double kTwoPi = 6.283185307179586476925286766559;
+using flexloop::numeric::kTwoPi;
 
 Eigen::MatrixXd gaussian(Eigen::Index r, Eigen::Index c, std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);

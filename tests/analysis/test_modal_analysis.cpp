@@ -6,6 +6,7 @@
 #include <complex>
 #include <random>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/modal_analysis.hpp"
 
 using flexloop::plant::lti::buckling_multipliers;
@@ -16,7 +17,7 @@ using flexloop::plant::lti::StateSpace;
 using cd = std::complex<double>;
 
 namespace {
-constexpr double kTwoPi = 6.283185307179586476925286766559;
+using flexloop::numeric::kTwoPi;
 double hz(double omega2) {
   return std::sqrt(omega2) / kTwoPi;
 }

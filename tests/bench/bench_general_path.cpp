@@ -42,7 +42,7 @@ using bench::thread_cpu_ns;
 
 namespace {
 
-controller::runtime::PiParameters limited(controller::runtime::PiParameters p) {
+artefact::PiParameters limited(artefact::PiParameters p) {
   p.u_min = Eigen::VectorXd::Constant(1, -2.0);
   p.u_max = Eigen::VectorXd::Constant(1, 2.0);
   return p;
@@ -54,7 +54,7 @@ struct GeneralLoop {
   Plant plant;
   controller::runtime::GeneralPiController<double> pi;
   typename Plant::Input in;
-  GeneralLoop(Plant p, const controller::runtime::PiParameters& params)
+  GeneralLoop(Plant p, const artefact::PiParameters& params)
       : plant(std::move(p)),
         pi(controller::runtime::GeneralPiController<double>::from_parameters(params,
                                                                              plant.held_inputs())),
@@ -142,8 +142,8 @@ plant::lti::ModalForm large_modal_form(int states) {
   return m;
 }
 
-controller::runtime::PiParameters large_pi() {
-  controller::runtime::PiParameters p;
+artefact::PiParameters large_pi() {
+  artefact::PiParameters p;
   p.K_P = 0.5 * Eigen::MatrixXd::Identity(6, 6);
   p.K_I = 50.0 * Eigen::MatrixXd::Identity(6, 6);
   p.dt = 1e-4;

@@ -24,6 +24,7 @@
 #include <string>
 #include <vector>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/state_space_builder.hpp"
 #include "plant/model/configuration.hpp"
 #include "plant/model/inertia.hpp"
@@ -35,7 +36,7 @@ using namespace flexloop::plant;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using flexloop::numeric::kPi;
 
 // Steel tube, 20 mm x 20 mm square section.
 constexpr const char* kSection =

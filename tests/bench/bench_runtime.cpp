@@ -43,7 +43,7 @@ namespace {
 
 constexpr double kLimit = 2.0;  // N: actuator limit; ~2 % of the samples saturate
 
-controller::runtime::PiParameters pi_parameters() {
+artefact::PiParameters pi_parameters() {
   auto p = test::metrology_pi_parameters();
   p.u_min = Eigen::VectorXd::Constant(1, -kLimit);
   p.u_max = Eigen::VectorXd::Constant(1, kLimit);

@@ -13,10 +13,11 @@
 #include "tests/discretise/reference.hpp"
 #include "tests/support/dynamic_reference.hpp"
 #include "tests/support/metrology.hpp"
+#include "tests/support/pi_reference.hpp"
 
 using namespace flexloop;
+using artefact::PiParameters;
 using controller::runtime::GeneralPiController;
-using controller::runtime::PiParameters;
 
 namespace {
 
@@ -36,24 +37,6 @@ PiParameters coupled_parameters(Eigen::Index n, unsigned seed) {
   return p;
 }
 
-// The reference integrator from the continuous state space discretised by the offline ZOH.
-test::PiReference reference(const PiParameters& p) {
-  const Eigen::Index n = p.K_P.rows();
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
-  const plant::lti::StateSpace c{
-      -p.leak_rad_s * I,     I, -p.K_I, -p.K_P, test::numbered("xi", n), test::numbered("y", n),
-      test::numbered("u", n)};
-  const auto d =
-      plant::lti::discretise(c, {plant::lti::DiscretisationMethod::kZeroOrderHold, p.dt, 0, false});
-  return test::PiReference{d.sys.A,
-                           d.sys.B,
-                           d.sys.C,
-                           d.sys.D,
-                           p.feedthrough,
-                           Eigen::VectorXd::Constant(n, p.u_min(0)),
-                           Eigen::VectorXd::Constant(n, p.u_max(0))};
-}
-
 }  // namespace
 
 TEST_CASE("general PI: any channel count matches the state-space reference, saturating",
@@ -67,7 +50,7 @@ TEST_CASE("general PI: any channel count matches the state-space reference, satu
     CAPTURE(n);
     const PiParameters p = coupled_parameters(n, static_cast<unsigned>(n));
     auto pi = GeneralPiController<double>::from_parameters(p, n);
-    auto ref = reference(p);
+    auto ref = test::pi_reference(p);
     std::mt19937 rng(7);
     std::normal_distribution<double> n01;
     double u_err = 0, x_err = 0;

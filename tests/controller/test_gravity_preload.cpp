@@ -11,6 +11,7 @@
 
 #include "common/input_error.hpp"
 #include "controller/design/loop_stability.hpp"
+#include "numeric/constants.hpp"
 #include "offline/scene/scene_plant.hpp"
 #include "tests/support/pole_matching.hpp"
 
@@ -19,7 +20,7 @@ using cd = std::complex<double>;
 
 namespace {
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
+using flexloop::numeric::kTwoPi;
 
 scene::ScenePlant preloaded(double leak_hz, bool damped) {
   auto sc = scene::load_scene("tools/scenes/metrology_frame.toml");

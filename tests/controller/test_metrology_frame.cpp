@@ -9,18 +9,15 @@
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model_parser.hpp"
 #include "plant/model/static_equilibrium.hpp"
+#include "tests/support/metrology.hpp"
 
 using namespace flexloop;
 
-namespace {
-
-constexpr const char* kScene = "tools/scenes/metrology_frame.toml";
-
-}  // namespace
+namespace {}  // namespace
 
 TEST_CASE("metrology frame: passive frequencies are the paper's within 0.05 Hz",
           "[controller][metrology]") {
-  const auto p = scene::build_scene_plant(scene::load_scene(kScene));
+  const auto p = scene::build_scene_plant(scene::load_scene(test::metrology_scene_path()));
   const double paper[6] = {13.9, 13.9, 20.0, 31.3, 31.3, 49.0};
   REQUIRE(p.natural_frequencies_hz.size() == 6);
   for (int i = 0; i < 6; ++i) {
@@ -42,7 +39,7 @@ TEST_CASE("metrology frame: passive frequencies are the paper's within 0.05 Hz",
 
 TEST_CASE("metrology frame: equal struts give a diagonal stiffness in strut coordinates",
           "[controller][metrology]") {
-  const auto p = scene::build_scene_plant(scene::load_scene(kScene));
+  const auto p = scene::build_scene_plant(scene::load_scene(test::metrology_scene_path()));
   const Eigen::MatrixXd K = p.lin.K.topLeftCorner(6, 6);
   const double k = K(0, 0);
   CHECK((K - k * Eigen::MatrixXd::Identity(6, 6)).norm() <= 1e-12 * k);
@@ -52,7 +49,7 @@ TEST_CASE(
     "metrology frame: gravity preload finds the static equilibrium and shifts each mode "
     "by less than 1%",
     "[controller][metrology][preload]") {
-  auto sc = scene::load_scene(kScene);
+  auto sc = scene::load_scene(test::metrology_scene_path());
   const auto unloaded = scene::build_scene_plant(sc);
   sc.gravity_preload = true;
   const auto loaded = scene::build_scene_plant(sc);

@@ -8,10 +8,12 @@
 #include <numbers>
 #include <random>
 
+#include "numeric/constants.hpp"
 #include "offline/scene/scene_plant.hpp"
 #include "plant/lti/feedback_interconnection.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/modal_analysis.hpp"
+#include "tests/support/metrology.hpp"
 #include "tests/support/pole_matching.hpp"
 
 using namespace flexloop;
@@ -19,8 +21,7 @@ using cd = std::complex<double>;
 
 namespace {
 
-constexpr const char* kScene = "tools/scenes/metrology_frame.toml";
-constexpr double kTwoPi = 2 * std::numbers::pi;
+using flexloop::numeric::kTwoPi;
 
 // Roots of the per-mode closed-loop cubic (an independent route: polynomial roots, no matrices).
 std::vector<cd> mode_roots(const controller::design::PiForceFeedbackSettings& s) {
@@ -35,7 +36,7 @@ TEST_CASE(
     "PI force feedback: undamped equal struts put six pole pairs at s^2 + 2 zeta w_d s + "
     "w_d^2 and six poles at s = 0",
     "[controller][pi]") {
-  auto sc = scene::load_scene(kScene);
+  auto sc = scene::load_scene(test::metrology_scene_path());
   sc.controller.leak_hz = 0;
   const auto p = scene::build_scene_plant(sc, {.without_damping = true});
   const auto& s = p.gains.settings;
@@ -55,7 +56,7 @@ TEST_CASE(
     "the mode cubic predicts",
     "[controller][pi]") {
   for (double leak_hz : {0.1, 1.0, 3.0}) {
-    auto sc = scene::load_scene(kScene);
+    auto sc = scene::load_scene(test::metrology_scene_path());
     sc.controller.leak_hz = leak_hz;
     const auto p = scene::build_scene_plant(sc, {.without_damping = true});
     const auto roots = mode_roots(p.gains.settings);
@@ -72,7 +73,7 @@ TEST_CASE(
     "G21 frequency by frequency",
     "[controller][pi]") {
   for (double leak_hz : {0.0, 0.5}) {
-    auto sc = scene::load_scene(kScene);
+    auto sc = scene::load_scene(test::metrology_scene_path());
     sc.controller.leak_hz = leak_hz;
     const auto p = scene::build_scene_plant(sc);
     const std::vector<double> f = {0.013, 0.1, 1.0, 7.5, 13.9, 20.0, 31.3, 49.0, 120.0, 900.0};
@@ -91,7 +92,7 @@ TEST_CASE(
 
 TEST_CASE("the sampled closed loop equals a step-by-step run of plant and controller",
           "[controller][pi][discrete]") {
-  auto sc = scene::load_scene(kScene);
+  auto sc = scene::load_scene(test::metrology_scene_path());
   sc.controller.leak_hz = 0.2;
   const auto p = scene::build_scene_plant(sc);
   const auto s = scene::sample_scene(p);

@@ -15,10 +15,11 @@
 #include "tests/support/discrete_systems.hpp"
 #include "tests/support/dynamic_reference.hpp"
 #include "tests/support/metrology.hpp"
+#include "tests/support/pi_reference.hpp"
 
 using namespace flexloop;
+using artefact::PiParameters;
 using controller::runtime::PiController;
-using controller::runtime::PiParameters;
 using Pi6 = PiController<double, 6>;
 using Vec6 = Pi6::Vector;
 
@@ -35,29 +36,6 @@ PiParameters random_parameters(unsigned seed, double leak_rad_s) {
   return p;
 }
 
-// The reference from the controller's continuous state space (xi' = -w_l xi + y,
-// u = -(K_P y + K_I xi)) discretised by the offline ZOH (a matrix exponential), so the
-// integrator coefficients a, b are not the runtime's formulas.
-test::PiReference reference(const PiParameters& p) {
-  const Eigen::Index n = p.K_P.rows();
-  const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
-  plant::lti::StateSpace c{
-      -p.leak_rad_s * I,     I, -p.K_I, -p.K_P, test::numbered("xi", n), test::numbered("y", n),
-      test::numbered("u", n)};
-  const auto d =
-      plant::lti::discretise(c, {plant::lti::DiscretisationMethod::kZeroOrderHold, p.dt, 0, false});
-  const double inf = std::numeric_limits<double>::infinity();
-  return test::PiReference{d.sys.A,
-                           d.sys.B,
-                           d.sys.C,
-                           d.sys.D,
-                           p.feedthrough.size() ? p.feedthrough : I,
-                           p.u_min.size() == 1 ? Eigen::VectorXd::Constant(n, p.u_min(0))
-                                               : Eigen::VectorXd::Constant(n, -inf),
-                           p.u_max.size() == 1 ? Eigen::VectorXd::Constant(n, p.u_max(0))
-                                               : Eigen::VectorXd::Constant(n, inf)};
-}
-
 struct LawComparison {
   double disagreement;  // max_k |u_k - u_ref,k| / max_k |u_ref,k|
   double saturated;     // fraction of samples with a channel at its limit
@@ -66,7 +44,7 @@ struct LawComparison {
 // Both controllers on the same seeded N(0, 1) measurements.
 LawComparison compare_law(const PiParameters& p, int steps) {
   auto pi = Pi6::from_parameters(p);
-  auto ref = reference(p);
+  auto ref = test::pi_reference(p);
   std::mt19937 rng(9);
   std::normal_distribution<double> n01;
   double diff = 0, scale = 0;
@@ -186,7 +164,7 @@ TEST_CASE("PI runtime: anti-windup, after a long saturation the force recovers w
 
   auto pi = Pi6::from_parameters(p);
   const auto with = run([&](const Vec6& y) { return pi.step(y); });
-  auto windup = reference(p);
+  auto windup = test::pi_reference(p);
   windup.anti_windup = false;
   const auto without = run([&](const Vec6& y) { return Vec6(windup.step(y)); });
   CAPTURE(with.overshoot, with.settle, without.overshoot, without.settle);

@@ -57,7 +57,7 @@ RuntimeRun run_runtime_loop(const scene::ScenePlant& p, long steps, int delay = 
   Plant::State x0 = Plant::State::Zero();
   x0(0) = 1e-6;  // zoh keeps the physical state: the elongation first
   plant.set_state(x0);
-  controller::runtime::PiParameters pi = scene::pi_parameters(p, sampled.plant.dt);
+  artefact::PiParameters pi = scene::pi_parameters(p, sampled.plant.dt);
   pi.feedthrough_delay = delay;
   auto pic = controller::runtime::PiController<double, 1>::from_parameters(pi);
   auto line = plant::runtime::effects::SampleDelay<double, 1>::from_parameters(delay);

@@ -16,10 +16,10 @@
 #include "tests/support/discrete_systems.hpp"
 
 using namespace flexloop;
+using artefact::AntiWindup;
+using artefact::StateSpaceParameters;
 using Catch::Matchers::Contains;
-using controller::runtime::AntiWindup;
 using controller::runtime::StateSpaceController;
-using controller::runtime::StateSpaceParameters;
 
 static_assert(controller::runtime::LoopController<StateSpaceController<double>>);
 static_assert(
@@ -103,7 +103,7 @@ TEST_CASE("the PI force feedback as a state space commands what the PI controlle
           "[controller][state_space]") {
   const Eigen::Index n = 5;
   std::mt19937 rng(11);
-  controller::runtime::PiParameters pi;
+  artefact::PiParameters pi;
   const Eigen::MatrixXd I = Eigen::MatrixXd::Identity(n, n);
   pi.K_P = 4.0 * I + 0.3 * test::random_matrix(rng, n, n);
   pi.K_I = 150.0 * (I + 0.1 * test::random_matrix(rng, n, n));

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/discretise.hpp"
 #include "tests/discretise/reference.hpp"
 
@@ -12,7 +13,7 @@ using namespace flexloop::test;
 
 namespace {
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
+using flexloop::numeric::kTwoPi;
 
 Eigen::MatrixXcd hc(const StateSpace& c, cd s) {
   return frequency_response(c.A, c.B, c.C, c.D, s);

@@ -5,6 +5,7 @@
 #include <numbers>
 #include <random>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/discretise.hpp"
 #include "tests/discretise/reference.hpp"
 
@@ -14,7 +15,7 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-constexpr double kTwoPi = 2 * std::numbers::pi;
+using flexloop::numeric::kTwoPi;
 
 // A slow well-damped mode plus a stiff lightly damped 2 kHz mode (structural), one input.
 StateSpace stiff_plant(double f_stiff = 2000, double zeta_stiff = 0.02) {

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <type_traits>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/vibration_criterion.hpp"
 #include "plant/lti/welch.hpp"
 #include "plant/runtime/effects/floor_generator.hpp"
@@ -22,7 +23,7 @@ using namespace flexloop::plant::runtime::effects;
 namespace {
 
 constexpr int kChannels = 6;
-constexpr double kTwoPi = 2 * std::numbers::pi;
+using flexloop::numeric::kTwoPi;
 
 double db(double ratio) {
   return 20 * std::log10(ratio);

@@ -142,15 +142,15 @@ TEST_CASE("ziggurat lanes: each lane draws exactly what its engine draws alone, 
 
 TEST_CASE("gaussian noise: channel c of a seed is stream c through the ziggurat, for any count",
           "[effects][noise]") {
-  auto wide = GaussianNoise<double, Eigen::Dynamic>::from_seed(11, kMaxChannels);
+  auto wide = GaussianNoise<double, Eigen::Dynamic>::from_seed(11, flexloop::numeric::kMaxChannels);
   auto six = GaussianNoise<double, 6>::from_seed(11);
   std::vector<Xoshiro256PlusPlus> alone;
-  for (int c = 0; c < kMaxChannels; ++c) alone.emplace_back(11, c);
+  for (int c = 0; c < flexloop::numeric::kMaxChannels; ++c) alone.emplace_back(11, c);
   long mismatches = 0;
   for (int k = 0; k < 5'000; ++k) {
     const auto w = wide.sample();
     const auto s = six.sample();
-    for (int c = 0; c < kMaxChannels; ++c) {
+    for (int c = 0; c < flexloop::numeric::kMaxChannels; ++c) {
       const double v = zig::normal(alone[c]);
       mismatches += w(c) != v;
       if (c < 6) mismatches += s(c) != v;

@@ -10,6 +10,7 @@
 #include <type_traits>
 
 #include "plant/model/element_kinematics.hpp"
+#include "tests/support/random_rotation.hpp"
 
 #include <unsupported/Eigen/AutoDiff>
 
@@ -25,11 +26,6 @@ using Ad3 = Eigen::AutoDiffScalar<Eigen::Matrix<Ad2, Eigen::Dynamic, 1>>;
 Eigen::Vector3d randn3(std::mt19937& rng) {
   std::normal_distribution<double> n(0.0, 1.0);
   return {n(rng), n(rng), n(rng)};
-}
-
-Eigen::Vector4d random_unit_quaternion(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  return Eigen::Vector4d(n(rng), n(rng), n(rng), n(rng)).normalized();
 }
 
 // Rigid motion of a node's Euler parameters, by Eigen's quaternion product (not the code under
@@ -81,7 +77,8 @@ SpatialCase random_spatial(std::mt19937& rng, double perturbation) {
   const Eigen::Vector3d xp = randn3(rng), dir = randn3(rng).normalized();
   const double L = 0.5 + std::uniform_real_distribution<double>(0.0, 1.0)(rng);
   const Eigen::Vector3d xq = xp + L * dir;
-  const Eigen::Vector4d lp = random_unit_quaternion(rng), lq = random_unit_quaternion(rng);
+  const Eigen::Vector4d lp = flexloop::test::random_unit_quaternion(rng),
+                        lq = flexloop::test::random_unit_quaternion(rng);
   c.ref = make_spatial_beam_reference(xp, lp, xq, lq, randn3(rng));
   c.x0.resize(14);
   c.x0 << xp, lp, xq, lq;
@@ -272,7 +269,7 @@ TEST_CASE("deformations are invariant under finite rigid-body motions", "[elemen
   double max_change = 0.0;
   for (int trial = 0; trial < 200; ++trial) {
     // Global rotation: random (angles up to pi), and every tenth exactly a half turn.
-    Eigen::Vector4d g = random_unit_quaternion(rng);
+    Eigen::Vector4d g = flexloop::test::random_unit_quaternion(rng);
     if (trial % 10 == 0) g << 0.0, randn3(rng).normalized();
     const Eigen::Matrix3d Q = Eigen::Quaterniond(g(0), g(1), g(2), g(3)).toRotationMatrix();
     const Eigen::Vector3d t = 3.0 * randn3(rng);

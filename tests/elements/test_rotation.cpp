@@ -7,16 +7,11 @@
 #include <random>
 
 #include "plant/model/rotation.hpp"
+#include "tests/support/random_rotation.hpp"
 
 using namespace flexloop::plant::model;
 
 namespace {
-
-Eigen::Vector4d random_unit_quaternion(std::mt19937& rng) {
-  std::normal_distribution<double> n(0.0, 1.0);
-  Eigen::Vector4d l(n(rng), n(rng), n(rng), n(rng));
-  return l.normalized();
-}
 
 // (cos(a/2), sin(a/2) axis): the textbook definition, independent of the code under test.
 Eigen::Vector4d from_axis_angle(const Eigen::Vector3d& axis, double a) {
@@ -34,7 +29,7 @@ double sign_insensitive_distance(const Eigen::Vector4d& a, const Eigen::Vector4d
 TEST_CASE("rotation_matrix equals Eigen's quaternion and angle-axis rotations", "[rotation]") {
   std::mt19937 rng(11);
   for (int trial = 0; trial < 200; ++trial) {
-    const Eigen::Vector4d l = random_unit_quaternion(rng);
+    const Eigen::Vector4d l = flexloop::test::random_unit_quaternion(rng);
     const Eigen::Matrix3d R = rotation_matrix<double>(l);
     const Eigen::Quaterniond q(l(0), l(1), l(2), l(3));
     CHECK((R - q.toRotationMatrix()).norm() < 1e-14);
@@ -58,7 +53,7 @@ TEST_CASE("rotation_matrix equals Eigen's quaternion and angle-axis rotations", 
 
 TEST_CASE("rotation_matrix is homogeneous quadratic off the unit sphere", "[rotation]") {
   std::mt19937 rng(12);
-  const Eigen::Vector4d l = random_unit_quaternion(rng);
+  const Eigen::Vector4d l = flexloop::test::random_unit_quaternion(rng);
   const double c = 1.7;
   CHECK((rotation_matrix<double>(c * l) - c * c * rotation_matrix<double>(l)).norm() < 1e-13);
 }
@@ -90,7 +85,8 @@ TEST_CASE("euler_parameters_from_rotation round-trips, including angles near pi"
 TEST_CASE("quaternion_product composes rotations", "[rotation]") {
   std::mt19937 rng(14);
   for (int trial = 0; trial < 100; ++trial) {
-    const Eigen::Vector4d a = random_unit_quaternion(rng), b = random_unit_quaternion(rng);
+    const Eigen::Vector4d a = flexloop::test::random_unit_quaternion(rng),
+                          b = flexloop::test::random_unit_quaternion(rng);
     const Eigen::Vector4d ab = quaternion_product(a, b);
     const Eigen::Matrix3d Ra = Eigen::Quaterniond(a(0), a(1), a(2), a(3)).toRotationMatrix();
     const Eigen::Matrix3d Rb = Eigen::Quaterniond(b(0), b(1), b(2), b(3)).toRotationMatrix();

@@ -21,7 +21,7 @@ bool counts_ok(const Msg& m, rt::ChannelCounts expected);
 template <>
 bool counts_ok(const flexloop_msgs::sensor_sample_t& m, rt::ChannelCounts e) {
   const auto ok = [](int n, int want) {
-    return want > 0 ? n == want : n >= 1 && n <= rt::kMaxMessageChannels;
+    return want > 0 ? n == want : n >= 1 && n <= flexloop::numeric::kMaxChannels;
   };
   return ok(m.n_sensors, e.first) && ok(m.n_performance, e.second) &&
          static_cast<int>(m.sensors.size()) == m.n_sensors &&
@@ -30,8 +30,9 @@ bool counts_ok(const flexloop_msgs::sensor_sample_t& m, rt::ChannelCounts e) {
 
 template <>
 bool counts_ok(const flexloop_msgs::actuator_command_t& m, rt::ChannelCounts e) {
-  const bool n_ok = e.first > 0 ? m.n_commands == e.first
-                                : m.n_commands >= 1 && m.n_commands <= rt::kMaxMessageChannels;
+  const bool n_ok = e.first > 0
+                        ? m.n_commands == e.first
+                        : m.n_commands >= 1 && m.n_commands <= flexloop::numeric::kMaxChannels;
   return n_ok && static_cast<int>(m.commands.size()) == m.n_commands;
 }
 

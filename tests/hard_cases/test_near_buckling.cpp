@@ -36,6 +36,7 @@
 #include <string>
 
 #include "common/input_error.hpp"
+#include "numeric/constants.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/scene_plant.hpp"
 #include "plant/lti/modal_analysis.hpp"
@@ -48,7 +49,7 @@ namespace {
 
 constexpr int kN = 10;                                                            // beams
 constexpr double kL = 2.0, kE = 7.0e10, kA = 3.0e-4, kI = 2.5e-9, kRho = 2700.0;  // SI
-constexpr double kPi = 3.14159265358979323846;
+using flexloop::numeric::kPi;
 constexpr double kBound = 1e-6;  // on |r - 1|, see above
 
 // The column with a compressive force P at node kN. `scene_ready`: node 0's lateral coordinate

@@ -23,6 +23,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/modal_form.hpp"
 #include "tests/discretise/reference.hpp"
@@ -33,7 +34,8 @@ using namespace flexloop;
 
 namespace {
 
-constexpr double kRateHz = 10e3, kPi = 3.14159265358979323846;
+constexpr double kRateHz = 10e3;
+using flexloop::numeric::kPi;
 constexpr int kSteps = 100000;
 // Dense against modal for a well-conditioned basis: 1e-12 (tests/runtime/test_modal_plant.cpp);
 // an accepted basis may have cond(V) up to the refusal threshold, 1e8, so allow more, still far

@@ -3,7 +3,7 @@
 # loop against `flexloop plant` inside a private loopback-only namespace (tools/netns-run), on the
 # metrology frame under an LQG controller that tools/controllers/design_lqg.py designs here:
 #   - the script reproduces the shipped controller file (tools/controllers/metrology_frame_lqg.json)
-#     from the default scene's artefact, every matrix entry within 1e-6 relative;
+#     from the default scene's artefact, each matrix within 1e-8 of its Frobenius norm;
 #   - at 1 kHz (the script's design for the 1 kHz artefact; the C controller, like a deployed one,
 #     gets SCHED_FIFO on the other core) its misses and round trip stay within the margins of the
 #     hil timing test, against the bare LCM ping-pong and timer measured in the same run: misses
@@ -34,10 +34,14 @@ out=$("$ccontroller" --help) || fail "flexloop-c-controller --help"
 python3 - "$tmp/lqg_10k.json" "$root/tools/controllers/metrology_frame_lqg.json" <<'PY' ||
 import json, sys
 a, b = (json.load(open(f)) for f in sys.argv[1:3])
+# Norm-wise: the Riccati solutions amplify the plant's last-bit differences between CPUs (and
+# Eigen's SIMD paths); on an Intel Xeon host the largest difference was 7.7e-10 of the norm (Ad),
+# 1.2e-6 relative in one small entry of Ad.
 for k in ("Ad", "Bd", "Cd", "Dd"):
-    for ra, rb in zip(a[k], b[k]):
-        for x, y in zip(ra, rb):
-            assert abs(x - y) <= 1e-6 * abs(y) + 1e-12, (k, x, y)
+    assert len(a[k]) == len(b[k]) and all(len(ra) == len(rb) for ra, rb in zip(a[k], b[k])), k
+    norm = sum(y * y for rb in b[k] for y in rb) ** 0.5
+    worst = max((abs(x - y) for ra, rb in zip(a[k], b[k]) for x, y in zip(ra, rb)), default=0.0)
+    assert worst <= 1e-8 * norm + 1e-12, (k, worst, norm)
 assert a["inputs"] == b["inputs"] and a["outputs"] == b["outputs"]
 PY
   fail "design_lqg.py does not reproduce tools/controllers/metrology_frame_lqg.json"

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/input_error.hpp"
+#include "numeric/constants.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/model/beam_mass.hpp"
 #include "plant/model/inertia.hpp"
@@ -29,7 +30,7 @@ using namespace flexloop::plant;
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using flexloop::numeric::kPi;
 constexpr double kE = 2.1e11, kG = 8.1e10, kRho = 7850.0;
 
 // Textbook blocks over (w_p, theta_p, w_q, theta_q) of a beam of length l.

@@ -28,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model_parser.hpp"
@@ -41,7 +42,7 @@ constexpr double kE = 7.0e10;   // Pa
 constexpr double kA = 3.0e-4;   // m^2
 constexpr double kI = 2.5e-9;   // m^4
 constexpr double kP0 = 1000.0;  // N, compressive reference load
-constexpr double kPi = 3.14159265358979323846;
+using flexloop::numeric::kPi;
 
 enum class Support { kClampedFree, kPinnedPinned };
 

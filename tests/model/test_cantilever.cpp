@@ -21,6 +21,7 @@
 #include <sstream>
 #include <string>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/model/linearisation.hpp"
 #include "plant/model/massless_condensation.hpp"
@@ -38,7 +39,7 @@ constexpr double kA = 4.0e-4;     // m^2 (20 mm x 20 mm)
 constexpr double kI = 1.3333e-8;  // m^4
 constexpr double kJ = 2.25e-8;    // m^4
 constexpr double kBetaL[3] = {1.8751, 4.6941, 7.8548};
-constexpr double kPi = 3.14159265358979323846;
+using flexloop::numeric::kPi;
 
 double euler_bernoulli_hz(int mode, double I) {
   const double bl = kBetaL[mode];

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "common/input_error.hpp"
+#include "numeric/constants.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/state_space_builder.hpp"
 #include "plant/model/linearisation.hpp"
@@ -42,7 +43,7 @@ constexpr double kRho = 7850.0;   // kg/m^3
 constexpr double kA = 4.0e-4;     // m^2
 constexpr double kI = 1.3333e-8;  // m^4
 constexpr double kBetaL[3] = {1.8751, 4.6941, 7.8548};
-constexpr double kPi = 3.14159265358979323846;
+using flexloop::numeric::kPi;
 
 double euler_bernoulli_hz(int mode) {
   const double bl = kBetaL[mode];

@@ -5,7 +5,7 @@
 
 #include <random>
 
-#include "online/numeric/compiled_loops.hpp"
+#include "plant/runtime/compiled_loops.hpp"
 #include "plant/runtime/dense_plant.hpp"
 #include "tests/support/discrete_systems.hpp"
 #include "tests/support/dynamic_reference.hpp"

@@ -149,7 +149,7 @@ TEST_CASE("general plant: inconsistent sizes and non-finite entries are refused"
   CHECK_THROWS_WITH(GeneralDensePlant<double>::from_matrices(bad, d.sys.B, d.sys.C, d.sys.D, 2),
                     Catch::Contains("Ad(1,2) is not finite"));
   // Too many channels of one kind.
-  const auto wide = test_plant(1, 0, 2 * plant::runtime::kMaxChannels + 1, 2, 6);
+  const auto wide = test_plant(1, 0, 2 * numeric::kMaxChannels + 1, 2, 6);
   CHECK_THROWS_WITH(
       GeneralDensePlant<double>::from_matrices(wide.sys.A, wide.sys.B, wide.sys.C, wide.sys.D, 1),
       Catch::Contains("inputs; the runtime takes 2 .. 128"));

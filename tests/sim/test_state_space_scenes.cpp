@@ -82,7 +82,7 @@ TEST_CASE("state-space scene: the PI's law from a controller file runs the PI's 
   CHECK(back.state_space.A == a.state_space.A);
   CHECK(back.state_space.D == a.state_space.D);
   CHECK(back.state_space.feedthrough == a.state_space.feedthrough);
-  CHECK(back.state_space.anti_windup == controller::runtime::AntiWindup::kNone);
+  CHECK(back.state_space.anti_windup == artefact::AntiWindup::kNone);
 
   const auto s = settings(a, 3.0);
   const auto r = sim::run_artefact(a, s, {});

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <random>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/model_reduction.hpp"
 
@@ -24,7 +25,7 @@ using Eigen::MatrixXd;
 
 namespace {
 
-constexpr double kTwoPi = 2 * 3.14159265358979323846;
+using flexloop::numeric::kTwoPi;
 
 struct ModeSpec {
   double f_hz, zeta;  // zeta >= 1: a real pole at -2 pi f; f = 0: a pole at the origin

@@ -34,7 +34,7 @@ inline const Metrology& metrology() {
 }
 
 /// The designed gains at the scene's sample time (the scene sets no controller force limit).
-inline controller::runtime::PiParameters metrology_pi_parameters() {
+inline artefact::PiParameters metrology_pi_parameters() {
   return scene::pi_parameters(metrology().p, metrology().s.plant.dt);
 }
 

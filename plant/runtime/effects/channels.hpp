@@ -15,34 +15,35 @@
 #include <string>
 #include <type_traits>
 
-#include "online/numeric/channel_limits.hpp"
+#include "numeric/channel_limits.hpp"
 
 namespace flexloop::plant::runtime::effects {
 
-using plant::runtime::kChannelRows;
-using plant::runtime::kMaxChannels;
+using numeric::kChannelRows;
+using numeric::kMaxChannels;
 
 /// The channel count of an N-channel effect built for n channels: N when N is compiled in.
 /// @throws std::invalid_argument naming the effect for n outside 1 .. kChannelRows<N> or n != N.
 template <int N>
 int channel_count(const char* effect, Eigen::Index n) {
-  if (n < 1 || n > kChannelRows<N> || (N != Eigen::Dynamic && n != N))
+  if (n < 1 || n > numeric::kChannelRows<N> || (N != Eigen::Dynamic && n != N))
     throw std::invalid_argument(
         std::string(effect) + ": " + std::to_string(n) + " channels; this build takes " +
-        (N == Eigen::Dynamic ? "1 .. " + std::to_string(kMaxChannels) : std::to_string(N)));
+        (N == Eigen::Dynamic ? "1 .. " + std::to_string(numeric::kMaxChannels)
+                             : std::to_string(N)));
   return static_cast<int>(n);
 }
 
 template <class Scalar, int N>
-using ChannelVector = plant::runtime::ChannelsOf<Scalar, N>;
+using ChannelVector = numeric::ChannelsOf<Scalar, N>;
 
 /// Start-up parameters, one value per channel, SI units.
 template <int N>
-using ChannelParameters = Eigen::Matrix<double, N, 1, 0, kChannelRows<N>, 1>;
+using ChannelParameters = Eigen::Matrix<double, N, 1, 0, numeric::kChannelRows<N>, 1>;
 
 /// One flag per channel (e.g. which actuators saturated this step).
 template <int N>
-using ChannelFlags = Eigen::Array<bool, N, 1, 0, kChannelRows<N>, 1>;
+using ChannelFlags = Eigen::Array<bool, N, 1, 0, numeric::kChannelRows<N>, 1>;
 
 template <class Scalar, int N>
 inline constexpr bool kValidChannels = std::is_floating_point_v<Scalar> &&

@@ -7,7 +7,7 @@
 // The filter is designed offline (plant/lti/vibration_criterion.hpp: design_floor_filter, then
 // discretise_floor_filter, whose Bd already carries the 1/sqrt(dt) noise scaling). The channels
 // run side by side in SIMD lanes: the state is held as one row per channel (rows padded to whole
-// packets, online/numeric/column_product.hpp), so state i of every channel is one column product,
+// packets, numeric/column_product.hpp), so state i of every channel is one column product,
 //   x_{k+1}(i, all channels) = Σ_j Ad(i, j) x_k(j, all channels) + Bd(i) n_k,
 // with the same arithmetic in every lane (channel c's signal does not depend on N). With
 // N = Eigen::Dynamic the lanes are those of kMaxChannels channels, of which the first n run.
@@ -20,8 +20,8 @@
 #include <Eigen/Dense>
 #include <cstdint>
 
-#include "online/numeric/column_product.hpp"
-#include "online/numeric/fixed_size_matrix.hpp"
+#include "numeric/column_product.hpp"
+#include "numeric/fixed_size_matrix.hpp"
 #include "plant/runtime/effects/channels.hpp"
 #include "plant/runtime/effects/gaussian_noise.hpp"
 
@@ -35,8 +35,8 @@ class FloorGenerator {
 
  public:
   using Vector = ChannelVector<Scalar, N>;
-  using StateMatrix = Eigen::Matrix<Scalar, NF, N, 0, NF, kChannelRows<N>>;
-  using Motion = Eigen::Matrix<Scalar, 2, N, 0, 2, kChannelRows<N>>;
+  using StateMatrix = Eigen::Matrix<Scalar, NF, N, 0, NF, numeric::kChannelRows<N>>;
+  using Motion = Eigen::Matrix<Scalar, 2, N, 0, 2, numeric::kChannelRows<N>>;
 
   /// Start-up (allocates). Ad NF x NF, Bd NF x 1, Cd 1 x NF, Dd 1 x 1, input a unit-variance
   /// white sequence, output acceleration [m/s²].
@@ -48,10 +48,10 @@ class FloorGenerator {
                                         std::uint64_t seed,
                                         FloorStart start = FloorStart::kStationary,
                                         Eigen::Index channels = N) {
-    FloorGenerator g(to_fixed<Eigen::Matrix<Scalar, NF, NF>>("floor generator: Ad", Ad),
-                     to_fixed<Eigen::Matrix<Scalar, NF, 1>>("floor generator: Bd", Bd),
-                     to_fixed<Eigen::Matrix<Scalar, 1, NF>>("floor generator: Cd", Cd),
-                     to_fixed<Eigen::Matrix<Scalar, 1, 1>>("floor generator: Dd", Dd),
+    FloorGenerator g(numeric::to_fixed<Eigen::Matrix<Scalar, NF, NF>>("floor generator: Ad", Ad),
+                     numeric::to_fixed<Eigen::Matrix<Scalar, NF, 1>>("floor generator: Bd", Bd),
+                     numeric::to_fixed<Eigen::Matrix<Scalar, 1, NF>>("floor generator: Cd", Cd),
+                     numeric::to_fixed<Eigen::Matrix<Scalar, 1, 1>>("floor generator: Dd", Dd),
                      GaussianNoise<Scalar, N>::from_seed(seed, channels));
     if (start == FloorStart::kStationary) g.draw_stationary_state(stationary_covariance(Ad, Bd));
     return g;
@@ -60,9 +60,9 @@ class FloorGenerator {
   /// The floor acceleration of this sample [m/s²], one per channel; advances the filters.
   Vector step() noexcept {
     const Lanes n = noise_.template sample_lanes<NP>();
-    const Lanes a = column_product(x_, c_) + d_ * n;
+    const Lanes a = numeric::column_product(x_, c_) + d_ * n;
     Lanes next[NF];
-    for (int i = 0; i < NF; ++i) next[i] = column_product(x_, a_t_.col(i)) + b_(i) * n;
+    for (int i = 0; i < NF; ++i) next[i] = numeric::column_product(x_, a_t_.col(i)) + b_(i) * n;
     for (int i = 0; i < NF; ++i) x_.col(i) = next[i];
     return a.template head<N>(channels());
   }
@@ -76,7 +76,8 @@ class FloorGenerator {
   /// plant::lti::floor_motion_outputs), so that motion() can say where the floor is.
   /// @throws std::invalid_argument for another size or a non-finite entry.
   void set_motion_outputs(const Eigen::MatrixXd& motion) {
-    motion_ = to_fixed<Eigen::Matrix<Scalar, 2, NF>>("floor generator: motion outputs", motion);
+    motion_ =
+        numeric::to_fixed<Eigen::Matrix<Scalar, 2, NF>>("floor generator: motion outputs", motion);
   }
   /// Floor velocity [m/s] (row 0) and displacement [m] (row 1) per channel at the sample the next
   /// step() returns (zero until set_motion_outputs). A plant with the floor's position and
@@ -102,7 +103,7 @@ class FloorGenerator {
 
  private:
   // Lanes: the channels, then zero padding.
-  static constexpr int NP = kPaddedRows<Scalar, kChannelRows<N>>;
+  static constexpr int NP = numeric::kPaddedRows<Scalar, numeric::kChannelRows<N>>;
   using Lanes = Eigen::Matrix<Scalar, NP, 1>;
 
   FloorGenerator(const Eigen::Matrix<Scalar, NF, NF>& a, const Eigen::Matrix<Scalar, NF, 1>& b,

@@ -20,7 +20,7 @@
 #include <array>
 #include <cstdint>
 
-#include "online/numeric/column_product.hpp"
+#include "numeric/column_product.hpp"
 #include "plant/runtime/effects/channels.hpp"
 #include "plant/runtime/effects/ziggurat_normal.hpp"
 
@@ -50,7 +50,7 @@ class GaussianNoise {
   }
 
   /// sample() as NP lanes: the draws, then zeros (NP >= channels()), for a caller that runs the
-  /// channels side by side in NP lanes (online/numeric/column_product.hpp): read in one piece.
+  /// channels side by side in NP lanes (numeric/column_product.hpp): read in one piece.
   template <int NP>
   Eigen::Matrix<Scalar, NP, 1> sample_lanes() noexcept {
     static_assert(NP <= kAhead, "sample_lanes: more lanes than the draws ahead hold");
@@ -71,9 +71,10 @@ class GaussianNoise {
 
  private:
   static constexpr int kLanes = ziggurat::kLanes;
-  static constexpr int kGroups = (kChannelRows<N> + kLanes - 1) / kLanes;
+  static constexpr int kGroups = (numeric::kChannelRows<N> + kLanes - 1) / kLanes;
   // The draws ahead, zero-padded to whole groups or to the channels' SIMD lanes if wider.
-  static constexpr int kAhead = std::max(kGroups * kLanes, kPaddedRows<Scalar, kChannelRows<N>>);
+  static constexpr int kAhead =
+      std::max(kGroups * kLanes, numeric::kPaddedRows<Scalar, numeric::kChannelRows<N>>);
 
   GaussianNoise() = default;
 

@@ -1,9 +1,10 @@
 #pragma once
-// The discrete PI force feedback's start-up parameters, as the offline design gives them
-// (controller/design: PiGains), for the compiled and the general controller alike.
+// Part of the loop artefact's schema: the discrete PI force feedback's start-up parameters, as the
+// offline design gives them (controller/design: PiGains), for the compiled and the general
+// controller alike (controller/runtime).
 #include <Eigen/Core>
 
-namespace flexloop::controller::runtime {
+namespace flexloop::artefact {
 
 struct PiParameters {
   Eigen::MatrixXd K_P, K_I;  ///< N x N, full (coupled) gains
@@ -21,4 +22,4 @@ struct PiParameters {
 /// The longest sensor + transport delay the feedthrough removal can follow.
 inline constexpr int kMaxFeedthroughDelay = 32;
 
-}  // namespace flexloop::controller::runtime
+}  // namespace flexloop::artefact

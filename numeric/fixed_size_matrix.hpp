@@ -12,7 +12,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace flexloop::plant::runtime {
+namespace flexloop::numeric {
 
 template <typename Fixed>
 Fixed to_fixed(const std::string& what, const Eigen::MatrixXd& m) {
@@ -33,4 +33,4 @@ Fixed to_fixed(const std::string& what, const Eigen::MatrixXd& m) {
   return m.template cast<typename Fixed::Scalar>();
 }
 
-}  // namespace flexloop::plant::runtime
+}  // namespace flexloop::numeric

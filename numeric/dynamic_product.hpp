@@ -17,12 +17,12 @@
 #include <Eigen/Core>
 #include <type_traits>
 
-#include "online/numeric/column_product.hpp"
+#include "numeric/column_product.hpp"
 
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wignored-attributes"
 
-namespace flexloop::plant::runtime {
+namespace flexloop::numeric {
 
 /// The widest SIMD packet of Scalar the build offers (1 without SIMD).
 template <typename Scalar>
@@ -146,6 +146,6 @@ Eigen::Matrix<Scalar, Eigen::Dynamic, Eigen::Dynamic> padded_matrix(const Eigen:
   return p;
 }
 
-}  // namespace flexloop::plant::runtime
+}  // namespace flexloop::numeric
 
 #pragma GCC diagnostic pop

@@ -25,7 +25,7 @@
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wignored-attributes"
 
-namespace flexloop::plant::runtime {
+namespace flexloop::numeric {
 
 namespace detail {
 
@@ -202,6 +202,6 @@ EIGEN_ALWAYS_INLINE Eigen::Matrix<Scalar, R, 1> product_sum(const Eigen::Matrix<
   return y;
 }
 
-}  // namespace flexloop::plant::runtime
+}  // namespace flexloop::numeric
 
 #pragma GCC diagnostic pop

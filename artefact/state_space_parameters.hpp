@@ -1,17 +1,19 @@
 #pragma once
-// A discrete state-space controller's start-up parameters: the user's own design (from MATLAB,
-// Octave, python-control, or flexloop's own discretisation of a continuous design), at the loop's
-// sample time, with the loop's actuator limits and the plant's feedthrough from command to sensor.
+// Part of the loop artefact's schema: a discrete state-space controller's start-up parameters: the
+// user's own design (from MATLAB, Octave, python-control, or flexloop's own discretisation of a
+// continuous design), at the loop's sample time, with the loop's actuator limits and the plant's
+// feedthrough from command to sensor.
 //
 //   x_{k+1} = A x_k + B y_k,   u_k = C x_k + D y_k     (y: the sensors, u: the actuator commands)
 //
-// designed for the discrete plant y_k = C2 x_k + D22 u_k; state_space_controller.hpp says how
-// the runtime realises that against a measurement that holds the previous command.
+// designed for the discrete plant y_k = C2 x_k + D22 u_k;
+// controller/runtime/state_space_controller.hpp says how the runtime realises that against a
+// measurement that holds the previous command.
 #include <Eigen/Core>
 #include <stdexcept>
 #include <string>
 
-namespace flexloop::controller::runtime {
+namespace flexloop::artefact {
 
 /// What the controller does while a command is clamped at an actuator limit.
 enum class AntiWindup {
@@ -46,4 +48,4 @@ struct StateSpaceParameters {
 /// The most controller states the runtime takes.
 inline constexpr int kMaxControllerStates = 4096;
 
-}  // namespace flexloop::controller::runtime
+}  // namespace flexloop::artefact

@@ -1,12 +1,14 @@
 #pragma once
-// The start-up-sized (general) runtime path: how many channels of one kind it takes. Disturbances,
+// How many channels of one kind a loop takes, for the whole project: the artefact's channel map,
+// the LCM messages (one sample of 64 sensors and 64 performance channels is one UDP datagram) and
+// the start-up-sized (general) runtime path. Disturbances,
 // actuators, performance outputs and sensors may each number 1 .. kMaxChannels; the state count
 // has no limit beyond memory. Vectors of channels are Eigen's bounded dynamic vectors, whose
 // storage is inline (no allocation when sized, copied or returned); states live in vectors
 // allocated once at start-up.
 #include <Eigen/Core>
 
-namespace flexloop::plant::runtime {
+namespace flexloop::numeric {
 
 inline constexpr int kMaxChannels = 64;
 
@@ -23,4 +25,4 @@ inline constexpr int kChannelRows = N == Eigen::Dynamic ? kMaxChannels : N;
 template <class Scalar, int N>
 using ChannelsOf = Eigen::Matrix<Scalar, N, 1, 0, kChannelRows<N>, 1>;
 
-}  // namespace flexloop::plant::runtime
+}  // namespace flexloop::numeric
