@@ -1,6 +1,6 @@
 #pragma once
-// The simulated hardware a loop runs with (DESIGN.md §6): the floor excitation and the effects a
-// scene switches on. Written by the scene file (offline/scene), carried by the loop artefact
+// The simulated hardware a loop runs with (doc/design.md §6): the floor excitation and the effects
+// a scene switches on. Written by the scene file (offline/scene), carried by the loop artefact
 // (loop_artefact.hpp) to the online programs, which compose the hardware from it.
 #include <cstdint>
 #include <string>

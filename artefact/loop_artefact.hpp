@@ -1,6 +1,6 @@
 #pragma once
 // The discrete loop artefact: the one seam between the offline pipeline and the online programs
-// (DESIGN.md §1). `flexloop build SCENE -o LOOP.json` writes it once; `flexloop sim`, the plant
+// (doc/design.md §1). `flexloop build SCENE -o LOOP.json` writes it once; `flexloop sim`, the plant
 // and the controller processes run from it and never read a model or a scene. It holds
 // everything a run needs: the discrete plant, the channel map (names, units, order), rate and
 // method, the controller, the floor (with its discrete shaping filter), the hardware effects, the

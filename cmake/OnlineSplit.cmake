@@ -1,4 +1,4 @@
-# The offline/online split of DESIGN.md §1-2, enforced at configure time.
+# The offline/online split of doc/design.md §1-2, enforced at configure time.
 #
 # flexloop_offline_libraries(<targets>...) names the libraries that hold offline code (the model,
 # its parsers, linearisation, analysis, design, scenes, reports). flexloop_require_online(<targets>...)
@@ -47,7 +47,7 @@ function(flexloop_require_online)
     foreach(lib IN LISTS closure)
       if(lib IN_LIST offline)
         message(FATAL_ERROR "${target} is online code but links the offline library ${lib} "
-                            "(DESIGN.md §2: online code never depends on the model, the parsers, "
+                            "(doc/design.md §2: online code never depends on the model, the parsers, "
                             "the analysis or the design code)")
       endif()
     endforeach()

@@ -1,6 +1,6 @@
 #pragma once
-// Writing an artefact so that a reader never sees half of it (DESIGN.md §10): the text goes to a
-// hidden temporary file in the target's directory (so rename() is atomic, never across file
+// Writing an artefact so that a reader never sees half of it (doc/design.md §10): the text goes to
+// a hidden temporary file in the target's directory (so rename() is atomic, never across file
 // systems), which is flushed, made readable (0644) and renamed over the target; the directory is
 // then synced so the rename is durable. On any failure the temporary file is removed and the
 // target is left as it was.

@@ -1,6 +1,6 @@
 #pragma once
 // Fixed-bin histogram of durations in ns (wake-up lateness, compute time, round trip), for the
-// loop's latency accounting (DESIGN.md §7). record() is O(1), allocation-free, lock-free and
+// loop's latency accounting (doc/design.md §7). record() is O(1), allocation-free, lock-free and
 // never throws; the bins live inside the object (about 72 KB), so make it before the loop, on
 // the heap or as a member, not on a small real-time thread stack.
 //

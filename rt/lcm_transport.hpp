@@ -1,5 +1,5 @@
 #pragma once
-// LCM glue for the loop (DESIGN.md §7, §11), on LCM 1.3.1's C API so that nothing in the loop
+// LCM glue for the loop (doc/design.md §7, §11), on LCM 1.3.1's C API so that nothing in the loop
 // allocates:
 //   - LcmPublisher<Msg> encodes into a buffer sized once at construction and publishes the
 //     bytes (the C++ typed publish allocates a buffer on every call, and the C++ std::string

@@ -1,5 +1,5 @@
 #pragma once
-// The set-up every loop process does once LCM is open (DESIGN.md §11 order): pin, lock memory
+// The set-up every loop process does once LCM is open (doc/design.md §11 order): pin, lock memory
 // and prefault the stack, then SCHED_FIFO when permitted (rt/realtime_setup.hpp); and, when
 // SCHED_FIFO was granted, LCM's receive thread on the same CPU one priority level above the loop,
 // so a polling loop cannot starve it. Used by the ping-pong baseline and the plant and controller

@@ -1,5 +1,5 @@
 #pragma once
-// Which received messages may be applied (DESIGN.md §7, §9): a message that fails to decode,
+// Which received messages may be applied (doc/design.md §7, §9): a message that fails to decode,
 // carries other channel counts than the loop's, carries NaN or Inf in any floating-point field,
 // is stale, or repeats or reorders the sequence, is dropped and counted per reason, never
 // applied. Every function here is noexcept and allocation-free, for use inside the loop.

@@ -8,7 +8,7 @@
 //            margin; costs margin/T of a CPU (plus whatever else the cycle spins for, e.g.
 //            polling for a message: keep the sum well below 95 % of T at SCHED_FIFO).
 //   kSpin    spin on the clock the whole period: one full CPU. At SCHED_FIFO the kernel's RT
-//            bandwidth limit (sched_rt_runtime_us, DESIGN.md §11) throttles such a thread for
+//            bandwidth limit (sched_rt_runtime_us, doc/design.md §11) throttles such a thread for
 //            ~50 ms every second, which shows as a huge max lateness; prefer kHybrid.
 // After the wait the cycle is accounted by rt/deadline_schedule.hpp: lateness, overruns
 // (starting a whole period late) and the overrun policy (kSkip keeps the grid and counts the

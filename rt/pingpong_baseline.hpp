@@ -1,7 +1,7 @@
 #pragma once
 // Same-run baseline (b): the bare LCM round trip between two processes, with the loop's rate,
 // CPUs, priorities, wait and receive modes but no plant or controller behind it. A loop's
-// sensor -> actuator round trip is judged against it (DESIGN.md §7).
+// sensor -> actuator round trip is judged against it (doc/design.md §7).
 //
 // run_pingpong_baseline() forks. The child ("pong", pinned to pong_realtime.cpu) answers every
 // ping (a sensor_sample_t) with an actuator_command_t whose answers_seq is the ping's seq. The

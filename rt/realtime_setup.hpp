@@ -5,11 +5,12 @@
 // may allocate, and never throw for a refused privilege: each returns a SetupStatus whose message
 // says what was done or why not, so a process can carry on without real-time rights and say so.
 //
-// Start-up order (DESIGN.md §11): non-real-time set-up (open files, LCM, allocate buffers), then
-// pin, mlockall, prefault the stack, and only then raise the priority -- apply_realtime_setup()
-// does exactly that for the calling thread. Threads inherit affinity and scheduling policy at
-// creation, so threads created after it (e.g. LCM's receive thread) run at the same priority on
-// the same CPU; threads created before it keep their own (use the *_thread variants by id).
+// Start-up order (doc/design.md §11): non-real-time set-up (open files, LCM, allocate buffers),
+// then pin, mlockall, prefault the stack, and only then raise the priority --
+// apply_realtime_setup() does exactly that for the calling thread. Threads inherit affinity and
+// scheduling policy at creation, so threads created after it (e.g. LCM's receive thread) run at the
+// same priority on the same CPU; threads created before it keep their own (use the *_thread
+// variants by id).
 //
 // Caveat: a SCHED_FIFO thread that never sleeps is throttled by the kernel's RT bandwidth limit
 // (/proc/sys/kernel/sched_rt_runtime_us, 950000 of every 1000000 us by default): it loses the

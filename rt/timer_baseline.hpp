@@ -1,7 +1,7 @@
 #pragma once
 // Same-run baseline (a): a bare periodic thread with the loop's period and settings that does
 // nothing but wake up, as cyclictest does. Its wake-up lateness is what the machine gives any
-// loop; a loop's own figures are judged against it (DESIGN.md §7).
+// loop; a loop's own figures are judged against it (doc/design.md §7).
 //
 // run_timer_baseline() starts one thread, sets it up in the order of rt/realtime_setup.hpp
 // (pin, mlockall + prefault, then SCHED_FIFO when asked and permitted), runs a PeriodicClock

@@ -1,5 +1,5 @@
 #pragma once
-// Is the force-feedback loop stable, and how much leak does it need? (DESIGN.md §4, §9)
+// Is the force-feedback loop stable, and how much leak does it need? (doc/design.md §4, §9)
 //
 // The loop is the actuators -> sensors path G22 of the plant with the floor held still, closed by
 // the PI controller C(s) = -(K_P + K_I / (s + w_l)). Its poles are the closed loop's poles apart

@@ -1,5 +1,5 @@
 #pragma once
-// Integral force feedback with a proportional part (DESIGN.md §4, seed slide 31), designed from
+// Integral force feedback with a proportional part (doc/design.md §4, seed slide 31), designed from
 // the linearised model of a suspension whose dynamic coordinates are the strut elongations and
 // whose sensors measure the strut forces sigma_1 = sigma_a + S e (+ S_d e'):
 //

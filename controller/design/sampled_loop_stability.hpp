@@ -1,5 +1,5 @@
 #pragma once
-// Is the SAMPLED force-feedback loop stable? (DESIGN.md §5, §6; issue 17, case 7)
+// Is the SAMPLED force-feedback loop stable? (doc/design.md §5, §6; issue 17, case 7)
 //
 // loop_stability.hpp judges the continuous loop. The loop that runs is sampled: the feedback
 // path G22 (actuators -> force sensors, floor held still) discretised at the loop's rate with the

@@ -1,5 +1,5 @@
 #pragma once
-// The discrete PI force-feedback controller (DESIGN.md §4, §6), the runtime form of
+// The discrete PI force-feedback controller (doc/design.md §4, §6), the runtime form of
 //   σa(s) = -(K_P + K_I / (s + w_l)) σ1(s)                     (controller/design)
 // for force sensors in series with the actuators: the measurement y contains the actuator's own
 // force, y = (the rest) + D22 u, with D22 = I for the metrology frame. A plain sampled law

@@ -1,6 +1,6 @@
 #pragma once
 // `flexloop analyse SCENE`: the passive machine, the PI force-feedback design and the closed
-// loop of a scene (DESIGN.md §4), printed and written to a directory. A statically unstable
+// loop of a scene (doc/design.md §4), printed and written to a directory. A statically unstable
 // plant (a preload beyond buckling) is reported with its modes and nothing further.
 #include <nlohmann/json.hpp>
 #include <string>

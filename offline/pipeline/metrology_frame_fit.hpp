@@ -1,5 +1,5 @@
 #pragma once
-// The reference machine of DESIGN.md §4 as a model file, and the fit that chooses its inertia
+// The reference machine of doc/design.md §4 as a model file, and the fit that chooses its inertia
 // and stiffness so that the passive natural frequencies are the paper's (seed slide 32).
 //
 // Geometry (fixed): three mounts at 120 deg on a circle of radius r = side/sqrt(3) in the plane

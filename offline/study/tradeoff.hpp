@@ -1,6 +1,6 @@
 #pragma once
-// What accuracy costs in time (DESIGN.md §8): a scene's plant over discretisation method x rate x
-// plant form x scalar x model order, each configuration measured in the same run against exact
+// What accuracy costs in time (doc/design.md §8): a scene's plant over discretisation method x rate
+// x plant form x scalar x model order, each configuration measured in the same run against exact
 // references:
 //
 //   hinf_error   relative H∞ error of the discrete frequency response against the exact plant

@@ -1,6 +1,6 @@
 #pragma once
 // `flexloop hil`: one hardware-in-the-loop rehearsal, measured against baselines taken in the
-// same run (DESIGN.md §7). In order:
+// same run (doc/design.md §7). In order:
 //   1. the private network: with `netns`, enter a fresh loopback-only namespace in-process
 //      (online/loop/private_network.hpp); otherwise the caller must already be in one
 //      (tools/netns-run);

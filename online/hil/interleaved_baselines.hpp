@@ -1,6 +1,6 @@
 #pragma once
-// Baselines interleaved with the loop (DESIGN.md §7): A1 B1 A2 B2 ... AK BK, where Ak is the bare
-// timer and the bare LCM ping-pong (rt/timer_baseline.hpp, rt/pingpong_baseline.hpp) on the
+// Baselines interleaved with the loop (doc/design.md §7): A1 B1 A2 B2 ... AK BK, where Ak is the
+// bare timer and the bare LCM ping-pong (rt/timer_baseline.hpp, rt/pingpong_baseline.hpp) on the
 // loop's CPUs with its rate, wait mode and priority, and Bk is segment k of the loop (the plant
 // pauses between segments, LoopOptions::segments; hil stops the controller process meanwhile).
 // This VM's phases change within a minute, so a baseline taken once before a long loop need not

@@ -1,6 +1,6 @@
 #pragma once
-// The controller process (`flexloop controller`, DESIGN.md §7): answers each sensor message with
-// the PI step (online/loop/controller_station.hpp) and publishes the actuator message, stamped
+// The controller process (`flexloop controller`, doc/design.md §7): answers each sensor message
+// with the PI step (online/loop/controller_station.hpp) and publishes the actuator message, stamped
 // with its send time and the step's compute time. Set-up as the plant's (pin, mlockall,
 // prefaulted stack, SCHED_FIFO when permitted, /dev/cpu_dma_latency at 0), the PI controller
 // sampled at the loop's rate (pass the plant's --rate). Waiting for a sample: block (sleep),

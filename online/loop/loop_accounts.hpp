@@ -1,5 +1,5 @@
 #pragma once
-// The plant loop's latency accounting (DESIGN.md §7) and its once-a-second loop_stats_t.
+// The plant loop's latency accounting (doc/design.md §7) and its once-a-second loop_stats_t.
 //
 // LoopAccounts: four fixed-bin histograms (rt/latency_histogram.hpp), allocated once at set-up.
 // StatsPublisher::poll() is called once per cycle, in the cycle's slack (after the answer came):

@@ -30,7 +30,7 @@ struct LoopOptions {
   /// VM), which at 10 kHz is most of the period.
   rt::WaitMode wait = rt::WaitMode::kHybrid;
   /// Who reads the socket: the loop thread itself by default (LCM's receive thread adds a
-  /// wake-up per message, see rt/lcm_direct_socket.hpp and the README's measurements).
+  /// wake-up per message, see rt/lcm_direct_socket.hpp and doc/performance.md).
   rt::ReceivePath receive_path = rt::ReceivePath::kDirect;
   std::int64_t spin_margin_ns = rt::kDefaultSpinMarginNs;
   rt::RealtimeOptions realtime{.cpu = 0, .fifo_priority = 80};

@@ -1,5 +1,5 @@
 #pragma once
-// The plant process (`flexloop plant`, DESIGN.md §7): owns the clock and plays the hardware.
+// The plant process (`flexloop plant`, doc/design.md §7): owns the clock and plays the hardware.
 // Set-up: the scene sampled at the loop's rate, LCM (command subscription, sensor and stats
 // publishers), /dev/cpu_dma_latency held at 0, then rt/loop_process_setup.hpp (pin, mlockall,
 // prefaulted stack, SCHED_FIFO when permitted -- the report says when not). Each period:

@@ -3,8 +3,8 @@
 // sample by sample): the simulated hardware of the scene (plant/runtime/simulated_hardware.hpp:
 // the discrete plant with inputs [w (disturbances); u (actuator commands)] and outputs
 // [z (performance); y (sensors)], compiled sizes or sized at start-up, the scene's floor, and
-// whichever actuator, sensor and transport effects the scene asks for -- composed at compile
-// time, so an absent effect costs nothing here either).
+// whichever actuator, sensor and transport effects the scene asks for, composed as
+// online/sim/loop_hardware.hpp composes them for `flexloop sim`).
 //
 // Cycle k (k = 0, 1, ...), as the real-time loop calls it:
 //   settle(due_k)  decide the command u that is held over the last period and apply it

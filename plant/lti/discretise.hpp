@@ -1,6 +1,7 @@
 #pragma once
 // Offline discretisation of a continuous LTI system  dx/dt = A x + B u,  y = C x + D u  at a
-// sample time T (DESIGN.md §5). Every result carries its method, T and the spectral radius of Ad.
+// sample time T (doc/design.md §5). Every result carries its method, T and the spectral radius of
+// Ad.
 //
 // Zero-order hold (u constant over [kT, (k+1)T)), exact:
 //   expm([A B; 0 0]·T) = [Ad Bd; 0 I]          Ad = e^{AT},  Bd = ∫0^T e^{As} ds B

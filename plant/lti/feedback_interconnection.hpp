@@ -1,5 +1,5 @@
 #pragma once
-// Closing a loop around a generalised plant (DESIGN.md §4, seed slide 33).
+// Closing a loop around a generalised plant (doc/design.md §4, seed slide 33).
 //
 // The plant's inputs are [w; u] (first n_w disturbances w, then the actuator inputs u) and its
 // outputs [z; y] (first n_z performance outputs z, then the measured outputs y):

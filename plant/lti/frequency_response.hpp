@@ -3,7 +3,7 @@
 //
 //   G(jw) = C (jw I - A)^-1 B + D,   w = 2 pi f  [rad/s], f in Hz.
 //
-// Never forms (jw I - A)^-1 and never a polynomial transfer function (DESIGN.md §11). Method
+// Never forms (jw I - A)^-1 and never a polynomial transfer function (doc/design.md §11). Method
 // (Laub, "Efficient multivariable frequency response computations", IEEE TAC 26 (1981)):
 //   1. optional balancing: A_b = T^-1 A T with T diagonal, entries powers of two (exact in
 //      floating point), so that rows and columns of A have comparable norms; B_b = T^-1 B,

@@ -1,6 +1,6 @@
 #pragma once
 // Modal analysis of the linearised equations of motion
-//   M q'' + (C + D) q' + (K + N + G) q = f          (DESIGN.md §3, bars omitted)
+//   M q'' + (C + D) q' + (K + N + G) q = f          (doc/design.md §3, bars omitted)
 // and of a state space.
 //
 // Natural modes: undamped free vibration q = phi e^{j w t} gives the generalised eigenproblem
@@ -56,7 +56,7 @@ Modes natural_modes(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K);
 ///         (K + lambda G singular for every lambda).
 Eigen::VectorXd buckling_multipliers(const Eigen::MatrixXd& K, const Eigen::MatrixXd& G);
 
-/// Static stability of an undamped linearised model (DESIGN.md §9, near-buckling preload). At a
+/// Static stability of an undamped linearised model (doc/design.md §9, near-buckling preload). At a
 /// stationary configuration a mode diverges where the total stiffness K + N + G (condensed, when
 /// massless coordinates were) has a negative eigenvalue: w^2 < 0, f < 0 in Modes; a mode with a
 /// complex w^2 (non-symmetric stiffness) flutters. With a preload (G not negligible against K)

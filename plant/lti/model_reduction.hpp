@@ -1,6 +1,6 @@
 #pragma once
 // Offline model reduction of a continuous LTI system  dz/dt = A z + B u,  y = C z + D u
-// (DESIGN.md §8): fewer states with the same inputs and outputs (labels kept; the states of a
+// (doc/design.md §8): fewer states with the same inputs and outputs (labels kept; the states of a
 // reduced model are modal or balanced coordinates, labelled "mode:<k>" / "balanced:<k>").
 //
 // Modal truncation. A = T Λ T^-1 in real block-diagonal form (a 1x1 block per real eigenvalue, a

@@ -58,7 +58,7 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
 
   // Massless directions of Mdd, condensed statically (see the header): q_d = R p + H g, with the
   // state coordinates P (R_P = I). Without massless directions R = I, H = 0 and P = every
-  // dynamic coordinate, and what follows is the plain A21 = -Mdd^-1 Kdd of DESIGN.md §3.
+  // dynamic coordinate, and what follows is the plain A21 = -Mdd^-1 Kdd of doc/design.md §3.
   model::MasslessCondensation mc;
   if (nd > 0) {
     const std::vector<std::string> labels(m.generalised.begin(), m.generalised.begin() + nd);

@@ -1,6 +1,6 @@
 #pragma once
 // Labelled state space (A, B, C, D) from a linearisation, for named inputs and outputs
-// (DESIGN.md §3, seed slides 14-17).
+// (doc/design.md §3, seed slides 14-17).
 //
 // State: z = (dq_d, dq_d'), plus integrator states (dq_r, dq_r') of a prescribed coordinate
 // whose acceleration (or velocity) alone is an input while the dynamics or the chosen outputs
@@ -17,10 +17,10 @@
 // Massless dynamic directions (a beam with lumped translational masses and no nodal rotary
 // inertia leaves its bending directions without mass) are condensed statically. With
 // Mdd = M̄dd, Cdd = C̄dd + D̄dd, Kdd = K̄dd + N̄dd + Ḡdd and g the generalised force of the inputs
-// and prescribed coordinates (the right-hand side of the dynamic rows, DESIGN.md §3), Z spans the
-// null space of Mdd (eigenvalues <= 1e-10 of the largest, as model::condense_massless) and
-// T = Y - Z (Z^T Kdd Z)^-1 Z^T Kdd Y is the static shape of the massive directions Y. The rows
-// Z^T of the equations, without their damping term,
+// and prescribed coordinates (the right-hand side of the dynamic rows, doc/design.md §3), Z spans
+// the null space of Mdd (eigenvalues <= 1e-10 of the largest, as model::condense_massless) and T =
+// Y - Z (Z^T Kdd Z)^-1 Z^T Kdd Y is the static shape of the massive directions Y. The rows Z^T of
+// the equations, without their damping term,
 //   Z^T Kdd q = Z^T g,
 // give q = R p + H g with H = Z (Z^T Kdd Z)^-1 Z^T and R = T T_P^-1, where P is a set of n_a
 // dynamic coordinates picked by a pivoted QR of T^T weighted by sqrt(diag Mdd) (massive,

@@ -1,6 +1,6 @@
 #pragma once
 // Vibration-criterion (VC) floor curves and the shaping filter that makes a floor follow one
-// (DESIGN.md §6, issue 6). Offline: the online FloorGenerator (plant/runtime/effects) runs the
+// (doc/design.md §6, issue 6). Offline: the online FloorGenerator (plant/runtime/effects) runs the
 // discretised filter.
 //
 // The curves. One-third-octave band RMS velocity, the same in every band from 1 to 80 Hz:

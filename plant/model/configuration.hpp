@@ -1,5 +1,5 @@
 #pragma once
-// Kinematic analysis (DESIGN.md §3): the dependent nodal coordinates x(c) from the generalised
+// Kinematic analysis (doc/design.md §3): the dependent nodal coordinates x(c) from the generalised
 // coordinates q by Newton iteration on the rigid and generalised deformation equations
 //   G(x) = [D_o(x); D_m(x)] = [0; e_m(q)],
 // and the first-order geometric transfer function DF(x) = dx/dq by implicit differentiation:

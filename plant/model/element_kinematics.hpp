@@ -4,7 +4,7 @@
 // Sources: J.B. Jonker, "A finite element dynamic analysis of spatial mechanisms with flexible
 // links", CMAME 76 (1989) 17-40; J.B. Jonker, J.P. Meijaard, "SPACAR - computer program for dynamic
 // analysis of flexible spatial mechanisms and manipulators", in W. Schiehlen (ed.), Multibody
-// Systems Handbook, Springer 1990, 123-143; flexloop DESIGN.md §3.
+// Systems Handbook, Springer 1990, 123-143; flexloop doc/design.md §3.
 //
 // Truss:   e1 = |l| - l0,  l = xq - xp.
 //
@@ -17,7 +17,7 @@
 //   e2 = l0 ((e_z^p, e_y^q) - (e_y^p, e_z^q)) / 2        torsion
 //   e3 = -(e_z^p, l),  e4 = (e_z^q, l)                   bending in the x-z plane (about y)
 //   e5 =  (e_y^p, l),  e6 = -(e_y^q, l)                  bending in the x-y plane (about z)
-// These are Jonker's (1989) definitions as quoted in DESIGN.md §3, unscaled: all six have the
+// These are Jonker's (1989) definitions as quoted in doc/design.md §3, unscaled: all six have the
 // dimension of length (the primary text could not be consulted when this was written; the
 // small-deformation meaning below and the stiffness are proved by tests/elements). For
 // small deformations, with phi the twist of q relative to p and theta_p, theta_q the end
@@ -26,7 +26,7 @@
 // so a uniform bending moment (theta_p = -theta_q) gives e3 = e4 and e5 = e6. The matching
 // stiffness is in element_properties.hpp.
 //
-// Planar beam (DESIGN.md §3): nodes carry (x, y, phi), R(phi) the 2-D rotation, and n_y the
+// Planar beam (doc/design.md §3): nodes carry (x, y, phi), R(phi) the 2-D rotation, and n_y the
 // cross-section axis (the beam axis turned +90 degrees) in each node's frame at the undeformed
 // state:
 //   e1 = |l| - l0,  e2 = -(R(phi_p) n_y^p, l),  e3 = (R(phi_q) n_y^q, l).

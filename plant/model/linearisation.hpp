@@ -1,5 +1,5 @@
 #pragma once
-// Linearised equations of motion about an operating point (DESIGN.md §3):
+// Linearised equations of motion about an operating point (doc/design.md §3):
 //   Mbar dq'' + (Cbar + Dbar) dq' + (Kbar + Nbar + Gbar) dq = DF(x)^T df - DF(e)^T dsigma_a
 // from the nonlinear equations in the generalised coordinates q,
 //   R(q, q', q'') = DF(x)^T (g_in(x, x', x'') - f) + DF(e)^T sigma = 0,

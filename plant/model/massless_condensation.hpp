@@ -1,6 +1,6 @@
 #pragma once
 // Exact static (Guyan) condensation of massless directions of the linearised equations
-//   M q'' + D q' + (K + G) q = f        (dynamic block, DESIGN.md §3; bars omitted)
+//   M q'' + D q' + (K + G) q = f        (dynamic block, doc/design.md §3; bars omitted)
 //
 // Why. Beams with lumped translational masses and no rotational inertia leave the nodal
 // rotations (and so the bending deformations that move them) massless: M is singular and

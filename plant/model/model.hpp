@@ -1,5 +1,5 @@
 #pragma once
-// The finite-element multibody model (DESIGN.md §3), as read from a model file.
+// The finite-element multibody model (doc/design.md §3), as read from a model file.
 //
 // Coordinates. Every node carries its translations (x, y in 2-D; x, y, z in 3-D) and, when it
 // is rotational, an angle phi (2-D) or four Euler parameters l0..l3 (3-D). They are stacked in

@@ -1,5 +1,5 @@
 #pragma once
-// The discrete plant in the form the offline discretisation produces it (DESIGN.md §6):
+// The discrete plant in the form the offline discretisation produces it (doc/design.md §6):
 //
 //   y_k = Cd x_k + Dd u_k,        x_{k+1} = Ad x_k + Bd u_k
 //

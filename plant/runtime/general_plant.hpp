@@ -1,5 +1,5 @@
 #pragma once
-// The discrete plant on the general path (DESIGN.md §6): any state count, any channel counts up
+// The discrete plant on the general path (doc/design.md §6): any state count, any channel counts up
 // to kMaxChannels per kind, sized once at start-up from the artefact. The same sample as the
 // compiled DensePlant / ModalPlant (state_output.hpp explains the held inputs and why the next
 // output's C x is computed in advance()):

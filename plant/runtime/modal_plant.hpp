@@ -1,5 +1,5 @@
 #pragma once
-// The discrete plant in real modal coordinates z (x = T z), DESIGN.md §6:
+// The discrete plant in real modal coordinates z (x = T z), doc/design.md §6:
 //
 //   y_k = Cm z_k + Dd u_k,        z_{k+1} = Λ z_k + Bm u_k = z_k + ((Λ - I) z_k + Bm u_k)
 //

@@ -1,6 +1,6 @@
 #pragma once
 // The plant side of the loop: the discrete plant with the simulated hardware around it, composed
-// from the effects a scene asks for (DESIGN.md §6, issue 6). Each slot is an effect type: an
+// from the effects a scene asks for (doc/design.md §6, issue 6). Each slot is an effect type: an
 // absent effect is the type NoEffect, not stored, not stepped, not even tested for at run time
 // (`if constexpr`), so a scene without effects compiles to the bare plant loop; a slot may also be
 // an EffectChoice (effect_choice.hpp), whose effect is chosen at start-up, for the loops that

@@ -18,11 +18,11 @@
 //
 // The state part of the output, C x, is kept with the state (cx_) instead of being computed from
 // it in output(): advance() computes it for the next state alongside that state, from the same
-// x_k and u_k, as C x_{k+1} = (C Ad) x_k + (C Bd) u_k (DESIGN.md §6). In a closed loop this takes
-// the new state off the path from one command to the next: u_k reaches y_{k+1} through one product
-// of the command's columns, (C Bd) u_k + D u_k, instead of through x_{k+1} and then C x_{k+1}
-// (measured in plant/runtime/README.md). It is not a recursion (each C x_{k+1} comes from x_k, not
-// from C x_k), so rounding does not accumulate in it.
+// x_k and u_k, as C x_{k+1} = (C Ad) x_k + (C Bd) u_k (doc/design.md §6). In a closed loop this
+// takes the new state off the path from one command to the next: u_k reaches y_{k+1} through one
+// product of the command's columns, (C Bd) u_k + D u_k, instead of through x_{k+1} and then C
+// x_{k+1} (measured in plant/runtime/README.md). It is not a recursion (each C x_{k+1} comes from
+// x_k, not from C x_k), so rounding does not accumulate in it.
 #include <Eigen/Core>
 #include <string>
 

@@ -1,4 +1,4 @@
-// No allocation inside an effect's step (DESIGN.md §6): after start-up, 10^5 steps of every
+// No allocation inside an effect's step (doc/design.md §6): after start-up, 10^5 steps of every
 // simulated-hardware effect (piezo actuator with and without lag, gain error, sensor noise, ADC,
 // delay, floor generator), N = 6, double and float, counted by allocation_counter.cpp.
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// No allocation inside a step on the general path (DESIGN.md §6): the start-up-sized plant
+// No allocation inside a step on the general path (doc/design.md §6): the start-up-sized plant
 // (dense and modal) with every simulated-hardware effect at start-up-sized channel counts (VC
 // floor, lagged piezo, sensor chains on both output kinds, transport delay) and the general PI,
 // 10^4 .. 10^5 closed-loop steps after a warm-up, at several sizes from 4 to 200 states and from

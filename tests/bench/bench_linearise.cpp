@@ -1,4 +1,4 @@
-// Cost of linearise + build_state_space (issue 3, "Performance"; DESIGN.md §3).
+// Cost of linearise + build_state_space (issue 3, "Performance"; doc/design.md §3).
 //
 //  - BM_LineariseMetrology: a hexapod-like metrology frame, 19 nodes and 18 spatial beams: a
 //    platform node with mass and inertia on six struts, each strut a universal joint at the

@@ -1,11 +1,14 @@
 // What each simulated-hardware effect costs per closed-loop step, and that an absent one costs
 // nothing (issue 6): the metrology plant + PI + white floor written by hand (the bare baseline),
-// the same through SimulatedHardware with no effect, and with one effect at a time.
+// the same through SimulatedHardware with no effect, and with one effect at a time; and the
+// default scene's loop with its hardware composed at compile time against chosen at start-up.
 //
 //   tools/bench --benchmark_filter=Effect
 #include <benchmark/benchmark.h>
 
 #include "controller/runtime/pi_controller.hpp"
+#include "offline/scene/loop_input.hpp"
+#include "online/sim/loop_hardware.hpp"
 #include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/effects/piezo_actuator.hpp"
 #include "plant/runtime/effects/sample_delay.hpp"
@@ -111,10 +114,47 @@ void BM_EffectAccelerometer(benchmark::State& state) {
 BENCHMARK(BM_EffectAccelerometer);
 
 void BM_EffectTransportDelay(benchmark::State& state) {
-  using D = fx::SampleDelay<double, 12>;
+  using D = fx::TransportDelay<double, 6, 6>;
   run(state, plant::runtime::SimulatedHardware<Plant, 6, 6, Floor, NoEffect, NoEffect, NoEffect, D>(
                  make_plant(), make_floor(), {}, {}, {}, D::from_parameters(1)));
 }
 BENCHMARK(BM_EffectTransportDelay);
+
+}  // namespace
+
+namespace {
+
+// The default scene's loop (VC-C floor, piezos, force sensors, accelerometers, PI), its hardware
+// composed at compile time (what `flexloop sim` runs for this listed effect set) and chosen at
+// start-up (what every set that online/sim/loop_hardware.hpp does not list runs).
+const artefact::LoopArtefact& default_scene() {
+  static const artefact::LoopArtefact a = scene::load_loop(test::metrology_scene_path());
+  return a;
+}
+
+template <class Hardware>
+void run_scene(benchmark::State& state, Hardware hw) {
+  auto pi = Pi::from_parameters(default_scene().pi);
+  for (auto _ : state) {
+    const auto& r = hw.sample();
+    const auto u = pi.step(r.sensors);
+    hw.apply(u);
+    benchmark::DoNotOptimize(u);
+  }
+}
+
+void BM_DefaultSceneComposed(benchmark::State& state) {
+  const auto& a = default_scene();
+  const auto plant = Plant::from_matrices(a.plant.A, a.plant.B, a.plant.C, a.plant.D);
+  sim::with_hardware<6, 6>(a, plant, [&](auto hw) { run_scene(state, std::move(hw)); });
+}
+BENCHMARK(BM_DefaultSceneComposed);
+
+void BM_DefaultSceneChosen(benchmark::State& state) {
+  const auto& a = default_scene();
+  const auto plant = Plant::from_matrices(a.plant.A, a.plant.B, a.plant.C, a.plant.D);
+  sim::with_chosen_hardware<6, 6>(a, plant, [&](auto hw) { run_scene(state, std::move(hw)); });
+}
+BENCHMARK(BM_DefaultSceneChosen);
 
 }  // namespace

@@ -1,4 +1,4 @@
-// Integral force feedback on the gravity-loaded metrology frame (DESIGN.md §4, §9;
+// Integral force feedback on the gravity-loaded metrology frame (doc/design.md §4, §9;
 // controller/design/loop_stability.hpp). The struts carry the weight in compression, so the
 // preload's geometric stiffness Gdd has negative directions; a pure integrator removes the struts'
 // static stiffness and the frame drifts away along them. Checked against the per-direction cubic

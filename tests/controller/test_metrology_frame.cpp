@@ -1,4 +1,4 @@
-// The reference machine (DESIGN.md §4): the committed model file reproduces the paper's passive
+// The reference machine (doc/design.md §4): the committed model file reproduces the paper's passive
 // frequencies, its symmetric mode pairs are degenerate, and the gravity preload moves the modes
 // only a little.
 #include <catch2/catch.hpp>

@@ -1,5 +1,5 @@
-// Hard case 7, the last line of defence (DESIGN.md §9): a run that diverges although its artefact
-// passed the stability checks stops at the first sample where the performance outputs and
+// Hard case 7, the last line of defence (doc/design.md §9): a run that diverges although its
+// artefact passed the stability checks stops at the first sample where the performance outputs and
 // commands leave the stated range (|[z; u]| <= plant::runtime::kDivergenceLimit = 1e12, finite),
 // and says when and where; `flexloop sim` then exits 1 and writes nothing.
 //

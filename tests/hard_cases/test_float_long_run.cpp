@@ -1,4 +1,4 @@
-// Hard case 8 (DESIGN.md §9): float over 10^8 steps (2.8 hours of the machine at 10 kHz). The
+// Hard case 8 (doc/design.md §9): float over 10^8 steps (2.8 hours of the machine at 10 kHz). The
 // metrology plant in modal form, float beside double on the same input, on a thread set up as a
 // real-time loop thread is (denormals flushed to zero, rt/denormals.hpp). The error of the float
 // outputs stays within the bound derived in tests/support/float_error_bound.hpp (worst-case

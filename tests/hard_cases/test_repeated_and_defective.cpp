@@ -1,4 +1,4 @@
-// Hard case 3 (DESIGN.md §9): repeated, nearly repeated and defective eigenvalues in the modal
+// Hard case 3 (doc/design.md §9): repeated, nearly repeated and defective eigenvalues in the modal
 // form. The modal plant steps z <- Λ z + Bm u with Λ = T^-1 Ad T block-diagonal; when Ad has a
 // Jordan block (no eigenbasis) or nearly so (an eigenbasis with a huge condition number), T is
 // wrong or ill-conditioned and a modal plant would be silently wrong. The requirement: exact or

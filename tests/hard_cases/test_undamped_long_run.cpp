@@ -1,4 +1,4 @@
-// Hard case 2 (DESIGN.md §9): zero damping. An undamped chain of masses and springs,
+// Hard case 2 (doc/design.md §9): zero damping. An undamped chain of masses and springs,
 //   M q'' + K q = b u,   energy E = ½ v'M v + ½ q'K q,
 // conserves E exactly, and ZOH keeps that: Ad = e^{AT} is orthogonal in the energy norm, every
 // discrete pole on |z| = 1. What can drift is the rounding. A pole stored in double sits on the

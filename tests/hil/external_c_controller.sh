@@ -14,7 +14,7 @@
 #     channel's RMS within 5 % of sim's. With every answer in time the run is sim's loop sample
 #     for sample (up to the order of summation); a miss holds the previous command a period
 #     longer, which an observer-based design feels (at 10 kHz, where LCM's C receive thread misses
-#     a few per cent on this VM, the README shows what that costs).
+#     a few per cent on this VM, doc/performance.md shows what that costs).
 #   tests/hil/external_c_controller.sh FLEXLOOP FLEXLOOP_C_CONTROLLER SOURCE_DIR
 set -uo pipefail
 flexloop=$1 ccontroller=$2 root=$3

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The online programs link no offline code (DESIGN.md §1-2): no symbol of the model, its
+# The online programs link no offline code (doc/design.md §1-2): no symbol of the model, its
 # parsers, the linearisation and analysis, the controller design, the scenes or the reports is
 # defined in them, and their link lines name no offline library.
 #   tests/link/online_links.sh BUILD_DIR EXE...

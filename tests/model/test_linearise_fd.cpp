@@ -1,5 +1,5 @@
-// DESIGN.md §3 validation case 4: every linearised matrix equals a finite-difference Jacobian of
-// the nonlinear equations of motion R(q, q', q'') at the same configuration, stationary and
+// doc/design.md §3 validation case 4: every linearised matrix equals a finite-difference Jacobian
+// of the nonlinear equations of motion R(q, q', q'') at the same configuration, stationary and
 // moving (q' != 0, q'' != 0, so that Cbar and Nbar are exercised):
 //   dR/dq'' = Mbar,  dR/dq' = Cbar + Dbar,  dR/dq = Kbar + Nbar + Gbar,
 // and the geometric transfer function DF(x) equals the finite-difference dx/dq.

@@ -1,6 +1,6 @@
 // Acceleration inputs get double-integrator states when the dynamics depend on the prescribed
-// position through preload (Gbar_dr != 0; seed slide 24, DESIGN.md §3). A taut string: mass m at
-// the end of a truss of length l under tension T (a nodal force), the other end moved
+// position through preload (Gbar_dr != 0; seed slide 24, doc/design.md §3). A taut string: mass m
+// at the end of a truss of length l under tension T (a nodal force), the other end moved
 // transversally with prescribed y1. Transverse motion (string theory, small amplitude):
 //   m y2'' = -(T/l)(y2 - y1)   =>   y2/y1'' = (T/(m l)) / (s^2 (s^2 + T/(m l))).
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-// The LCM messages of DESIGN.md §7: encode/decode round trip, and rejection of truncated or
+// The LCM messages of doc/design.md §7: encode/decode round trip, and rejection of truncated or
 // foreign (wrong-fingerprint) buffers.
 #include <catch2/catch.hpp>
 #include <cstdint>
@@ -45,7 +45,7 @@ TEST_CASE("sensor sample survives an encode/decode round trip bit for bit") {
 
 TEST_CASE("a sample of 64 sensor and 64 performance channels fits one UDP datagram") {
   // LCM's UDP multicast sends a message of up to 65499 bytes minus its 8-byte header in one
-  // datagram, but fragments above what fits one Ethernet frame; DESIGN.md §7 sets ~1400 bytes.
+  // datagram, but fragments above what fits one Ethernet frame; doc/design.md §7 sets ~1400 bytes.
   // The channel name travels too: FLEXLOOP_SENSOR and its NUL, plus the 8-byte LCM header.
   const auto s = sample_message(64, 64);
   const int payload = s.getEncodedSize();

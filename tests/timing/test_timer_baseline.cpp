@@ -2,7 +2,8 @@
 // its counts add up, it never reports a wake-up before the deadline, and the hybrid wait is not
 // worse than the plain sleep at p99 by more than kHybridVsSleepFactor. Sleep and hybrid run
 // interleaved in short rounds, so that load from other processes hits both alike. No absolute
-// time is asserted (DESIGN.md §7): absolute figures go to `flexloop baseline` and the README.
+// time is asserted (doc/design.md §7): absolute figures go to `flexloop baseline` and
+// doc/performance.md.
 #include <catch2/catch.hpp>
 #include <cstdint>
 #include <memory>

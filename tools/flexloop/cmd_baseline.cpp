@@ -1,4 +1,4 @@
-// `flexloop baseline timer|pingpong`: the same-run baselines of DESIGN.md §7 on their own --
+// `flexloop baseline timer|pingpong`: the same-run baselines of doc/design.md §7 on their own --
 // a bare periodic thread's wake-up lateness (cyclictest-style, rt/timer_baseline.hpp) and the
 // bare LCM round trip between two processes (rt/pingpong_baseline.hpp). Prints min / p50 /
 // p99 / p99.9 / max and counts; --json writes the same figures. The ping-pong sends multicast

@@ -5,7 +5,7 @@ floor, force sensors, no controller), like tools/models/flexible_arm.toml (N = 2
 --mass-model beam the beams carry their consistent mass with rotary inertia (2 N bending
 coordinates, 4 N + 6 states); with lumped, the HRZ nodal rotary inertia of the shipped model.
 
-Example (the 206-state plant of the README's sim figures):
+Example (the 206-state plant of the sim figures in doc/performance.md):
   tools/models/make_flexible_arm.py --elements 50 --mass-model beam -o out/arm50
   flexloop sim out/arm50/scene.toml --duration 5
 """

@@ -1,5 +1,5 @@
 #pragma once
-// Shared vocabulary of the simulated-hardware effects (DESIGN.md §6): N channels (one per strut
+// Shared vocabulary of the simulated-hardware effects (doc/design.md §6): N channels (one per strut
 // or sensor) of Scalar (double or float) at run time, SI parameters in double at start-up.
 // Every effect is a small class with fixed-size state, a static from_parameters(...) start-up
 // constructor that validates and throws std::invalid_argument naming the effect and the

@@ -1,5 +1,5 @@
 #pragma once
-// Stationary random floor acceleration on N independent channels (DESIGN.md §6): each channel
+// Stationary random floor acceleration on N independent channels (doc/design.md §6): each channel
 // runs the same discrete shaping filter of order NF, driven by its own unit-variance white
 // sequence n_k (GaussianNoise, channel c seeded by (seed, c)):
 //   a_k     = Cd x_k + Dd n_k          [m/s²]

@@ -1,6 +1,6 @@
 #pragma once
 // A sensor as the hardware has it: gain error, then white noise, then the ADC, then a delay of
-// D samples (DESIGN.md §6):   y_k = Q((1 + eps) x_{k-D} ... ) — precisely
+// D samples (doc/design.md §6):   y_k = Q((1 + eps) x_{k-D} ... ) — precisely
 //   g = (1 + eps) x,   n = g + sigma * normal,   q = quantise(n),   y_k = q_{k-D}.
 // All four stages are present in a sensor (neutral values are allowed: eps = 0, sigma = 0,
 // D = 0); a scene without the sensor does not instantiate this type at all.
