@@ -146,6 +146,21 @@ json to_json(const LoopArtefact& a) {
     effects["actuator"] = {{"gain", e.actuator.gain},
                            {"force_limit_n", e.actuator.force_limit_n},
                            {"lag_s", e.actuator.lag_s}};
+  json start = json::object();
+  for (const auto& [key, st] :
+       {std::pair<const char*, const StationaryStart&>{"open_loop", a.start.open_loop},
+        {"closed_loop", a.start.closed_loop}}) {
+    if (!st.exists()) {
+      start[key] = {{"unavailable", st.unavailable}};
+      continue;
+    }
+    start[key] = {{"delay", st.delay},
+                  {"controller_states", st.controller_states},
+                  {"actuator_lag", st.actuator_lag},
+                  {"note", st.note},
+                  {"floor_gain", matrix_to_json(st.floor_gain)},
+                  {"covariance", matrix_to_json(st.covariance)}};
+  }
   const auto& p = a.provenance;
   return {{"format", kLoopArtefactFormat},
           {"version", kLoopArtefactVersion},
@@ -158,6 +173,7 @@ json to_json(const LoopArtefact& a) {
           {"controller", controller},
           {"floor", floor},
           {"effects", effects},
+          {"start", start},
           {"run", {{"duration_s", a.duration_s}}},
           {"provenance",
            {{"scene", p.scene},
@@ -312,6 +328,35 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
   a.effects.transport_delay_samples =
       static_cast<int>(ef.integer("transport_delay_samples", 0, kMaxDelaySamples));
 
+  // An artefact without "start" (written before starts were stored) starts at rest.
+  if (r.has("start")) {
+    const JsonReader st = r.object("start");
+    for (auto [key, out] :
+         {std::pair<const char*, StationaryStart*>{"open_loop", &a.start.open_loop},
+          {"closed_loop", &a.start.closed_loop}}) {
+      const JsonReader s = st.object(key);
+      if (s.has("unavailable")) {
+        out->unavailable = s.string("unavailable");
+        require(!out->unavailable.empty(), s.place("unavailable"), "must say why");
+        continue;
+      }
+      out->unavailable.clear();
+      out->delay = static_cast<int>(s.integer("delay", 0, 2 * kMaxDelaySamples));
+      out->controller_states =
+          static_cast<int>(s.integer("controller_states", 0, kMaxControllerStates));
+      out->actuator_lag = s.boolean("actuator_lag");
+      if (s.has("note")) out->note = s.string("note");
+      const auto n = static_cast<std::size_t>(start_rows(a, *out));
+      const std::size_t nf = a.floor.spectrum == "white" ? 0 : kFloorFilterOrder;
+      out->floor_gain = s.matrix("floor_gain", n, nf * a.channels.disturbances.size(), "start row",
+                                 "floor filter state");
+      out->covariance = s.matrix("covariance", n, n, "start row", "start row");
+    }
+  } else {
+    a.start.open_loop.unavailable = a.start.closed_loop.unavailable =
+        "this artefact carries no start (rebuild it with flexloop build)";
+  }
+
   a.duration_s = r.object("run").number("duration_s");
   require(a.duration_s > 0, r.object("run").place("duration_s"), "must be > 0");
 
@@ -416,6 +461,28 @@ bool is_loop_artefact_file(const std::filesystem::path& file) {
   } catch (const std::exception&) {
     return false;
   }
+}
+
+std::vector<FloorState> floor_states(const LoopArtefact& a) {
+  std::vector<FloorState> found;
+  const auto& states = a.plant.states;
+  for (std::size_t c = 0; c < a.channels.disturbances.size(); ++c) {
+    const std::string& name = a.channels.disturbances[c].name;
+    if (name.rfind("acc:", 0) != 0) continue;
+    const std::string coordinate = name.substr(4);
+    for (std::size_t i = 0; i < states.size(); ++i) {
+      const bool vel = states[i] == "vel:" + coordinate, pos = states[i] == "pos:" + coordinate;
+      if (vel || pos)
+        found.push_back({static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(c), pos ? 1 : 0});
+    }
+  }
+  return found;
+}
+
+Eigen::Index start_rows(const LoopArtefact& a, const StationaryStart& s) {
+  const Eigen::Index nc = a.actuators(), ns = a.sensors();
+  return static_cast<Eigen::Index>(a.plant.states.size()) + nc + s.delay * ns + (s.delay + 1) * nc +
+         s.controller_states + (s.actuator_lag ? nc : 0);
 }
 
 }  // namespace flexloop::artefact

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "artefact/hardware_settings.hpp"
+#include "artefact/loop_start.hpp"
 #include "artefact/pi_parameters.hpp"
 #include "artefact/state_space_parameters.hpp"
 #include "numeric/channel_limits.hpp"
@@ -80,6 +81,7 @@ struct LoopArtefact {
   FloorSettings floor;
   FloorFilter floor_filter;  ///< empty for a white floor
   EffectsSettings effects;
+  LoopStart start;  ///< the stationary starts (artefact/loop_start.hpp)
   double duration_s = 10;
 
   double dt() const { return 1.0 / rate_hz; }
@@ -93,6 +95,18 @@ struct LoopArtefact {
   Eigen::Index sensors() const { return static_cast<Eigen::Index>(channels.sensors.size()); }
   std::vector<std::string> names(const std::vector<Channel>& kind) const;
 };
+
+/// A plant state that is the floor's own motion: a gravity-preloaded plant has the floor's
+/// position "pos:<c>" and velocity "vel:<c>" for a disturbance "acc:<c>" among its states.
+struct FloorState {
+  Eigen::Index state;    ///< row of the plant state
+  Eigen::Index channel;  ///< the disturbance channel
+  int motion_row;        ///< row of FloorFilter::motion: 0 velocity, 1 displacement
+};
+std::vector<FloorState> floor_states(const LoopArtefact& a);
+
+/// Rows of a stationary start (loop_start.hpp) for this artefact.
+Eigen::Index start_rows(const LoopArtefact& a, const StationaryStart& s);
 
 /// The artefact as JSON (doc/loop_artefact.md). @throws std::invalid_argument for an artefact
 /// that does not validate (validate()).

@@ -1,5 +1,7 @@
 #include "offline/scene/loop_artefact_builder.hpp"
 
+#include "offline/scene/loop_start_builder.hpp"
+
 #include <cmath>
 
 #include "common/input_error.hpp"
@@ -131,6 +133,7 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
   a.effects = sc.effects;
   a.duration_s = sc.run.duration_s;
   artefact::validate(a);
+  a.start = stationary_loop_start(a);
   return a;
 }
 

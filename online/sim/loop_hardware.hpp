@@ -82,20 +82,10 @@ fx::SensorParameters<N> sensor_parameters(const artefact::SensorEffect& e, Eigen
 template <class Plant, class Floor>
 Plant plant_at_floor_start(Plant plant, const Floor& floor, const artefact::LoopArtefact& a) {
   typename Plant::State x = plant.state();
-  const auto& states = a.plant.states;
-  bool any = false;
-  for (std::size_t c = 0; c < a.channels.disturbances.size(); ++c) {
-    const std::string& name = a.channels.disturbances[c].name;
-    if (name.rfind("acc:", 0) != 0) continue;
-    const std::string coordinate = name.substr(4);
-    for (std::size_t i = 0; i < states.size(); ++i) {
-      const bool vel = states[i] == "vel:" + coordinate, pos = states[i] == "pos:" + coordinate;
-      if (!vel && !pos) continue;
-      any = true;
-      if constexpr (requires { floor.motion(); })
-        x(static_cast<Eigen::Index>(i)) = floor.motion()(pos ? 1 : 0, static_cast<Eigen::Index>(c));
-    }
-  }
+  const auto floor_states = artefact::floor_states(a);
+  const bool any = !floor_states.empty();
+  if constexpr (requires { floor.motion(); })
+    for (const auto& f : floor_states) x(f.state) = floor.motion()(f.motion_row, f.channel);
   if (any && !requires { floor.motion(); })
     throw InputError(a.source,
                      "[floor]: this plant has the floor's position as a state (gravity preload), "

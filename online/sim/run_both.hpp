@@ -54,19 +54,31 @@ BothRuns run_both(const Plant& plant, const artefact::LoopArtefact& a, const Run
   return with_hardware<NW, NC, NS>(a, plant, [&](auto hw) {
     BothRuns r;
     r.controlled = pi || state_space;
+    r.start_off = describe_start(o.start, a.start.open_loop, "open loop");
+    if (r.controlled) r.start_on = describe_start(o.start, a.start.closed_loop, "closed loop");
+    // Each run from the same seeds, started in its own loop's stationary state.
+    const auto run_started = [&](auto controller, const artefact::StationaryStart& start,
+                                 const RunSettings& settings, const char* what) {
+      auto started = hw;
+      if constexpr (plant::runtime::kPresent<decltype(controller)>)
+        start_loop(a, start, o.start, started, &controller);
+      else
+        start_loop(a, start, o.start, started, static_cast<decltype(controller)*>(nullptr));
+      return run_closed_loop(std::move(started), std::move(controller), settings, progress(what));
+    };
     const auto run_off = [&] {
-      r.off = run_closed_loop(hw, plant::runtime::NoEffect{}, off, progress("controller off"));
+      r.off = run_started(plant::runtime::NoEffect{}, a.start.open_loop, off, "controller off");
     };
     const auto run_on = [&] {
       if constexpr (NS == NC)
         if (pi)
-          r.on =
-              run_closed_loop(hw, make_pi<NC>(a.pi, a.actuators()), on, progress("controller on"));
+          r.on = run_started(make_pi<NC>(a.pi, a.actuators()), a.start.closed_loop, on,
+                             "controller on");
       if constexpr (kGeneral)
         if (state_space)
-          r.on = run_closed_loop(
-              hw, controller::runtime::StateSpaceController<double>::from_parameters(a.state_space),
-              on, progress("controller on"));
+          r.on = run_started(
+              controller::runtime::StateSpaceController<double>::from_parameters(a.state_space),
+              a.start.closed_loop, on, "controller on");
     };
     const bool on_first = o.on_first && r.controlled;
     if (on_first) {

@@ -10,12 +10,15 @@
 
 #include "artefact/loop_artefact.hpp"
 #include "online/sim/closed_loop_run.hpp"
+#include "online/sim/loop_start.hpp"
 
 namespace flexloop::sim {
 
 struct BothRuns {
   RunResult off, on;
   bool controlled = true;  ///< false: the artefact has no controller, `on` is not run
+  /// How each run started (online/sim/loop_start.hpp: describe_start).
+  std::string start_off, start_on;
 };
 
 using ProgressFactory = std::function<std::function<void(long, long)>(const char* what)>;
@@ -23,6 +26,9 @@ using ProgressFactory = std::function<std::function<void(long, long)>(const char
 struct SceneRunOptions {
   /// Run on the start-up-sized general path even where a compiled loop matches (comparisons).
   bool general = false;
+  /// Each run starts in a draw from its loop's stationary distribution (artefact/loop_start.hpp)
+  /// where the loop has one, or at rest.
+  StartKind start = StartKind::kStationary;
   bool log_off = false, log_on = false;
   ProgressFactory progress;
   /// Run the controller-on run first (the off run first otherwise, and always without a

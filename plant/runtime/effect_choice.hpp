@@ -33,6 +33,16 @@ class EffectChoice {
         effect_);
   }
 
+  /// f(effect) on the chosen effect; nothing when none was chosen.
+  template <class F>
+  void visit(F&& f) noexcept {
+    std::visit(
+        [&f](auto& effect) {
+          if constexpr (kPresent<std::decay_t<decltype(effect)>>) f(effect);
+        },
+        effect_);
+  }
+
   /// Whether an effect was chosen.
   bool present() const noexcept { return effect_.index() != 0; }
 

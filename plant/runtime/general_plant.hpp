@@ -64,6 +64,11 @@ class GeneralStateOutput {
     cx_.noalias() = C_ * x_;
     cx_.noalias() += D_held_ * held_;
   }
+  /// Sets x and the held inputs (a run's start, artefact/loop_start.hpp).
+  void set_state(const State& x, const Held& held) noexcept {
+    held_ = held;
+    set_state(x);
+  }
   void reset() noexcept {
     x_.setZero();
     held_.setZero();

@@ -117,6 +117,21 @@ class SimulatedHardware {
     plant_.advance(in_);
   }
 
+  /// A run's start (artefact/loop_start.hpp): the plant's state in its own coordinates, the
+  /// actuator force held since the last sample and, for an actuator with a lag, the lag's force.
+  void start_at(const typename Plant::State& x, const Command& held, const Command& lag) noexcept {
+    plant_.set_state(x, held);
+    in_.template segment<NC>(floor_channels(), held.size()) = held;
+    if constexpr (kPresent<Actuator>) {
+      if constexpr (requires { actuator_.visit([](auto&) {}); })
+        actuator_.visit([&lag](auto& effect) { effect.set_lag_state(lag); });
+      else
+        actuator_.set_lag_state(lag);
+    }
+  }
+  /// The floor generator (its state, for a start drawn given it).
+  const Floor& floor() const noexcept { return floor_; }
+
   /// The true performance outputs of the last sample (before the performance sensors).
   const Performance& performance() const noexcept { return z_; }
   /// The disturbances of the last sample (the floor accelerations).

@@ -71,6 +71,11 @@ class StateOutput {
     cx_.template head<NY>() = C_ * x;
     if constexpr (NH > 0) cx_.template head<NY>() += D_held_ * held_;
   }
+  /// Sets x and the held inputs (a run's start, artefact/loop_start.hpp).
+  void set_state(const State& x, const Held& held) noexcept {
+    held_ = held;
+    set_state(x);
+  }
   void reset() noexcept {
     x_.setZero();
     held_.setZero();

@@ -17,6 +17,7 @@
 #include "offline/scene/loop_input.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "online/sim/scene_runs.hpp"
+#include "tests/support/rest_start.hpp"
 #include "tests/support/sampled_loop_reference.hpp"
 
 using namespace flexloop;
@@ -28,7 +29,7 @@ sim::BothRuns run(const std::string& scene, const std::string& form, bool genera
   sim::RunSettings s;
   s.dt = a.dt();
   s.steps = std::lround(seconds / s.dt);
-  sim::SceneRunOptions o;
+  sim::SceneRunOptions o = test::from_rest();
   o.general = general;
   return sim::run_artefact(a, s, o);
 }
@@ -70,7 +71,7 @@ TEST_CASE("sim general path: machines under PI run as their sampled closed loop"
     s.steps = std::lround(5 / s.dt);  // 5 s
     // Dense only: the floor's double integrators have no modal form (the frame test runs modal).
     const auto a = scene::build_loop_artefact(p, sampled, "dense");
-    const auto r = sim::run_artefact(a, s, {});
+    const auto r = sim::run_artefact(a, s, test::from_rest());
     // The reference: the offline sampled loop w -> z (plant states first), the same floor.
     const auto& cl = sampled.closed_loop.sys;
     const Eigen::VectorXd rms_model =
@@ -108,7 +109,7 @@ TEST_CASE("sim general path: machines without a controller run open loop as thei
     sim::RunSettings s;
     s.dt = a.dt();
     s.steps = 5000;
-    const auto r = sim::run_artefact(a, s, {});
+    const auto r = sim::run_artefact(a, s, test::from_rest());
     CHECK_FALSE(r.controlled);
     const auto& d = sampled.plant.sys;
     const Eigen::VectorXd rms_model = test::reference_rms(

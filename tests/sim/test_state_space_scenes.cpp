@@ -22,6 +22,7 @@
 #include "online/sim/loop_hardware.hpp"
 #include "online/sim/scene_runs.hpp"
 #include "plant/lti/state_space_json.hpp"
+#include "tests/support/rest_start.hpp"
 #include "tests/support/sampled_loop_reference.hpp"
 
 using namespace flexloop;
@@ -85,7 +86,7 @@ TEST_CASE("state-space scene: the PI's law from a controller file runs the PI's 
   CHECK(back.state_space.anti_windup == artefact::AntiWindup::kNone);
 
   const auto s = settings(a, 3.0);
-  const auto r = sim::run_artefact(a, s, {});
+  const auto r = sim::run_artefact(a, s, test::from_rest());
   REQUIRE(r.controlled);
   const auto& cl = sampled.closed_loop.sys;
   const Eigen::VectorXd model = test::reference_rms(a, {cl.A, cl.B, cl.C, cl.D}, 3, s.steps);
@@ -94,7 +95,7 @@ TEST_CASE("state-space scene: the PI's law from a controller file runs the PI's 
 
   const auto pi_artefact =
       scene::build_loop_artefact(pi_plant, scene::sample_scene(pi_plant), "dense");
-  const auto pi_run = sim::run_artefact(pi_artefact, s, {});
+  const auto pi_run = sim::run_artefact(pi_artefact, s, test::from_rest());
   CHECK(test::worst_relative(r.on.rms_performance, pi_run.on.rms_performance) < 1e-9);
   CHECK(test::worst_relative(r.on.rms_command, pi_run.on.rms_command) < 1e-9);
 }
@@ -132,7 +133,7 @@ TEST_CASE("state-space scene: fewer sensors than actuators runs as the sampled c
   REQUIRE(a.sensors() == 2);
   REQUIRE(a.actuators() == 3);
   const auto s = settings(a, 3.0);
-  const auto r = sim::run_artefact(a, s, {});
+  const auto r = sim::run_artefact(a, s, test::from_rest());
   const auto& cl = sampled.closed_loop.sys;
   const Eigen::VectorXd model = test::reference_rms(a, {cl.A, cl.B, cl.C, cl.D}, 3, s.steps);
   INFO("sim " << r.on.rms_performance.transpose() << ", model " << model.transpose());
@@ -150,8 +151,8 @@ TEST_CASE("state-space scene: the shipped LQG design isolates the metrology fram
   const auto pi = scene::load_loop("tools/scenes/metrology_frame.toml",
                                    {.rate_hz = 0, .form = "", .duration_s = 2.0});
   const auto s = settings(a, 2.0);
-  const auto r = sim::run_artefact(a, s, {});
-  const auto r_pi = sim::run_artefact(pi, s, {});
+  const auto r = sim::run_artefact(a, s, test::from_rest());
+  const auto r_pi = sim::run_artefact(pi, s, test::from_rest());
   // Same floor and hardware seeds: the controller-off runs are one run (the PI scene's on the
   // compiled path, this one on the general path: the order of summation differs).
   CHECK(test::worst_relative(r.off.rms_performance, r_pi.off.rms_performance) < 1e-9);

@@ -18,6 +18,7 @@
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/scene.hpp"
 #include "online/sim/scene_runs.hpp"
+#include "tests/support/rest_start.hpp"
 
 using namespace flexloop;
 
@@ -44,7 +45,7 @@ sim::BothRuns run(const artefact::LoopArtefact& a, double seconds) {
   sim::RunSettings s;
   s.dt = a.dt();
   s.steps = std::lround(seconds / s.dt);
-  return sim::run_artefact(a, s, {});
+  return sim::run_artefact(a, s, test::from_rest());
 }
 
 }  // namespace

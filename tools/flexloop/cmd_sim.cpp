@@ -1,5 +1,6 @@
 // `flexloop sim SCENE|LOOP.json [--duration S] [--controller on|off] [--form dense|modal]
-//  [--log OUT.csv] [--log-every N] [--plots DIR]`: the loop artefact's discrete plant, hardware
+//  [--start stationary|rest] [--log OUT.csv] [--log-every N] [--plots DIR]`: the loop artefact's
+//  discrete plant, hardware
 // and controller in one process, faster than real time (online/sim/closed_loop_run.hpp has the
 // loop), once with the controller off and once on, driven by the same seeded floor; prints the
 // RMS of every performance output for both and writes the log of the requested run. A scene is
@@ -35,7 +36,7 @@ namespace flexloop::cli {
 namespace {
 
 struct SimArgs {
-  std::string scene, log, plots, controller, form, path = "auto";
+  std::string scene, log, plots, controller, form, path = "auto", start = "stationary";
   double duration_s = 0;
   long log_every = 1;
 };
@@ -265,13 +266,17 @@ void run(const SimArgs& args) {
       }
     });
   };
-  BothRuns r = sim::run_artefact(a, s,
-                                 {.general = args.path == "general",
-                                  .log_off = plots || (log && !on),
-                                  .log_on = plots || (log && on),
-                                  .progress = progress_lines(s.steps),
-                                  .on_first = on,
-                                  .after_first_run = write_first});
+  BothRuns r = sim::run_artefact(
+      a, s,
+      {.general = args.path == "general",
+       .start = args.start == "rest" ? sim::StartKind::kRest : sim::StartKind::kStationary,
+       .log_off = plots || (log && !on),
+       .log_on = plots || (log && on),
+       .progress = progress_lines(s.steps),
+       .on_first = on,
+       .after_first_run = write_first});
+  std::printf("start: controller off %s%s%s\n", r.start_off.c_str(),
+              r.controlled ? "; controller on " : "", r.controlled ? r.start_on.c_str() : "");
   if (writer.joinable()) {
     writer.join();
     (on ? r.on : r.off).log = std::move(written);  // back for the plots
@@ -338,6 +343,12 @@ void register_sim(CLI::App& app) {
                   "path sized at start-up; general: the general path always (for comparisons)")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "general"}));
+  cmd->add_option("--start", args->start,
+                  "stationary: each run starts in a draw from its loop's stationary distribution "
+                  "(the same seeds, the same draw), where the loop has one; rest: plant, "
+                  "hardware and controller at rest, the floor stationary")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"stationary", "rest"}));
   cmd->add_option("--log", args->log,
                   "Log: t_s, disturbances, performance outputs (true and as sensed), sensors, "
                   "commands (SI units), one row per logged sample; .csv (text) or .mat (MATLAB "

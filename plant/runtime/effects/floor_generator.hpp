@@ -13,15 +13,16 @@
 // N = Eigen::Dynamic the lanes are those of kMaxChannels channels, of which the first n run.
 //
 // Start: by default each channel's state is drawn from the filter's stationary distribution
-// N(0, P), P = Ad P Adᵀ + Bd Bdᵀ (found at start-up by the doubling iteration
-// P <- P + A P Aᵀ, A <- A², which also proves |eig(Ad)| < 1), so the floor is stationary from the
-// first sample; FloorStart::kAtRest starts from x = 0 instead. Same seed, same signal (on the
-// same build, see gaussian_noise.hpp); channel c's signal depends only on (matrices, seed, c).
+// N(0, P), P = Ad P Adᵀ + Bd Bdᵀ (found at start-up by the doubling iteration of
+// numeric/stationary_covariance.hpp, which also proves |eig(Ad)| < 1), so the floor is stationary
+// from the first sample; FloorStart::kAtRest starts from x = 0 instead. Same seed, same signal (on
+// the same build, see gaussian_noise.hpp); channel c's signal depends only on (matrices, seed, c).
 #include <Eigen/Dense>
 #include <cstdint>
 
 #include "numeric/column_product.hpp"
 #include "numeric/fixed_size_matrix.hpp"
+#include "numeric/stationary_covariance.hpp"
 #include "plant/runtime/effects/channels.hpp"
 #include "plant/runtime/effects/gaussian_noise.hpp"
 
@@ -84,21 +85,13 @@ class FloorGenerator {
   /// velocity as states starts them here.
   Motion motion() const noexcept { return motion_ * state(); }
 
-  /// P = Ad P Adᵀ + Bd Bdᵀ by doubling (Smith): after j rounds P holds Σ_{i < 2^j} Ad^i Bd Bdᵀ
-  /// Ad^iᵀ. @throws std::invalid_argument when the sum does not converge in 64 rounds.
+  /// P = Ad P Adᵀ + Bd Bdᵀ (numeric/stationary_covariance.hpp). @throws std::invalid_argument
+  /// when Ad is not stable (the doubling does not settle).
   static Eigen::MatrixXd stationary_covariance(const Eigen::MatrixXd& Ad,
                                                const Eigen::MatrixXd& Bd) {
-    Eigen::MatrixXd p = Bd * Bd.transpose(), a = Ad;
-    for (int round = 0; round < 64; ++round) {
-      const Eigen::MatrixXd increment = a * p * a.transpose();
-      p += increment;
-      require(p.allFinite(), "floor generator", "Ad is not stable (spectral radius >= 1)");
-      // Max-norm: the Frobenius norm of a diverging sum overflows to inf <= inf.
-      if (increment.cwiseAbs().maxCoeff() <= 1e-16 * p.cwiseAbs().maxCoeff()) return p;
-      a = (a * a).eval();
-    }
-    require(false, "floor generator", "Ad is not stable (spectral radius >= 1)");
-    return p;
+    auto p = numeric::stationary_covariance(Ad, Bd);
+    require(p.has_value(), "floor generator", "Ad is not stable (spectral radius >= 1)");
+    return *p;
   }
 
  private:
@@ -113,9 +106,7 @@ class FloorGenerator {
 
   // x_c = V sqrt(Λ) z with P = V Λ Vᵀ (P is only semidefinite in general), z from channel c.
   void draw_stationary_state(const Eigen::MatrixXd& p) {
-    const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(p);
-    const Eigen::MatrixXd root =
-        eig.eigenvectors() * eig.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal();
+    const Eigen::MatrixXd root = numeric::covariance_root(p);
     for (int c = 0; c < channels(); ++c) {
       Eigen::VectorXd z(NF);
       for (int i = 0; i < NF; ++i) z(i) = static_cast<double>(noise_.sample(c));

@@ -86,6 +86,11 @@ class PiezoActuator {
       return limited_;
   }
 
+  /// The lag's force at this instant (a run's start); nothing without a lag.
+  void set_lag_state(const Vector& force) noexcept {
+    if constexpr (kLagged) lag_.reset(force);
+  }
+
   /// Which channels the last step clipped.
   const ChannelFlags<N>& saturated() const noexcept { return saturated_; }
   /// g ⊙ u of the last step, before the limits (NaN kept).

@@ -1,0 +1,289 @@
+#include "offline/scene/loop_start_builder.hpp"
+
+#include <Eigen/Dense>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "controller/design/pi_force_feedback.hpp"
+#include "controller/design/sampled_loop_stability.hpp"
+#include "numeric/stationary_covariance.hpp"
+#include "plant/lti/frequency_response.hpp"
+
+namespace flexloop::scene {
+
+namespace {
+
+using Eigen::Index;
+using Eigen::MatrixXd;
+
+// The loop driven by unit white noise, its state [aug; h; s hist; u hist; xc; l] with
+// aug = [floor filters (nw x order); floor noise (nw); sensor noise (ns); structure (plant states
+// that are not the floor's)].
+struct NoisyLoop {
+  controller::design::SampledLoopModel loop;
+  MatrixXd noise;        // Γ: the noise of the next sample enters the noise states
+  MatrixXd performance;  // z_k as rows over the loop state
+  Index floor_rows = 0, noise_rows = 0, structure_begin = 0, augmented = 0;
+  std::vector<Index> structure;  // plant state of each structure row
+};
+
+std::vector<std::string> labels(Index n) {
+  return std::vector<std::string>(n, "");
+}
+
+plant::lti::DiscreteStateSpace discrete(MatrixXd A, MatrixXd B, MatrixXd C, MatrixXd D, double dt) {
+  plant::lti::DiscreteStateSpace d{
+      {std::move(A), std::move(B), std::move(C), std::move(D), {}, {}, {}},
+      dt,
+      plant::lti::DiscretisationMethod::kZeroOrderHold,
+      0,
+      0};
+  d.sys.states = labels(d.sys.A.rows());
+  d.sys.inputs = labels(d.sys.B.cols());
+  d.sys.outputs = labels(d.sys.C.rows());
+  return d;
+}
+
+// Sensor noise of the chain as the linear loop sees it: sigma and the ADC's LSB²/12, referred to
+// the signal before the gain error (the loop model applies 1 + eps to the whole signal).
+double sensor_noise_rms(const artefact::SensorEffect& e) {
+  if (!e.present) return 0;
+  const double lsb = e.adc_bits > 0 ? e.adc_range / std::ldexp(1.0, e.adc_bits) : 0;
+  return std::sqrt(e.noise_rms * e.noise_rms + lsb * lsb / 12) / (1 + e.gain_error);
+}
+
+// Throws std::invalid_argument saying why the loop has no stationary state.
+NoisyLoop noisy_loop(const artefact::LoopArtefact& a, bool closed) {
+  const auto fail = [](const std::string& why) { throw std::invalid_argument(why); };
+  const auto& p = a.plant;
+  const Index nx = p.A.rows(), nw = a.disturbances(), nc = a.actuators(), nz = a.performance(),
+              ns = a.sensors();
+  const bool vc = a.floor.spectrum != "white";
+  const Index nf = vc ? artefact::kFloorFilterOrder : 0;
+  const auto floor = artefact::floor_states(a);
+  if (!floor.empty() && !vc)
+    fail("the plant has the floor's position as a state and a white floor has none");
+  if (!floor.empty() && a.method != "zoh")
+    fail("the plant's floor states are other coordinates under method " + a.method);
+  std::vector<bool> is_floor(static_cast<std::size_t>(nx), false);
+  for (const auto& f : floor) is_floor[static_cast<std::size_t>(f.state)] = true;
+
+  NoisyLoop m;
+  for (Index i = 0; i < nx; ++i)
+    if (!is_floor[static_cast<std::size_t>(i)]) m.structure.push_back(i);
+  const Index n_structure = static_cast<Index>(m.structure.size());
+  m.floor_rows = nf * nw;
+  m.noise_rows = nw + ns;
+  m.structure_begin = m.floor_rows + m.noise_rows;
+  const Index na = m.structure_begin + n_structure, floor_noise = m.floor_rows,
+              sensor_noise = floor_noise + nw;
+  m.augmented = na;
+
+  // The plant's state and the floor acceleration as rows over the augmented state.
+  MatrixXd X = MatrixXd::Zero(nx, na), W = MatrixXd::Zero(nw, na);
+  for (Index s = 0; s < n_structure; ++s) X(m.structure[s], m.structure_begin + s) = 1;
+  for (const auto& f : floor) {
+    X.block(f.state, f.channel * nf, 1, nf) = a.floor_filter.motion.row(f.motion_row);
+    for (Index s : m.structure)
+      if (p.A(f.state, s) != 0) fail("the floor's states depend on the structure's");
+  }
+  for (Index c = 0; c < nw; ++c) {
+    if (vc) W.block(c, c * nf, 1, nf) = a.floor_filter.C;
+    W(c, floor_noise + c) = vc ? a.floor_filter.D(0, 0) : a.floor.rms_mps2;
+  }
+
+  MatrixXd A = MatrixXd::Zero(na, na), B = MatrixXd::Zero(na, nc);
+  for (Index c = 0; c < nw && vc; ++c) {
+    A.block(c * nf, c * nf, nf, nf) = a.floor_filter.A;
+    A.block(c * nf, floor_noise + c, nf, 1) = a.floor_filter.B;
+  }
+  const MatrixXd structure_rows =
+      p.A(m.structure, Eigen::all) * X + p.B(m.structure, Eigen::seqN(0, nw)) * W;
+  A.middleRows(m.structure_begin, n_structure) = structure_rows;
+  B.middleRows(m.structure_begin, n_structure) = p.B(m.structure, Eigen::seqN(nw, nc));
+  MatrixXd C = p.C.bottomRows(ns) * X + p.D.bottomRows(ns).leftCols(nw) * W;
+  const double sigma = sensor_noise_rms(a.effects.force_sensor);
+  for (Index i = 0; i < ns; ++i) C(i, sensor_noise + i) = sigma;
+  const auto g22 =
+      discrete(std::move(A), std::move(B), std::move(C), p.D.bottomRows(ns).rightCols(nc), a.dt());
+
+  controller::design::SampledLoopHardware hw;
+  plant::lti::DiscreteStateSpace controller;
+  if (!closed) {
+    controller =
+        discrete(MatrixXd(0, 0), MatrixXd(0, ns), MatrixXd(nc, 0), MatrixXd::Zero(nc, ns), a.dt());
+    hw.removed_feedthrough = MatrixXd::Zero(ns, nc);
+  } else {
+    const auto& e = a.effects;
+    if (e.actuator.present) {
+      hw.actuator_gain = e.actuator.gain;
+      hw.actuator_lag_s = e.actuator.lag_s;
+    }
+    if (e.force_sensor.present) hw.sensor_gain_error = e.force_sensor.gain_error;
+    if (a.controller == artefact::ControllerKind::kPiForceFeedback) {
+      controller = controller::design::pi_discrete_controller(
+          {a.pi.K_P, a.pi.K_I, {1, 1, a.pi.leak_rad_s}}, a.dt());
+      hw.removed_feedthrough = a.pi.feedthrough;  // empty: the identity
+      hw.feedthrough_delay = a.pi.feedthrough_delay;
+    } else if (a.controller == artefact::ControllerKind::kStateSpace) {
+      const auto& c = a.state_space;
+      controller = discrete(c.A, c.B, c.C, c.D, a.dt());
+      hw.removed_feedthrough = c.feedthrough.size() > 0 ? c.feedthrough : MatrixXd::Zero(ns, nc);
+      hw.feedthrough_delay = c.feedthrough_delay;
+    } else {
+      fail("the artefact has no controller");
+    }
+  }
+  m.loop = controller::design::sampled_loop_model(g22, controller, hw);
+  const Index n = m.loop.A.rows();
+  m.noise = MatrixXd::Zero(n, m.noise_rows);
+  m.noise.middleRows(floor_noise, m.noise_rows).setIdentity();
+  m.performance = MatrixXd::Zero(nz, n);
+  m.performance.leftCols(na) = p.C.topRows(nz) * X + p.D.topRows(nz).leftCols(nw) * W;
+  m.performance.middleCols(na, nc) = p.D.topRows(nz).rightCols(nc);  // the held force h
+  return m;
+}
+
+// A pole this close to the unit circle is on it: the rounding of the metrology frame's six-fold
+// integrator pole is 3e-14 (balanced, controller/design/sampled_loop_stability.hpp), the slowest
+// physical decay of a lightly damped mode (zeta = 1e-3 at 1 Hz) sampled at 1 MHz is 6e-9.
+constexpr double kMarginalTolerance = 1e-9;
+
+struct Covariance {
+  MatrixXd P;
+  std::string note;  // what the modes on the unit circle do
+};
+
+// The stationary covariance of the loop without its modes on the unit circle. Those (the
+// integrators of a force feedback without a leak) are split off by their spectral projector
+// Π = V (Wᴴ V)⁻¹ Wᴴ (right and left eigenvectors): the state's part (I - Π) x has the loop's
+// other modes and a covariance; the part Π x starts at zero, as from rest. Where the noise
+// reaches Π x (Wᴴ Γ != 0: an integrator of sensor noise) it drifts as a random walk from there.
+Covariance stationary_covariance(const NoisyLoop& m) {
+  const MatrixXd& A = m.loop.A;
+  const Index n = A.rows();
+  const Eigen::VectorXd t = plant::lti::balancing_scaling(A);
+  const MatrixXd Ab = t.cwiseInverse().asDiagonal() * A * t.asDiagonal();
+  const Eigen::EigenSolver<MatrixXd> right(Ab), left(Ab.transpose());
+  if (right.info() != Eigen::Success || left.info() != Eigen::Success)
+    throw std::invalid_argument("the loop's eigenvalues did not converge");
+  std::vector<Index> on_right, on_left;
+  for (Index i = 0; i < n; ++i) {
+    if (std::abs(right.eigenvalues()(i)) > 1 + kMarginalTolerance)
+      throw std::invalid_argument("the loop is unstable");
+    if (std::abs(right.eigenvalues()(i)) >= 1 - kMarginalTolerance) on_right.push_back(i);
+    if (std::abs(left.eigenvalues()(i)) >= 1 - kMarginalTolerance) on_left.push_back(i);
+  }
+  if (on_right.size() != on_left.size())
+    throw std::invalid_argument("the modes on the unit circle are not resolved");
+  MatrixXd A_inner = A, noise_inner = m.noise;
+  Covariance c;
+  if (!on_right.empty()) {
+    const Eigen::MatrixXcd V = t.asDiagonal() * right.eigenvectors()(Eigen::all, on_right),
+                           W = t.cwiseInverse().asDiagonal() *
+                               left.eigenvectors()(Eigen::all, on_left);
+    const Eigen::MatrixXcd WV = W.adjoint() * V;
+    const Eigen::FullPivLU<Eigen::MatrixXcd> lu(WV);
+    if (!lu.isInvertible() || 1 / lu.rcond() > 1e10)
+      throw std::invalid_argument(std::to_string(on_right.size()) +
+                                  " modes on the unit circle form a Jordan block (a double "
+                                  "integrator): no stationary state");
+    const MatrixXd projector = (V * lu.solve(W.adjoint())).real();
+    const MatrixXd inner = MatrixXd::Identity(n, n) - projector;
+    A_inner = A * inner;
+    noise_inner = inner * m.noise;
+    const double driven = (projector * m.noise).norm() / std::max(m.noise.norm(), 1e-300);
+    c.note =
+        std::to_string(on_right.size()) + " modes on the unit circle (integrators) start at zero" +
+        (driven > 1e-8 ? "; the noise drives them: they drift from there as a random walk" : "");
+  }
+  auto P = numeric::stationary_covariance(A_inner, noise_inner);
+  if (!P) throw std::invalid_argument("the stationary covariance did not settle");
+  c.P = std::move(*P);
+  return c;
+}
+
+// The rows given the floor filters' states, in the layout of artefact/loop_start.hpp.
+artefact::StationaryStart conditioned(const artefact::LoopArtefact& a, const NoisyLoop& m,
+                                      const Covariance& c, bool closed) {
+  const MatrixXd& P = c.P;
+  const Index nx = a.plant.A.rows(),
+              nf = a.floor.spectrum == "white" ? 0 : artefact::kFloorFilterOrder;
+  const Index n = P.rows(), tail = n - m.augmented, nF = m.floor_rows;
+  // Rest: the structure, then everything after the augmented plant.
+  std::vector<Index> rest(m.structure.size());
+  for (std::size_t s = 0; s < rest.size(); ++s) rest[s] = m.structure_begin + static_cast<Index>(s);
+  for (Index t = 0; t < tail; ++t) rest.push_back(m.augmented + t);
+  const MatrixXd P_rr = P(rest, rest);
+  MatrixXd gain = MatrixXd::Zero(static_cast<Index>(rest.size()), nF), covariance = P_rr;
+  if (nF > 0) {
+    const auto floor = Eigen::seqN(0, nF);
+    const Eigen::SelfAdjointEigenSolver<MatrixXd> eig(P(floor, floor));
+    const Eigen::VectorXd l = eig.eigenvalues();
+    const double floor_value = 1e-13 * l.cwiseAbs().maxCoeff();
+    const Eigen::VectorXd inverse =
+        l.unaryExpr([floor_value](double v) { return v > floor_value ? 1 / v : 0.0; });
+    const MatrixXd pinv =
+        eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose();
+    gain = P(rest, floor) * pinv;
+    covariance = P_rr - gain * P(floor, rest);
+  }
+  artefact::StationaryStart s;
+  s.unavailable.clear();
+  s.note = c.note;
+  s.delay = closed ? (a.controller == artefact::ControllerKind::kPiForceFeedback
+                          ? a.pi.feedthrough_delay
+                          : a.state_space.feedthrough_delay)
+                   : 0;
+  s.actuator_lag = closed && a.effects.actuator.present && a.effects.actuator.lag_s > 0;
+  s.controller_states =
+      static_cast<int>(tail - a.actuators() - s.delay * a.sensors() -
+                       (s.delay + 1) * a.actuators() - (s.actuator_lag ? a.actuators() : 0));
+  const Index rows = nx + tail;
+  // Layout row of each rest row: the structure's plant state, then the tail in order.
+  std::vector<Index> row(rest.size());
+  for (std::size_t s2 = 0; s2 < m.structure.size(); ++s2) row[s2] = m.structure[s2];
+  for (Index t = 0; t < tail; ++t) row[m.structure.size() + static_cast<std::size_t>(t)] = nx + t;
+  s.floor_gain = MatrixXd::Zero(rows, nF);
+  s.covariance = MatrixXd::Zero(rows, rows);
+  s.floor_gain(row, Eigen::all) = gain;
+  s.covariance(row, row) = 0.5 * (covariance + covariance.transpose());
+  for (const auto& f : artefact::floor_states(a))
+    s.floor_gain.block(f.state, f.channel * nf, 1, nf) = a.floor_filter.motion.row(f.motion_row);
+  return s;
+}
+
+artefact::StationaryStart start_of(const artefact::LoopArtefact& a, bool closed) {
+  try {
+    const NoisyLoop m = noisy_loop(a, closed);
+    return conditioned(a, m, stationary_covariance(m), closed);
+  } catch (const std::invalid_argument& e) {
+    artefact::StationaryStart s;
+    s.unavailable = e.what();
+    return s;
+  }
+}
+
+}  // namespace
+
+artefact::LoopStart stationary_loop_start(const artefact::LoopArtefact& a) {
+  artefact::LoopStart s;
+  s.open_loop = start_of(a, false);
+  if (a.controller != artefact::ControllerKind::kNone)
+    s.closed_loop = start_of(a, true);
+  else
+    s.closed_loop.unavailable = "the loop has no controller";
+  return s;
+}
+
+StationaryMoments stationary_moments(const artefact::LoopArtefact& a, bool closed) {
+  const NoisyLoop m = noisy_loop(a, closed);
+  const MatrixXd P = stationary_covariance(m).P;
+  return {(m.performance * P * m.performance.transpose()).diagonal(),
+          (m.loop.command * P * m.loop.command.transpose()).diagonal()};
+}
+
+}  // namespace flexloop::scene
