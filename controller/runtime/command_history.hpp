@@ -22,6 +22,8 @@ class CommandHistory {
   }
   /// The last command sent (what the actuator holds now).
   const Vector& last() const noexcept { return entries_[index(0)]; }
+  /// The command sent `back` samples before the last (0: the last), e.g. at a run's start.
+  void set_earlier(int back, const Vector& u) noexcept { entries_[index(back)] = u; }
   /// When the actuator reports that it applied something else (e.g. a safe command).
   void replace_last(const Vector& u) noexcept { entries_[index(0)] = u; }
   /// u_{k-1-d}: the command the current measurement contains.

@@ -69,6 +69,8 @@ class GeneralPiController {
   /// The actuator applied u instead of the last answer (a held or safe command): u's force is
   /// what the next measurement contains.
   void set_previous_command(const Vector& u) noexcept { history_.replace_last(u); }
+  /// The command sent `back` samples before the last (a run's start; 0: the last).
+  void set_earlier_command(int back, const Vector& u) noexcept { history_.set_earlier(back, u); }
   const Vector& previous_command() const noexcept { return history_.last(); }
   /// The integrator state x = G_x^-1 s (allocates nothing; not used in a step).
   Vector state() const noexcept {

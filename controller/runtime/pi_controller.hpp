@@ -124,6 +124,11 @@ class PiController {
   void set_previous_command(const Vector& u) noexcept {
     history_[head_] = pad(u);
   }
+  /// The command sent `back` samples before the last (a run's start; 0: the last).
+  void set_earlier_command(int back, const Vector& u) noexcept {
+    const int i = head_ - back;
+    history_[i < 0 ? i + kHistory : i] = pad(u);
+  }
   Vector previous_command() const noexcept {
     return history_[head_].template head<N>();
   }

@@ -102,6 +102,8 @@ class StateSpaceController {
   /// The actuator applied u instead of the last answer (a held or safe command): u's force is
   /// what the next measurement contains.
   void set_previous_command(const Vector& u) noexcept { history_.replace_last(u); }
+  /// The command sent `back` samples before the last (a run's start; 0: the last).
+  void set_earlier_command(int back, const Vector& u) noexcept { history_.set_earlier(back, u); }
   const Vector& previous_command() const noexcept { return history_.last(); }
   /// The controller state x.
   Eigen::Map<const Eigen::Matrix<Scalar, Eigen::Dynamic, 1>> state() const noexcept {

@@ -197,7 +197,8 @@ Covariance stationary_covariance(const NoisyLoop& m) {
     noise_inner = inner * m.noise;
     const double driven = (projector * m.noise).norm() / std::max(m.noise.norm(), 1e-300);
     c.note =
-        std::to_string(on_right.size()) + " modes on the unit circle (integrators) start at zero" +
+        std::to_string(on_right.size()) + (on_right.size() == 1 ? " mode" : " modes") +
+        " on the unit circle (integrators or undamped modes) start at zero" +
         (driven > 1e-8 ? "; the noise drives them: they drift from there as a random walk" : "");
   }
   auto P = numeric::stationary_covariance(A_inner, noise_inner);

@@ -7,6 +7,7 @@
 #include "online/loop/loop_controller.hpp"
 #include "online/loop/private_network.hpp"
 #include "online/loop/stop_signal.hpp"
+#include "online/sim/loop_hardware.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
 
@@ -25,7 +26,14 @@ ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o
   install_stop_handlers();
 
   ControllerLoopResult r;
-  auto station = std::make_unique<ControllerStation<Controller>>(controller, o.safe_after);
+  // The start the plant process draws: the same artefact, the same seeds, the same numbers.
+  typename ControllerStation<Controller>::Start start;
+  const auto& stationary = sim::run_start(loop);
+  if (o.start == sim::StartKind::kStationary && stationary.exists()) {
+    start = sim::draw_start(loop, stationary, sim::floor_start_states(loop));
+  }
+  auto station =
+      std::make_unique<ControllerStation<Controller>>(controller, o.safe_after, std::move(start));
   rt::LcmTransport lcm(url, o.receive_path);
   lcm.subscribe(o.channels.sensor, station->samples());
   rt::LcmPublisher<flexloop_msgs::actuator_command_t> command(lcm, o.channels.command);

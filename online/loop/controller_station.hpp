@@ -21,13 +21,16 @@
 // Samples reach answer() through samples(), a MessageInbox that follows the plant's epoch:
 // messages that fail to decode, carry NaN/Inf, belong to an older plant run, repeat or reorder
 // are dropped and counted there, never answered. answer() is noexcept and allocation-free.
+#include <Eigen/Core>
 #include <algorithm>
 #include <cstdint>
 #include <flexloop_msgs/actuator_command_t.hpp>
 #include <flexloop_msgs/sensor_sample_t.hpp>
+#include <utility>
 #include <vector>
 
 #include "controller/runtime/loop_controller.hpp"
+#include "online/sim/loop_start.hpp"
 #include "rt/message_inbox.hpp"
 
 namespace flexloop::hil {
@@ -39,8 +42,13 @@ class ControllerStation {
 
   /// safe_after: the plant's --safe-after (< 1 is taken as 1). Samples must carry the
   /// controller's sensor count; answers carry its actuator count.
-  ControllerStation(const Controller& controller, int safe_after)
+  /// The controller's state and last command at the plant's start (online/sim/loop_start.hpp):
+  /// each new epoch starts there. Empty: at rest (reset()).
+  using Start = sim::DrawnStart;
+
+  ControllerStation(const Controller& controller, int safe_after, Start start = {})
       : controller_(controller),
+        start_(std::move(start)),
         safe_after_(safe_after < 1 ? 1 : safe_after),
         samples_(rt::OrderGate{}, {static_cast<int>(controller.sensors()), 0}),
         sent_(kRemembered, Vector::Zero(controller.actuators())),
@@ -62,6 +70,7 @@ class ControllerStation {
     if (!started_ || s.plant_epoch != epoch_) {
       if (started_) ++resyncs_;
       controller_.reset();
+      if (start_.last_command.size() > 0) sim::start_controller_at(start_, controller_);
       std::fill(sent_seq_.begin(), sent_seq_.end(), -1);
       held_seq_ = -1;
       epoch_ = s.plant_epoch;
@@ -113,7 +122,9 @@ class ControllerStation {
   // (the same single multiply as the plant's, so bit for bit); zero when it is not remembered.
   const Vector& applied(const flexloop_msgs::sensor_sample_t& s) noexcept {
     remember_held(s.applied_seq);
-    if (s.applied_seq <= 0 || s.applied_seq != held_seq_)
+    if (s.applied_seq == 0 && s.applied_scale > 0 && start_.last_command.size() > 0)
+      applied_ = s.applied_scale * Vector(start_.last_command);  // the start's command
+    else if (s.applied_seq <= 0 || s.applied_seq != held_seq_)
       applied_.setZero();
     else
       applied_ = s.applied_scale * held_;
@@ -121,6 +132,7 @@ class ControllerStation {
   }
 
   Controller controller_;
+  Start start_;
   std::int64_t safe_after_;
   rt::MessageInbox<flexloop_msgs::sensor_sample_t> samples_;
   flexloop_msgs::actuator_command_t cmd_{};

@@ -8,6 +8,7 @@
 
 #include "online/loop/loop_status.hpp"
 #include "online/loop/run_verdict.hpp"
+#include "online/sim/loop_start.hpp"
 #include "rt/lcm_transport.hpp"
 #include "rt/periodic_clock.hpp"
 #include "rt/realtime_setup.hpp"
@@ -40,6 +41,8 @@ struct LoopOptions {
   std::string url;   ///< empty: see loop_lcm_url()
   std::string link;  ///< a veth allowed besides lo (two-namespace runs)
   LoopChannels channels;
+  /// Plant and controller: the loop's stationary start (online/sim/loop_start.hpp), or rest.
+  sim::StartKind start = sim::StartKind::kStationary;
   bool quiet = false;            ///< no start-up banner
   LoopStatus* status = nullptr;  ///< plant: also write the once-a-second figures here
   RunLimits limits;  ///< the plant's verdict and overrun policy (online/loop/run_verdict.hpp)

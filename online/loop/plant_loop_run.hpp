@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -40,6 +41,13 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   const auto& actuator = loop.effects.actuator;
   r.physical.command_limit = actuator.present ? actuator.force_limit_n / std::abs(actuator.gain)
                                               : std::numeric_limits<double>::infinity();
+  // The start the controller process draws as well (online/sim/loop_start.hpp).
+  const auto& stationary = sim::run_start(loop);
+  std::optional<sim::DrawnStart> start;
+  if (o.start == sim::StartKind::kStationary && stationary.exists()) {
+    start = sim::draw_start(loop, stationary, sim::floor_filter_states(hw));
+    sim::start_hardware_at(loop, *start, hw);
+  }
   auto station = std::make_unique<PlantStation<Hardware>>(
       std::move(hw), PlantStationSettings{.safe_after = o.safe_after,
                                           .epoch = epoch,
@@ -47,6 +55,7 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
                                           .command_limit = r.physical.command_limit,
                                           .safe_ramp_periods = static_cast<std::int64_t>(
                                               o.safe_ramp_s * loop.rate_hz + 0.5)});
+  if (start) station->start_command(typename Hardware::Command(start->last_command));
   // The log (before the subscription and the publishers, which record into it): about a second
   // of the loop's traffic in its ring, the channel map first.
   std::unique_ptr<rt::EventLogRecorder> recorder;
@@ -74,9 +83,12 @@ void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopO
   r.fifo = setup.fifo;
   r.setup = setup.text + (dma.active() ? "  ok    " : "  WARN  ") + dma.message() + "\n";
   if (!o.quiet)
-    std::printf("plant: %s, %.6g Hz for %.6g s (%lld periods), wait %s, LCM %s\n%s",
-                loop.name.c_str(), loop.rate_hz, duration_s, static_cast<long long>(periods),
-                rt::to_string(o.wait), url.c_str(), r.setup.c_str());
+    std::printf(
+        "plant: %s, %.6g Hz for %.6g s (%lld periods), wait %s, LCM %s\nstart: %s\n%s",
+        loop.name.c_str(), loop.rate_hz, duration_s, static_cast<long long>(periods),
+        rt::to_string(o.wait), url.c_str(),
+        sim::describe_start(o.start, sim::run_start(loop), sim::run_loop_name(loop)).c_str(),
+        r.setup.c_str());
   std::fflush(stdout);
 
   LoopAccounts& a = r.accounts;

@@ -94,6 +94,16 @@ class PlantStation {
     return commands_.has_fresh() && commands_.newest().answers_seq == msg_.seq;
   }
 
+  /// Start-up: the command the actuators held before the first sample (a stationary start,
+  /// online/sim/loop_start.hpp), held until the first answer like an answer. Samples say it as
+  /// applied_seq 0 with applied_scale > 0; the controller process draws the same command.
+  void start_command(const Command& u) noexcept {
+    u_ = answer_ = u;
+    applied_seq_ = 0;
+    applied_scale_ = 1.0;
+    start_held_ = true;
+  }
+
   /// Settles the last period (see the header comment); returns where its command came from.
   /// The applied answer, if any, is last_answer().
   CommandSource settle(std::int64_t due_ns) noexcept {
@@ -180,10 +190,11 @@ class PlantStation {
   // The controller computes the same product from the sample (bit for bit: one multiply).
   void ramp_down(std::int64_t j) noexcept {
     const auto n = settings_.safe_ramp_periods;
-    applied_scale_ =
-        applied_seq_ > 0 && j < n ? 1.0 - static_cast<double>(j) / static_cast<double>(n) : 0.0;
+    const bool holding = applied_seq_ > 0 || start_held_;
+    applied_scale_ = holding && j < n ? 1.0 - static_cast<double>(j) / static_cast<double>(n) : 0.0;
     if (applied_scale_ == 0.0) {
       applied_seq_ = 0;
+      start_held_ = false;
       u_.setZero();
     } else {
       u_ = applied_scale_ * answer_;
@@ -199,6 +210,7 @@ class PlantStation {
   Command sum_u2_ = Command::Zero(hw_.actuators());
   std::int64_t saturated_cycles_ = 0, settled_ = 0;
   std::int64_t applied_seq_ = 0;  // the answer held now (its sample's seq); 0: the zero command
+  bool start_held_ = false;       // applied_seq_ 0 with a scale > 0: the start's command
   double applied_scale_ = 0.0;    // u_ = applied_scale_ * that answer
   flexloop_msgs::sensor_sample_t msg_{};
   const flexloop_msgs::actuator_command_t* last_answer_ = nullptr;

@@ -159,6 +159,13 @@ auto make_floor(const artefact::LoopArtefact& a) {
   }
 }
 
+/// The floor filters' states at the start of a run (order x channels; empty for a white floor):
+/// what the floor generator of any run of `a` draws, for a process without a floor of its own.
+inline Eigen::MatrixXd floor_start_states(const artefact::LoopArtefact& a) {
+  if (a.floor.spectrum == "white") return {};
+  return make_floor<Eigen::Dynamic, true>(a).state().template cast<double>();
+}
+
 /// The artefact's floor alone (white or a VC curve): f(floor).
 template <int NW, class F>
 decltype(auto) with_floor(const artefact::LoopArtefact& a, F&& f) {

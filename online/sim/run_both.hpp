@@ -60,10 +60,7 @@ BothRuns run_both(const Plant& plant, const artefact::LoopArtefact& a, const Run
     const auto run_started = [&](auto controller, const artefact::StationaryStart& start,
                                  const RunSettings& settings, const char* what) {
       auto started = hw;
-      if constexpr (plant::runtime::kPresent<decltype(controller)>)
-        start_loop(a, start, o.start, started, &controller);
-      else
-        start_loop(a, start, o.start, started, static_cast<decltype(controller)*>(nullptr));
+      start_loop(a, start, o.start, started, controller);
       return run_closed_loop(std::move(started), std::move(controller), settings, progress(what));
     };
     const auto run_off = [&] {

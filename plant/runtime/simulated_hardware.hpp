@@ -129,6 +129,26 @@ class SimulatedHardware {
         actuator_.set_lag_state(lag);
     }
   }
+  /// A run's start: the sensor delay line, then the transport's, filled with what the sensor
+  /// chain gave before the delay, q(j) at sample k - j (j = 1 .. sensor + transport delay).
+  template <class Past>
+  void start_sensor_lines(const Past& q) noexcept {
+    int sensor_delay = 0;
+    if constexpr (kPresent<SensorChain>) {
+      const auto fill = [&](auto& chain) {
+        sensor_delay = chain.delay();
+        for (int j = 1; j <= sensor_delay; ++j) chain.set_past(j, q(j));
+      };
+      if constexpr (requires { sensor_chain_.visit(fill); })
+        sensor_chain_.visit(fill);
+      else
+        fill(sensor_chain_);
+    }
+    if constexpr (kPresent<Transport>)
+      for (int j = 1; j <= transport_.sensors.delay(); ++j)
+        transport_.sensors.set_past(j, q(j + sensor_delay));
+  }
+
   /// The floor generator (its state, for a start drawn given it).
   const Floor& floor() const noexcept { return floor_; }
 

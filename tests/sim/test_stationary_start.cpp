@@ -118,3 +118,47 @@ TEST_CASE("stationary start: the same seeds give the same start and --start rest
   CHECK(rest.start_on == "at rest (--start rest)");
   CHECK(first.start_on == "stationary (closed loop)");
 }
+
+// A report, not a test (doc/performance.md, "Stationary start"): the mean square of each
+// performance output over the first 4 s, averaged over N seeds, against the exact stationary value,
+// from the stationary start and from rest. Run:
+//   build/check/tests/test_sim "[.start_report]"
+TEST_CASE("stationary start report: the first 4 s over many seeds, stationary and from rest",
+          "[.start_report]") {
+  struct Case {
+    const char* what;
+    artefact::LoopArtefact a;
+    bool closed;
+  };
+  auto frame = metrology_variant(false, false, 10000);
+  auto frame_preload = metrology_variant(false, true, 10000);
+  std::vector<Case> cases{
+      {"flexible arm (shipped; floor states), open loop",
+       artefact_of(scene::load_scene("tools/scenes/flexible_arm.toml")), false},
+      {"metrology frame, leak 1 Hz (no floor states), open loop", artefact_of(frame), false},
+      {"metrology frame, leak 1 Hz (no floor states), closed loop", artefact_of(frame), true},
+      {"metrology frame under preload (floor states), closed loop", artefact_of(frame_preload),
+       true}};
+  for (const int seeds : {20, 200}) {
+    for (auto& c : cases) {
+      const Eigen::VectorXd exact =
+          scene::stationary_moments(c.a, c.closed).performance_mean_square;
+      for (const auto start : {sim::StartKind::kStationary, sim::StartKind::kRest}) {
+        Eigen::VectorXd mean_square = Eigen::VectorXd::Zero(exact.size());
+        auto a = c.a;
+        for (int seed = 1; seed <= seeds; ++seed) {
+          a.floor.seed = static_cast<std::uint64_t>(seed);  // the start does not depend on seeds
+          a.effects.force_sensor.seed = static_cast<std::uint64_t>(1000 + seed);
+          a.effects.accelerometer.seed = static_cast<std::uint64_t>(2000 + seed);
+          const auto r = run(a, 4, start);
+          mean_square += (c.closed ? r.on : r.off).rms_performance.cwiseAbs2() / seeds;
+        }
+        const Eigen::ArrayXd ratio = mean_square.cwiseQuotient(exact).array();
+        WARN(c.what << ", " << seeds << " seeds, "
+                    << (start == sim::StartKind::kRest ? "from rest" : "stationary")
+                    << ": first 4 s mean square / exact, min " << ratio.minCoeff() << " max "
+                    << ratio.maxCoeff());
+      }
+    }
+  }
+}

@@ -49,6 +49,13 @@ void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::st
                   "to zero force, --safe-ramp); give plant and controller the same value")
       ->capture_default_str()
       ->check(CLI::Range(1, 1'000'000));
+  cmd->add_option("--start", a.start,
+                  "stationary: plant, hardware and controller start in a draw from the loop's "
+                  "stationary distribution (the same seeds, the same draw, in the plant and the "
+                  "controller process); rest: at rest, the floor stationary. Give plant and "
+                  "controller the same")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"stationary", "rest"}));
   cmd->add_option("--url", o.url,
                   "LCM URL (default: $LCM_DEFAULT_URL, else ttl=0 multicast on loopback)");
   cmd->add_option("--link", o.link,
@@ -84,6 +91,7 @@ hil::LoopOptions apply_loop_options(const LoopArgs& a) {
   o.receive_path = rt::parse_receive_path(a.receive_path);
   o.spin_margin_ns = static_cast<std::int64_t>(a.spin_margin_us * 1e3);
   o.realtime.lock_memory = !a.no_mlock;
+  o.start = a.start == "rest" ? sim::StartKind::kRest : sim::StartKind::kStationary;
   o.limits.max_miss_share = a.max_miss_percent / 100;
   return o;
 }

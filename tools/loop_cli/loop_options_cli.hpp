@@ -16,6 +16,7 @@ struct LoopArgs {
   std::string receive_path = rt::to_string(hil::LoopOptions{}.receive_path);
   double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
   bool no_mlock = false;
+  std::string start = "stationary";
   double max_miss_percent = 100 * hil::RunLimits{}.max_miss_share;
 };
 

@@ -26,6 +26,12 @@ class SampleDelay {
   /// Fills the line with `value`: the next D outputs.
   void reset(const ChannelVector<Scalar, N>& value) noexcept { ring_.fill(value); }
 
+  /// x_{k-back} for the next step at k, 1 <= back <= D (a run's start); unchecked.
+  void set_past(int back, const ChannelVector<Scalar, N>& x) noexcept {
+    const int i = head_ - back;
+    ring_[i < 0 ? i + delay_ + 1 : i] = x;
+  }
+
   // Ring of D + 1 slots: write x_k at head, then the slot after head holds x_{k-D}. D = 0 (a
   // sensor without latency, the usual case) passes x through without the ring's two copies.
   ChannelVector<Scalar, N> step(const ChannelVector<Scalar, N>& x) noexcept {

@@ -43,6 +43,11 @@ class SensorChain {
         SampleDelay<Scalar, N>::from_parameters(p.delay_samples, p.noise_rms.size()));
   }
 
+  /// The reading `back` samples ago, 1 <= back <= delay (a run's start; the ADC's rounding left
+  /// out).
+  void set_past(int back, const Vector& q) noexcept { delay_.set_past(back, q); }
+  int delay() const noexcept { return delay_.delay(); }
+
   Vector step(const Vector& x) noexcept {
     return delay_.step(adc_.step(noise_.step(gain_.step(x))));
   }
