@@ -10,7 +10,9 @@
 #include "controller/design/pi_force_feedback.hpp"
 #include "controller/design/sampled_loop_stability.hpp"
 #include "numeric/stationary_covariance.hpp"
+#include "plant/lti/balanced_exponential.hpp"
 #include "plant/lti/frequency_response.hpp"
+#include "plant/lti/vibration_criterion.hpp"
 
 namespace flexloop::scene {
 
@@ -53,6 +55,51 @@ double sensor_noise_rms(const artefact::SensorEffect& e) {
   if (!e.present) return 0;
   const double lsb = e.adc_bits > 0 ? e.adc_range / std::ldexp(1.0, e.adc_bits) : 0;
   return std::sqrt(e.noise_rms * e.noise_rms + lsb * lsb / 12) / (1 + e.gain_error);
+}
+
+// Closes the augmented plant g22 (states first, the noise of the next sample entering them as
+// noise_in) with the artefact's controller, or none (open loop: a zero command), as the runtime
+// loop runs it; performance: the performance outputs over g22's states (the held force's part is
+// the plant's D).
+void close_loop(const artefact::LoopArtefact& a, const plant::lti::DiscreteStateSpace& g22,
+                const MatrixXd& noise_in, const MatrixXd& performance, bool closed, NoisyLoop& m) {
+  const auto fail = [](const std::string& why) { throw std::invalid_argument(why); };
+  const Index nc = a.actuators(), nz = a.performance(), ns = a.sensors(), na = g22.sys.nx();
+  controller::design::SampledLoopHardware hw;
+  plant::lti::DiscreteStateSpace controller;
+  if (!closed) {
+    controller =
+        discrete(MatrixXd(0, 0), MatrixXd(0, ns), MatrixXd(nc, 0), MatrixXd::Zero(nc, ns), a.dt());
+    hw.removed_feedthrough = MatrixXd::Zero(ns, nc);
+  } else {
+    const auto& e = a.effects;
+    if (e.actuator.present) {
+      hw.actuator_gain = e.actuator.gain;
+      hw.actuator_lag_s = e.actuator.lag_s;
+    }
+    if (e.force_sensor.present) hw.sensor_gain_error = e.force_sensor.gain_error;
+    if (a.controller == artefact::ControllerKind::kPiForceFeedback) {
+      controller = controller::design::pi_discrete_controller(
+          {a.pi.K_P, a.pi.K_I, {1, 1, a.pi.leak_rad_s}}, a.dt());
+      hw.removed_feedthrough = a.pi.feedthrough;  // empty: the identity
+      hw.feedthrough_delay = a.pi.feedthrough_delay;
+    } else if (a.controller == artefact::ControllerKind::kStateSpace) {
+      const auto& c = a.state_space;
+      controller = discrete(c.A, c.B, c.C, c.D, a.dt());
+      hw.removed_feedthrough = c.feedthrough.size() > 0 ? c.feedthrough : MatrixXd::Zero(ns, nc);
+      hw.feedthrough_delay = c.feedthrough_delay;
+    } else {
+      fail("the artefact has no controller");
+    }
+  }
+  m.loop = controller::design::sampled_loop_model(g22, controller, hw);
+  const Index n = m.loop.A.rows();
+  m.augmented = na;
+  m.noise = MatrixXd::Zero(n, noise_in.cols());
+  m.noise.topRows(na) = noise_in;
+  m.performance = MatrixXd::Zero(nz, n);
+  m.performance.leftCols(na) = performance;
+  m.performance.middleCols(na, nc) = a.plant.D.topRows(nz).rightCols(nc);  // the held force h
 }
 
 // Throws std::invalid_argument saying why the loop has no stationary state.
@@ -109,41 +156,77 @@ NoisyLoop noisy_loop(const artefact::LoopArtefact& a, bool closed) {
   for (Index i = 0; i < ns; ++i) C(i, sensor_noise + i) = sigma;
   const auto g22 =
       discrete(std::move(A), std::move(B), std::move(C), p.D.bottomRows(ns).rightCols(nc), a.dt());
+  MatrixXd noise_in = MatrixXd::Zero(na, m.noise_rows);
+  noise_in.middleRows(floor_noise, m.noise_rows).setIdentity();
+  close_loop(a, g22, noise_in, p.C.topRows(nz) * X + p.D.topRows(nz).leftCols(nw) * W, closed, m);
+  return m;
+}
 
-  controller::design::SampledLoopHardware hw;
-  plant::lti::DiscreteStateSpace controller;
-  if (!closed) {
-    controller =
-        discrete(MatrixXd(0, 0), MatrixXd(0, ns), MatrixXd(nc, 0), MatrixXd::Zero(nc, ns), a.dt());
-    hw.removed_feedthrough = MatrixXd::Zero(ns, nc);
-  } else {
-    const auto& e = a.effects;
-    if (e.actuator.present) {
-      hw.actuator_gain = e.actuator.gain;
-      hw.actuator_lag_s = e.actuator.lag_s;
-    }
-    if (e.force_sensor.present) hw.sensor_gain_error = e.force_sensor.gain_error;
-    if (a.controller == artefact::ControllerKind::kPiForceFeedback) {
-      controller = controller::design::pi_discrete_controller(
-          {a.pi.K_P, a.pi.K_I, {1, 1, a.pi.leak_rad_s}}, a.dt());
-      hw.removed_feedthrough = a.pi.feedthrough;  // empty: the identity
-      hw.feedthrough_delay = a.pi.feedthrough_delay;
-    } else if (a.controller == artefact::ControllerKind::kStateSpace) {
-      const auto& c = a.state_space;
-      controller = discrete(c.A, c.B, c.C, c.D, a.dt());
-      hw.removed_feedthrough = c.feedthrough.size() > 0 ? c.feedthrough : MatrixXd::Zero(ns, nc);
-      hw.feedthrough_delay = c.feedthrough_delay;
-    } else {
-      fail("the artefact has no controller");
-    }
+// The loop on the continuous floor: the VC filter driven by continuous unit white noise and the
+// continuous plant, sampled exactly together (the noise's covariance over a sample by Van Loan's
+// method), the actuator columns behind the DAC's hold as in the runtime. States: the floor
+// filters, the structure (the floor's own position and velocity are the filter's motion), the
+// sensor noise of the sample.
+NoisyLoop continuous_floor_loop(const ScenePlant& sp, const artefact::LoopArtefact& a,
+                                bool closed) {
+  const auto fail = [](const std::string& why) { throw std::invalid_argument(why); };
+  const plant::lti::StateSpace& g = sp.plant;
+  if (a.floor.spectrum == "white")
+    fail("a white floor is band-limited by the sampling: it has no continuous counterpart");
+  if (g.nx() != a.plant.A.rows())
+    fail("the scene's plant is reduced: the continuous machine is another");
+  const auto filter = plant::lti::design_floor_filter(plant::lti::criterion_band_velocity_rms(
+      plant::lti::parse_vibration_criterion(a.floor.spectrum)));
+  if (filter.D.norm() != 0) fail("the floor filter has a feedthrough (infinite variance)");
+  const MatrixXd motion = plant::lti::floor_motion_outputs(filter);
+  const Index nx = g.nx(), nw = a.disturbances(), nc = a.actuators(), nz = a.performance(),
+              ns = a.sensors(), nf = filter.nx();
+  std::vector<bool> is_floor(static_cast<std::size_t>(nx), false);
+  const auto floor = artefact::floor_states(a);
+  for (const auto& f : floor) is_floor[static_cast<std::size_t>(f.state)] = true;
+  std::vector<Index> structure;
+  for (Index i = 0; i < nx; ++i)
+    if (!is_floor[static_cast<std::size_t>(i)]) structure.push_back(i);
+  const Index nS = static_cast<Index>(structure.size()), n = nf * nw + nS, na = n + ns;
+  MatrixXd X = MatrixXd::Zero(nx, n), W = MatrixXd::Zero(nw, n);
+  for (Index s = 0; s < nS; ++s) X(structure[s], nf * nw + s) = 1;
+  for (const auto& f : floor) X.block(f.state, f.channel * nf, 1, nf) = motion.row(f.motion_row);
+  for (Index c = 0; c < nw; ++c) W.block(c, c * nf, 1, nf) = filter.C;
+
+  MatrixXd A = MatrixXd::Zero(n, n), noise = MatrixXd::Zero(n, nw);
+  for (Index c = 0; c < nw; ++c) {
+    A.block(c * nf, c * nf, nf, nf) = filter.A;
+    noise.block(c * nf, c, nf, 1) = filter.B;
   }
-  m.loop = controller::design::sampled_loop_model(g22, controller, hw);
-  const Index n = m.loop.A.rows();
-  m.noise = MatrixXd::Zero(n, m.noise_rows);
-  m.noise.middleRows(floor_noise, m.noise_rows).setIdentity();
-  m.performance = MatrixXd::Zero(nz, n);
-  m.performance.leftCols(na) = p.C.topRows(nz) * X + p.D.topRows(nz).leftCols(nw) * W;
-  m.performance.middleCols(na, nc) = p.D.topRows(nz).rightCols(nc);  // the held force h
+  A.bottomRows(nS) = g.A(structure, Eigen::all) * X + g.B(structure, Eigen::seqN(0, nw)) * W;
+  const double T = a.dt();
+  // Zero-order hold of the actuators: expm([A B; 0 0] T) = [Ad Bd; 0 I].
+  MatrixXd hold = MatrixXd::Zero(n + nc, n + nc);
+  hold.topLeftCorner(n, n) = A * T;
+  hold.block(nf * nw, n, nS, nc) = g.B(structure, Eigen::seqN(nw, nc)) * T;
+  const MatrixXd held = plant::lti::balanced_exponential(hold);
+  // Van Loan: expm([-A Q; 0 Aᵀ] T) = [.. F12; 0 F22], Qd = F22ᵀ F12.
+  MatrixXd van_loan = MatrixXd::Zero(2 * n, 2 * n);
+  van_loan.topLeftCorner(n, n) = -A * T;
+  van_loan.topRightCorner(n, n) = noise * noise.transpose() * T;
+  van_loan.bottomRightCorner(n, n) = A.transpose() * T;
+  const MatrixXd F = plant::lti::balanced_exponential(van_loan);
+  const MatrixXd Qd = F.bottomRightCorner(n, n).transpose() * F.topRightCorner(n, n);
+
+  MatrixXd Ad = MatrixXd::Zero(na, na), Bd = MatrixXd::Zero(na, nc), C = MatrixXd::Zero(ns, na),
+           noise_in = MatrixXd::Zero(na, na), performance = MatrixXd::Zero(nz, na);
+  Ad.topLeftCorner(n, n) = held.topLeftCorner(n, n);
+  Bd.topRows(n) = held.topRightCorner(n, nc);
+  C.leftCols(n) = g.C.bottomRows(ns) * X + g.D.bottomRows(ns).leftCols(nw) * W;
+  const double sigma = sensor_noise_rms(a.effects.force_sensor);
+  for (Index i = 0; i < ns; ++i) C(i, n + i) = sigma;
+  noise_in.topLeftCorner(n, n) = numeric::covariance_root(0.5 * (Qd + Qd.transpose()));
+  noise_in.bottomRightCorner(ns, ns).setIdentity();
+  performance.leftCols(n) = g.C.topRows(nz) * X + g.D.topRows(nz).leftCols(nw) * W;
+  NoisyLoop m;
+  close_loop(
+      a, discrete(std::move(Ad), std::move(Bd), std::move(C), g.D.bottomRows(ns).rightCols(nc), T),
+      noise_in, performance, closed, m);
   return m;
 }
 
@@ -282,6 +365,14 @@ artefact::LoopStart stationary_loop_start(const artefact::LoopArtefact& a) {
 
 StationaryMoments stationary_moments(const artefact::LoopArtefact& a, bool closed) {
   const NoisyLoop m = noisy_loop(a, closed);
+  const MatrixXd P = stationary_covariance(m).P;
+  return {(m.performance * P * m.performance.transpose()).diagonal(),
+          (m.loop.command * P * m.loop.command.transpose()).diagonal()};
+}
+
+StationaryMoments continuous_floor_moments(const ScenePlant& p, const artefact::LoopArtefact& a,
+                                           bool closed) {
+  const NoisyLoop m = continuous_floor_loop(p, a, closed);
   const MatrixXd P = stationary_covariance(m).P;
   return {(m.performance * P * m.performance.transpose()).diagonal(),
           (m.loop.command * P * m.loop.command.transpose()).diagonal()};

@@ -21,6 +21,7 @@
 // The start is stored given the floor filters' state, which the floor generator draws itself
 // (same seed, same floor as a start from rest).
 #include "artefact/loop_artefact.hpp"
+#include "offline/scene/scene_plant.hpp"
 
 namespace flexloop::scene {
 
@@ -39,5 +40,14 @@ struct StationaryMoments {
 /// closed: with the artefact's controller (it must have one) or open loop.
 /// @throws std::invalid_argument when the loop has no stationary state (saying why).
 StationaryMoments stationary_moments(const artefact::LoopArtefact& a, bool closed);
+
+/// The same moments on the continuous floor (doc/design.md §5a, issue 35 item 2): the scene's
+/// continuous plant and its VC floor filter driven by continuous white noise, sampled exactly
+/// together (Van Loan), the actuators held and the controller discrete as in the runtime loop. The
+/// runtime holds the floor's sample-mean acceleration instead: the two differ by what the hold
+/// does between samples. `p` is the scene `a` was built from (unreduced).
+/// @throws std::invalid_argument for a white floor, a reduced plant, or no stationary state.
+StationaryMoments continuous_floor_moments(const ScenePlant& p, const artefact::LoopArtefact& a,
+                                           bool closed);
 
 }  // namespace flexloop::scene
