@@ -21,6 +21,7 @@
 
 #include "artefact/loop_artefact.hpp"
 #include "common/input_error.hpp"
+#include "online/sim/loop_start.hpp"
 #include "plant/runtime/compiled_loops.hpp"
 #include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/effect_choice.hpp"
@@ -81,11 +82,16 @@ fx::SensorParameters<N> sensor_parameters(const artefact::SensorEffect& e, Eigen
 /// zoh.
 template <class Plant, class Floor>
 Plant plant_at_floor_start(Plant plant, const Floor& floor, const artefact::LoopArtefact& a) {
-  typename Plant::State x = plant.state();
   const auto floor_states = artefact::floor_states(a);
   const bool any = !floor_states.empty();
-  if constexpr (requires { floor.motion(); })
-    for (const auto& f : floor_states) x(f.state) = floor.motion()(f.motion_row, f.channel);
+  if (!any) return plant;
+  // The floor's entries of the physical state; a modal plant takes T^-1 x (its floor blocks keep
+  // the floor's states, the structure's coordinates are relative to them).
+  const auto at_floor = [&](auto x) {
+    if constexpr (requires { floor.motion(); })
+      for (const auto& f : floor_states) x(f.state) = floor.motion()(f.motion_row, f.channel);
+    return x;
+  };
   if (any && !requires { floor.motion(); })
     throw InputError(a.source,
                      "[floor]: this plant has the floor's position as a state (gravity preload), "
@@ -98,7 +104,11 @@ Plant plant_at_floor_start(Plant plant, const Floor& floor, const artefact::Loop
                      "[discretisation]: this plant has the floor's position and velocity as "
                      "states (gravity preload), which start where the floor is; that needs "
                      "method = \"zoh\" (the other methods' states are other coordinates)");
-  plant.set_state(x);
+  if constexpr (requires(const Plant p) { p.physical_state(); })
+    plant.set_state(
+        plant_coordinates<Plant>(a, at_floor(Eigen::VectorXd::Zero(a.plant.A.rows()).eval())));
+  else
+    plant.set_state(at_floor(plant.state()));
   return plant;
 }
 

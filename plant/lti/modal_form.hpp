@@ -25,8 +25,14 @@
 // fine as long as Ad is diagonalisable: eigenvalues that come out equal to within
 // 8 eps ||balanced Δ|| get an orthonormal basis of the span of their computed eigenvectors.
 //
-// Refusal (std::invalid_argument, saying to use the dense form): a defective or nearly defective
-// Ad (a Jordan block, e.g. the double integrators of floor motion under gravity preload) shows as
+// The floor's own position and velocity (states "pos:<c>", "vel:<c>" for an input "acc:<c>",
+// gravity preload) are a 2x2 Jordan block [[1, t], [0, 1]] each: they are kept as such, as blocks
+// [[0, t], [0, 0]] of Λ - I beside the structure's pairs, and the structure is decoupled from them
+// by the Sylvester equation Ad_SS X - X Ad_FF = -Ad_SF (solved in the structure's modal
+// coordinates): its modal state is its motion relative to the floor.
+//
+// Refusal (std::invalid_argument, saying to use the dense form): any other defective or nearly
+// defective Ad (a Jordan block, e.g. a double integrator that is not the floor's) shows as
 //   cond_2(V) > max_condition, V the unit-column eigenvector matrix of the balanced Δ
 //   (default 1e8: a Jordan block of size 2 gives ~1/sqrt(eps) ~ 1e8 and more), or
 //   ||Δ T - T (Λ - I)||_F > 1e-10 ||Δ||_F ||T||_F   (T is not an eigenbasis),
@@ -52,7 +58,8 @@ struct ModalFormOptions {
   double max_condition = 1e8;  ///< refuse when cond_2(V) exceeds this
 };
 
-/// @throws std::invalid_argument as described above.
+/// @throws std::invalid_argument as described above, and for a structure with a pole at z = 1 of
+/// its own beside the floor's blocks.
 ModalForm to_modal_form(const DiscreteStateSpace& d, const ModalFormOptions& options = {});
 
 }  // namespace flexloop::plant::lti

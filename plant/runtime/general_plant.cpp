@@ -121,10 +121,13 @@ GeneralModalPlant<Scalar> GeneralModalPlant<Scalar>::from_modal_form(
   while (k + 1 < n && Lambda_minus_I(k, k + 1) != 0) {
     require(off_block_zero(k, 2), who + ": Lambda - I is not block-diagonal at rows " +
                                       std::to_string(k) + ", " + std::to_string(k + 1));
-    require(Lambda_minus_I(k, k) == Lambda_minus_I(k + 1, k + 1) &&
-                Lambda_minus_I(k, k + 1) == -Lambda_minus_I(k + 1, k),
+    // A complex pair, or the floor's double integrator [[0, t], [0, 0]] (gravity preload).
+    const bool jordan = Lambda_minus_I(k, k) == 0 && Lambda_minus_I(k + 1, k + 1) == 0 &&
+                        Lambda_minus_I(k + 1, k) == 0;
+    require(jordan || (Lambda_minus_I(k, k) == Lambda_minus_I(k + 1, k + 1) &&
+                       Lambda_minus_I(k, k + 1) == -Lambda_minus_I(k + 1, k)),
             who + ": Lambda - I block at " + std::to_string(k) +
-                " is not of the form [[a, b], [-b, a]]");
+                " is not of the form [[a, b], [-b, a]] or [[0, t], [0, 0]]");
     require_pole_kept_inside<Scalar>(Lambda_minus_I(k, k), Lambda_minus_I(k, k + 1), k, who);
     p.d_(k) = static_cast<Scalar>(Lambda_minus_I(k, k));
     p.d_(k + 1) = static_cast<Scalar>(Lambda_minus_I(k + 1, k + 1));

@@ -140,9 +140,12 @@ ModalPlant<Scalar, NX, NU, NY, NH> ModalPlant<Scalar, NX, NU, NY, NH>::from_moda
       i += 1;
       continue;
     }
-    if (L(i, i) != L(i + 1, i + 1) || L(i, i + 1) != -L(i + 1, i))
+    // A complex pair [[a, b], [-b, a]], or the floor's double integrator [[0, t], [0, 0]]
+    // (plant::lti::to_modal_form under gravity preload): the step treats both alike.
+    const bool jordan = L(i, i) == 0 && L(i + 1, i + 1) == 0 && L(i + 1, i) == 0;
+    if (!jordan && (L(i, i) != L(i + 1, i + 1) || L(i, i + 1) != -L(i + 1, i)))
       throw std::invalid_argument("ModalPlant: Lambda - I block at " + std::to_string(i) +
-                                  " is not of the form [[a, b], [-b, a]]");
+                                  " is not of the form [[a, b], [-b, a]] or [[0, t], [0, 0]]");
     if (i % 2 != 0)
       throw std::invalid_argument("ModalPlant: the 2x2 block of Lambda - I at " +
                                   std::to_string(i) +

@@ -95,7 +95,7 @@ TEST_CASE("compiled loops: the dispatch finds each entry of the typed list, and 
     other.*count += 1;
     CHECK(id_of(other) == -1);
   }
-  LoopCounts preloaded_modal = preloaded;  // floor states: the modal form refuses them
+  LoopCounts preloaded_modal = preloaded;  // no compiled modal loop for it: the general path
   preloaded_modal.form = PlantForm::kModal;
   CHECK(id_of(preloaded_modal) == -1);
   // What a controller sees: its actuator and sensor counts.
