@@ -1,7 +1,8 @@
 // `flexloop analyse MODEL [--input NAME]... [--output NAME]... [--out-dir DIR]`
 // Modes, buckling multipliers and the frequency response of a linearised model: printed, and
 // written as analysis.json, frequency_response.csv, singular_values.csv, bode.png and
-// singular_values.png in DIR.
+// singular_values.png in DIR. A model without an input or an output channel has no frequency
+// response: analysis.json alone, and one line saying which files were skipped and why.
 #include <cmath>
 #include <complex>
 #include <cstdio>
@@ -32,6 +33,48 @@ struct AnalyseArgs {
   double f_min = 0.01, f_max = 1000.0;
   int points = 400;
 };
+
+// The frequency response and the singular values of r.ss: CSV files and pictures in dir.
+void write_response(const std::string& model_name, const LinearisedModel& r,
+                    const FrequencyGrid& grid, const std::string& dir) {
+  const auto& ss = r.ss;
+  const auto f =
+      lti::with_resonances(lti::log_frequency_grid_hz(grid.f_min_hz, grid.f_max_hz, grid.points),
+                           r.natural_frequencies_hz);
+  const auto G = lti::frequency_response(ss, f);
+  const Eigen::MatrixXd sv = lti::singular_values(G);
+  std::vector<std::string> header{"frequency_hz"};
+  std::vector<std::vector<double>> cols{f};
+  std::vector<report::BodeSeries> bode;
+  for (Eigen::Index o = 0; o < ss.ny(); ++o) {
+    for (Eigen::Index i = 0; i < ss.nu(); ++i) {
+      const auto g = report::channel(G, o, i);
+      const std::string name = ss.outputs[o] + " / " + ss.inputs[i];
+      std::vector<double> mag, ph;
+      for (const auto& c : g)
+        mag.push_back(20 * std::log10(std::abs(c))), ph.push_back(std::arg(c) * 180 / M_PI);
+      header.push_back(name + " [dB]");
+      header.push_back(name + " [deg]");
+      cols.push_back(mag);
+      cols.push_back(ph);
+      if (bode.size() < 8) bode.push_back({name, f, g, ""});
+    }
+  }
+  report::write_csv_columns(dir + "frequency_response.csv", header, cols);
+  std::vector<std::string> sv_header{"frequency_hz"};
+  std::vector<std::vector<double>> sv_cols{f};
+  for (Eigen::Index k = 0; k < sv.cols(); ++k) {
+    sv_header.push_back("sigma" + std::to_string(k + 1) + " [dB]");
+    std::vector<double> col;
+    for (Eigen::Index i = 0; i < sv.rows(); ++i) col.push_back(20 * std::log10(sv(i, k)));
+    sv_cols.push_back(col);
+  }
+  report::write_csv_columns(dir + "singular_values.csv", sv_header, sv_cols);
+  report::plot_bode({model_name + ": frequency response", "", "", true, false}, bode,
+                    dir + "bode.png");
+  report::plot_singular_values({model_name + ": singular values", "", "", true, false},
+                               {{model_name, f, sv, ""}}, dir + "singular_values.png");
+}
 
 void run(const AnalyseArgs& a) {
   if (!(a.f_min > 0 && a.f_max > a.f_min && a.points >= 2))
@@ -66,41 +109,21 @@ void run(const AnalyseArgs& a) {
   }
   std::printf("%s%s\n", r.statics.stable() ? "" : "UNSTABLE: ", lti::to_string(r.statics).c_str());
 
-  // Frequency response and singular values.
-  const auto f = lti::with_resonances(lti::log_frequency_grid_hz(a.f_min, a.f_max, a.points),
-                                      r.natural_frequencies_hz);
-  const auto G = lti::frequency_response(ss, f);
-  const Eigen::MatrixXd sv = lti::singular_values(G);
-  std::vector<std::string> header{"frequency_hz"};
-  std::vector<std::vector<double>> cols{f};
-  std::vector<report::BodeSeries> bode;
-  for (Eigen::Index o = 0; o < ss.ny(); ++o) {
-    for (Eigen::Index i = 0; i < ss.nu(); ++i) {
-      const auto g = report::channel(G, o, i);
-      const std::string name = ss.outputs[o] + " / " + ss.inputs[i];
-      std::vector<double> mag, ph;
-      for (const auto& c : g)
-        mag.push_back(20 * std::log10(std::abs(c))), ph.push_back(std::arg(c) * 180 / M_PI);
-      header.push_back(name + " [dB]");
-      header.push_back(name + " [deg]");
-      cols.push_back(mag);
-      cols.push_back(ph);
-      if (bode.size() < 8) bode.push_back({name, f, g, ""});
-    }
-  }
-  report::write_csv_columns(dir + "frequency_response.csv", header, cols);
-  std::vector<std::string> sv_header{"frequency_hz"};
-  std::vector<std::vector<double>> sv_cols{f};
-  for (Eigen::Index k = 0; k < sv.cols(); ++k) {
-    sv_header.push_back("sigma" + std::to_string(k + 1) + " [dB]");
-    std::vector<double> col;
-    for (Eigen::Index i = 0; i < sv.rows(); ++i) col.push_back(20 * std::log10(sv(i, k)));
-    sv_cols.push_back(col);
-  }
-  report::write_csv_columns(dir + "singular_values.csv", sv_header, sv_cols);
-  report::plot_bode({m.name + ": frequency response", "", "", true, false}, bode, dir + "bode.png");
-  report::plot_singular_values({m.name + ": singular values", "", "", true, false},
-                               {{m.name, f, sv, ""}}, dir + "singular_values.png");
+  // Frequency response and singular values: only of a model with at least one input and one
+  // output channel. Without (e.g. no prescribed coordinate and no actuated deformation, so no
+  // default input) there is nothing to draw: the modal analysis is still written, and the line
+  // below says which files were skipped and why.
+  const bool has_response = ss.nu() > 0 && ss.ny() > 0;
+  if (has_response)
+    write_response(m.name, r, {a.f_min, a.f_max, a.points}, dir);
+  else
+    std::printf(
+        "skipped bode.png, singular_values.png and their CSVs: no %s channel, so no frequency "
+        "response to draw (%s)\n",
+        ss.nu() == 0 ? "input" : "output",
+        ss.nu() == 0 ? "the model has no prescribed coordinate and no actuated deformation; name "
+                       "an input with --input, e.g. force:<coordinate>"
+                     : "name an output with --output");
 
   nlohmann::json j = {
       {"natural_frequencies_hz",
@@ -122,10 +145,13 @@ void run(const AnalyseArgs& a) {
   for (const auto& p : lti::poles(ss)) poles.push_back({p.real(), p.imag()});
   j["poles"] = poles;
   lti::write_json_atomically(dir + "analysis.json", j);
-  std::printf(
-      "wrote %s{analysis.json, frequency_response.csv, singular_values.csv, bode.png, "
-      "singular_values.png}\n",
-      dir.c_str());
+  if (has_response)
+    std::printf(
+        "wrote %s{analysis.json, frequency_response.csv, singular_values.csv, bode.png, "
+        "singular_values.png}\n",
+        dir.c_str());
+  else
+    std::printf("wrote %sanalysis.json\n", dir.c_str());
 }
 
 }  // namespace
