@@ -11,10 +11,7 @@ namespace flexloop::plant::lti {
 
 namespace {
 
-// Relative residual ||Δ T - T (Λ - I)|| / (||Δ|| ||T||) above which T is not an eigenbasis. The
-// 206-state arm's clamped structure (make_flexible_arm.py --elements 50; modes from 0.5 Hz to
-// above Nyquist, two undamped at 2.3 kHz) comes out at 4.2e-10; a defective Ad at 1e-8 and more.
-constexpr double kResidualTolerance = 1e-9;
+constexpr double kResidualTolerance = 1e-10;
 
 std::string refusal(const std::string& why) {
   return "to_modal_form: " + why +
@@ -114,14 +111,18 @@ std::vector<FloorPair> floor_pairs(const StateSpace& s) {
   return pairs;
 }
 
-// True when the floor pairs' rows are exactly [[1, t], [0, 1]] on their own pair and zero
-// elsewhere (the zero-order hold of a double integrator keeps them so).
+// True when the floor pairs' rows are [[1, t], [0, 1]] on their own pair and zero elsewhere,
+// to rounding: the zero-order hold of a double integrator gives them so, up to the fill-in of the
+// exponential's Padé solve (1e-17 where an exact zero belongs). The modal form takes them exact;
+// its residual and step-response checks judge the rest.
 bool floor_rows_are_jordan_blocks(const Eigen::MatrixXd& A, const std::vector<FloorPair>& pairs) {
+  constexpr double kRounding = 1e-13;
   for (const auto& f : pairs)
     for (Eigen::Index j = 0; j < A.cols(); ++j) {
       const double p = j == f.position ? 1.0 : j == f.velocity ? f.t : 0.0;
       const double v = j == f.velocity ? 1.0 : 0.0;
-      if (A(f.position, j) != p || A(f.velocity, j) != v) return false;
+      if (std::abs(A(f.position, j) - p) > kRounding || std::abs(A(f.velocity, j) - v) > kRounding)
+        return false;
     }
   return true;
 }
@@ -142,6 +143,36 @@ void finish(ModalForm& m, const StateSpace& s, const char* what) {
   m.B = lu.solve(s.B);
   m.C = s.C * m.T;
   m.D = s.D;
+}
+
+// The floor's inputs move the structure through its slowest modes (a differential floor
+// displacement, growing as t² under a step of acceleration, bends it statically): X = T_S L^-1 R
+// amplifies the slow modes' decomposition error by 1 / |Λ - I|, which the residual, dominated by
+// the fast modes, does not show. So the modal form on a floor must give the dense form's step
+// responses, 1e-6 relative, over 1000 samples, input by input; else it is refused. (The shipped
+// metrology frame under preload: 1e-13; a 206-state cantilever with 0.5 Hz modes at 10 kHz: 1.)
+void require_same_response(const DiscreteStateSpace& d, const ModalForm& m) {
+  const StateSpace& s = d.sys;
+  const Eigen::Index n = s.nx();
+  const Eigen::MatrixXd delta = s.A - Eigen::MatrixXd::Identity(n, n);
+  Eigen::MatrixXd x = Eigen::MatrixXd::Zero(n, s.nu()), z = x;
+  double worst = 0;
+  for (int k = 0; k < 1000; ++k) {
+    x += delta * x + s.B;
+    z += m.Lambda_minus_I * z + m.B;
+    const Eigen::MatrixXd y = s.C * x, difference = y - m.C * z;
+    for (Eigen::Index j = 0; j < y.cols(); ++j)
+      worst = std::max(worst, difference.col(j).cwiseAbs().maxCoeff() /
+                                  std::max(y.col(j).cwiseAbs().maxCoeff(), 1e-300));
+  }
+  if (worst > 1e-6) {
+    std::ostringstream os;
+    os << "the floor's blocks separate from the structure only inexactly: a step response "
+          "differs from the dense form's by "
+       << worst << " (relative) within 1000 samples (slow structural modes beside the floor's "
+       << "double integrators)";
+    throw std::invalid_argument(refusal(os.str()));
+  }
 }
 
 ModalForm modal_form_on_floor(const DiscreteStateSpace& d, const std::vector<FloorPair>& pairs,
@@ -293,6 +324,7 @@ ModalForm modal_form_on_floor(const DiscreteStateSpace& d, const std::vector<Flo
     if (b == 1) m.block_sizes.push_back(1);
 
   finish(m, s, "the floor's blocks do not separate from the structure");
+  require_same_response(d, m);
   return m;
 }
 

@@ -133,6 +133,20 @@ TEST_CASE(
   CHECK(rel <= 1e-9);
 }
 
+TEST_CASE(
+    "modal form: the shipped flexible arm (106 states, three floor points, slow beam modes) "
+    "builds modal, and dense and modal agree",
+    "[runtime][modal][arm]") {
+  const auto d = scene::sample_scene(
+                     scene::build_scene_plant(scene::load_scene("tools/scenes/flexible_arm.toml")))
+                     .plant;
+  REQUIRE(d.sys.nx() == 106);
+  const auto m = plant::lti::to_modal_form(d);
+  const double rel = dense_modal_disagreement<106, 5, 4>(d, m, 20000, 1e-7);
+  INFO(std::scientific << "relative disagreement " << rel);
+  CHECK(rel <= 1e-7);
+}
+
 namespace {
 
 // max over `steps` steps of |output(u) - (C state + D u)|_inf / |y|_inf: the C x the plant keeps
