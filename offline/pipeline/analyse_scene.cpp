@@ -18,6 +18,7 @@
 #include "offline/scene/scene_plant.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/modal_analysis.hpp"
+#include "plant/lti/pole_text.hpp"
 #include "plant/lti/state_space_json.hpp"
 
 namespace flexloop::cli {
@@ -148,17 +149,28 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
   // by the floor only, untouched by the controller).
   const Eigen::VectorXcd& poles = p.loop.poles;
   const Eigen::Index floor_states = continuous ? p.closed_loop.nx() - poles.size() : 0;
+  // A pole within round-off of s = 0 is an integrator (the pure PI's): printed as one, without
+  // a damping (plant/lti/pole_text.hpp has the tolerance).
+  const double at_zero = lti::integrator_tolerance(poles);
+  long integrators = 0;
+  for (const auto& s : poles) integrators += lti::is_integrator(s, at_zero);
   if (continuous)
-    std::printf("closed-loop poles (%ld%s):\n", static_cast<long>(poles.size()),
+    std::printf("closed-loop poles (%ld%s%s):\n", static_cast<long>(poles.size()),
+                integrators > 0
+                    ? (", " + std::to_string(integrators) + " of them integrators at s = 0").c_str()
+                    : "",
                 floor_states > 0 ? (", besides " + std::to_string(floor_states) +
                                     " floor integrator states at s = 0")
                                        .c_str()
                                  : "");
   nlohmann::json pj = nlohmann::json::array();
   for (const auto& s : poles) {
-    const double w = std::abs(s);
-    std::printf("  %+14.6e %+14.6ej rad/s   %9.4f Hz  damping %.4f\n", s.real(), s.imag(),
-                w / kTwoPi, w > 0 ? -s.real() / w : 0.0);
+    if (lti::is_integrator(s, at_zero))
+      std::printf("  %+14.6e %+14.6ej rad/s   %9.4f Hz  %s\n", 0.0, 0.0, 0.0,
+                  lti::integrator_text(s).c_str());
+    else
+      std::printf("  %+14.6e %+14.6ej rad/s   %9.4f Hz  damping %.4f\n", s.real(), s.imag(),
+                  std::abs(s) / kTwoPi, lti::damping_ratio(s, at_zero));
     pj.push_back({s.real(), s.imag()});
   }
   // Stability, and the leak that would give it (or the margin the present one has).

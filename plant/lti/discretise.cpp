@@ -1,6 +1,7 @@
 #include "plant/lti/discretise.hpp"
 
 #include "plant/lti/balanced_exponential.hpp"
+#include "plant/lti/pole_text.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -53,15 +54,6 @@ std::string fmt(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
-}
-
-std::string describe_eigenvalue(std::complex<double> s) {
-  const double mag = std::abs(s);
-  std::string text = fmt("%.6g", s.real());
-  if (s.imag() != 0) text += (s.imag() < 0 ? " - " : " + ") + fmt("%.6g", std::abs(s.imag())) + "j";
-  text += " rad/s (" + fmt("%.6g", mag / (2 * std::numbers::pi)) + " Hz";
-  if (mag > 0) text += ", damping " + fmt("%.4g", -s.real() / mag);
-  return text + ")";
 }
 
 // Of the balanced matrix (balanced_exponential.hpp), which has the same eigenvalues: unbalanced,
@@ -189,7 +181,7 @@ std::string refusal(const Eigen::VectorXcd& lambda, const DiscretisationOptions&
   const double rate = 1 / o.dt;
   std::string msg = "discretise: " + to_string(o.method) + " at dt = " + fmt("%.6g", o.dt) +
                     " s (" + fmt("%.6g", rate) + " Hz) maps the stable continuous eigenvalue " +
-                    describe_eigenvalue(lambda(worst)) +
+                    pole_text(lambda(worst), integrator_tolerance(lambda)) +
                     " to |z| = " + fmt("%.6g", std::abs(map_eigenvalue(lambda(worst), o))) +
                     " (spectral radius " + fmt("%.6g", rho) +
                     " > 1), so the discrete plant would be unstable. ";

@@ -222,9 +222,12 @@ std::vector<ModeContribution> modal_contributions(const StateSpace& sys,
   for (std::size_t k = 0; k < r.modes.size(); ++k) {
     const auto& p = r.modes[k].pole;
     const double w = std::abs(p);
+    // The origin block's pole is set to exactly 0 (real_modes): it has no damping.
+    const bool origin = w == 0;
     out.push_back({.frequency_hz = w / kTwoPi,
-                   .damping = w > 0 ? -p.real() / w : 0,
+                   .damping = origin ? std::numeric_limits<double>::quiet_NaN() : -p.real() / w,
                    .states = r.modes[k].size,
+                   .at_origin = origin,
                    .contribution = c[k]});
   }
   return out;

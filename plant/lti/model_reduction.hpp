@@ -73,8 +73,9 @@ ReducedModel balanced_truncation(const StateSpace& sys, int order);
 /// (|pole| / 2π, ascending): what a user choosing `order` wants to see.
 struct ModeContribution {
   double frequency_hz;  ///< |λ| / 2π
-  double damping;       ///< -Re λ / |λ| (1 for a real stable pole; 0 at the origin)
-  int states;           ///< 1 or 2
+  double damping;       ///< -Re λ / |λ| (1 for a real stable pole); NaN at the origin (none)
+  int states;           ///< 1 or 2; at the origin, the block of all its poles
+  bool at_origin;       ///< the poles at s = 0 (integrators, rigid bodies), one block
   double contribution;  ///< relative peak, as above; +inf for a pole at the origin or unstable
 };
 std::vector<ModeContribution> modal_contributions(const StateSpace& sys,

@@ -30,7 +30,7 @@ constexpr CriterionName kCriteria[] = {
 constexpr double kNominalCentresHz[] = {1,  1.25, 1.6, 2,  2.5, 3.15, 4,  5,  6.3, 8,
                                         10, 12.5, 16,  20, 25,  31.5, 40, 50, 63,  80};
 
-void require(bool ok, const std::string& what) {
+void require_filter(bool ok, const std::string& what) {
   if (!ok) throw std::invalid_argument("floor filter: " + what);
 }
 
@@ -146,13 +146,13 @@ std::vector<ThirdOctaveBand> criterion_bands() {
 
 StateSpace design_floor_filter(double band_velocity_rms, const FloorFilterOptions& o) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
-  require(positive(band_velocity_rms), "band velocity RMS must be finite and > 0 m/s");
-  require(positive(o.approximation_low_hz) && positive(o.approximation_high_hz) &&
-              positive(o.high_pass_hz) && positive(o.low_pass_hz),
-          "frequencies must be finite and > 0 Hz");
-  require(o.approximation_low_hz < o.approximation_high_hz,
-          "approximation_low_hz must be below approximation_high_hz");
-  require(o.pole_zero_pairs >= 1, "pole_zero_pairs must be >= 1");
+  require_filter(positive(band_velocity_rms), "band velocity RMS must be finite and > 0 m/s");
+  require_filter(positive(o.approximation_low_hz) && positive(o.approximation_high_hz) &&
+                     positive(o.high_pass_hz) && positive(o.low_pass_hz),
+                 "frequencies must be finite and > 0 Hz");
+  require_filter(o.approximation_low_hz < o.approximation_high_hz,
+                 "approximation_low_hz must be below approximation_high_hz");
+  require_filter(o.pole_zero_pairs >= 1, "pole_zero_pairs must be >= 1");
 
   const double wb = kTwoPi * o.approximation_low_hz, wh = kTwoPi * o.approximation_high_hz;
   const double ratio = wh / wb;
@@ -188,7 +188,7 @@ StateSpace design_floor_filter(double band_velocity_rms, const FloorFilterOption
 Eigen::MatrixXd floor_motion_outputs(const StateSpace& filter) {
   require_siso(filter);
   const Eigen::PartialPivLU<MatrixXd> lu(filter.A);
-  require(filter.nx() > 0 && lu.rcond() > 1e-12, "the floor filter's A must be invertible");
+  require_filter(filter.nx() > 0 && lu.rcond() > 1e-12, "the floor filter's A must be invertible");
   const Eigen::PartialPivLU<MatrixXd> lut(filter.A.transpose());
   MatrixXd m(2, filter.nx());
   const Eigen::VectorXd cv = lut.solve(Eigen::VectorXd(filter.C.row(0).transpose()));  // A^-T C^T
@@ -198,9 +198,9 @@ Eigen::MatrixXd floor_motion_outputs(const StateSpace& filter) {
   // rounding, relative to |C| |A^-1|^k |B|).
   const double inv = 1.0 / (lu.rcond() * induced_norm_1(filter.A));  // ~ |A^-1|_1
   const double cb = filter.C.norm() * filter.B.norm();
-  require(filter.D.norm() == 0 && std::abs((m.row(0) * filter.B)(0, 0)) <= 1e-9 * cb * inv &&
-              std::abs((m.row(1) * filter.B)(0, 0)) <= 1e-9 * cb * inv * inv,
-          "the floor filter must have a double zero at s = 0 (a stationary displacement)");
+  require_filter(filter.D.norm() == 0 && std::abs((m.row(0) * filter.B)(0, 0)) <= 1e-9 * cb * inv &&
+                     std::abs((m.row(1) * filter.B)(0, 0)) <= 1e-9 * cb * inv * inv,
+                 "the floor filter must have a double zero at s = 0 (a stationary displacement)");
   return m;
 }
 

@@ -1,16 +1,17 @@
 // `flexloop discretise IN.json --method M --rate HZ -o OUT.json`: continuous state-space JSON ->
 // discrete state-space JSON (plant/lti/discretise.hpp has the equations, state_space_json.hpp
 // the file format). Bad input files and refused discretisations exit 2.
-#include <Eigen/Eigenvalues>
 #include <complex>
 #include <cstdio>
 #include <memory>
-#include <numbers>
+#include <stdexcept>
 #include <string>
 
 #include "common/input_error.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "plant/lti/discretise.hpp"
+#include "plant/lti/modal_analysis.hpp"
+#include "plant/lti/pole_text.hpp"
 #include "plant/lti/state_space_json.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/number_checks.hpp"
@@ -27,21 +28,18 @@ struct DiscretiseArgs {
   bool force = false;
 };
 
-std::string eigen_text(std::complex<double> s) {
-  char buf[160];
-  const double mag = std::abs(s);
-  std::snprintf(buf, sizeof buf, "%.6g%+.6gj rad/s (%.6g Hz, damping %.3g)", s.real(), s.imag(),
-                mag / (2 * std::numbers::pi), mag > 0 ? -s.real() / mag : 0.0);
-  return buf;
-}
-
 // One line per interesting continuous eigenvalue: the one that sets the spectral radius and the
 // fastest one, with where the method put it.
 void print_mapping(const lti::StateSpace& c, const lti::DiscretisationOptions& o) {
   if (c.nx() == 0) return;
-  Eigen::EigenSolver<Eigen::MatrixXd> es(c.A, false);
-  if (es.info() != Eigen::Success) return;
-  const Eigen::VectorXcd lambda = es.eigenvalues();
+  // The poles as analyse computes them (balanced first); an integrator is printed as one.
+  Eigen::VectorXcd lambda;
+  try {
+    lambda = lti::poles(c);
+  } catch (const std::runtime_error&) {
+    return;  // the eigensolver did not converge: nothing to say about the mapping
+  }
+  const double at_zero = lti::integrator_tolerance(lambda);
   Eigen::Index largest_z = 0, fastest = 0;
   for (Eigen::Index i = 1; i < lambda.size(); ++i) {
     if (std::abs(lti::map_eigenvalue(lambda(i), o)) >
@@ -51,7 +49,7 @@ void print_mapping(const lti::StateSpace& c, const lti::DiscretisationOptions& o
   }
   const auto line = [&](const char* what, std::complex<double> s) {
     const auto z = lti::map_eigenvalue(s, o);
-    std::printf("%-16s %s -> |z| = %.9g\n", what, eigen_text(s).c_str(), std::abs(z));
+    std::printf("%-16s %s -> |z| = %.9g\n", what, lti::pole_text(s, at_zero).c_str(), std::abs(z));
   };
   line("max |z| from", lambda(largest_z));
   if (fastest != largest_z) line("fastest mode", lambda(fastest));

@@ -64,8 +64,12 @@ void run(const ReduceArgs& a) {
     std::printf("\nH-inf error bound 2 x (sum of those discarded): %.4g\n", r.error_bound);
   } else {
     for (const auto& m : lti::modal_contributions(in.sys, {.band_hz = a.band_hz}))
-      std::printf("  mode %10.4g Hz  damping %-8.3g contribution %.3g\n", m.frequency_hz, m.damping,
-                  m.contribution);
+      if (m.at_origin)  // integrators: no frequency, no damping
+        std::printf("  integrator%s at s = 0 (%d state%s), always kept\n", m.states == 1 ? "" : "s",
+                    m.states, m.states == 1 ? "" : "s");
+      else
+        std::printf("  mode %10.4g Hz  damping %-8.3g contribution %.3g\n", m.frequency_hz,
+                    m.damping, m.contribution);
   }
 }
 
