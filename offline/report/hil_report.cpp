@@ -121,6 +121,8 @@ void print_verdict(const nlohmann::json& r) {
   if (v == r.end() || !v->is_object()) return;
   std::printf("verdict: %s", v->value("result", "?").c_str());
   if (r.value("partial", false)) std::printf(" (partial: %lld cycles ran)", r.value("cycles", 0LL));
+  if (const auto judged = v->find("judged"); judged != v->end() && judged->is_string())
+    std::printf(", judged on %s", judged->get<std::string>().c_str());
   for (const auto& reason : v->value("reasons", std::vector<std::string>{}))
     std::printf("\n  - %s", reason.c_str());
   std::printf("\n");
@@ -149,36 +151,62 @@ void print_segment_ratios(const nlohmann::json& r) {
 void print_hil_summary(const nlohmann::json& r) {
   const double cycles = r.value("cycles", 0.0);
   const auto& pp = r["baseline"]["pingpong"];
+  const bool own_controller = r["controller"].value("kind", "") != "none";
   std::printf(
-      "hil: %s at %.6g Hz for %.6g s, wait %s, receive %s, plant CPU %d, controller CPU %d%s\n",
+      "hil: %s at %.6g Hz for %.6g s, wait %s, receive %s, plant CPU %d, %s%s\n",
       r.value("scene", "?").c_str(), r.value("rate_hz", 0.0), r.value("duration_s", 0.0),
       r.value("wait_mode", "?").c_str(), r.value("receive_path", "?").c_str(), r.value("cpu", -1),
-      r.value("controller_cpu", -1),
+      own_controller ? ("controller CPU " + std::to_string(r.value("controller_cpu", -1))).c_str()
+                     : "no controller process",
       r.value("fifo", false) ? ", SCHED_FIFO" : ", SCHED_FIFO NOT granted");
-  std::printf(
-      "  cycles %lld, deadline misses %lld (%.3f %%), late answers %lld, overruns %lld, "
-      "safe-command cycles %lld\n",
-      r.value("cycles", 0LL), r.value("deadline_misses", 0LL),
-      percent(r.value("deadline_misses", 0.0), cycles), r.value("late_answers", 0LL),
-      r.value("overruns", 0LL), r.value("safe_command_cycles", 0LL));
-  std::printf("  dropped messages: plant %s, controller %s\n", r["dropped_messages"].dump().c_str(),
-              r["controller"]["dropped_messages"].dump().c_str());
-  print_line("round trip", r["round_trip_ns"]);
-  print_line("  baseline LCM ping-pong", pp["round_trip_ns"]);
+  // The plant alone (no controller process, no answer came): no answers were expected, so
+  // nothing about them is shown -- not 100 % deadline misses, not empty round trips.
+  const bool open_loop = r.value("open_loop", false);
+  const auto& controller = r["controller"];
+  if (open_loop) {
+    std::printf(
+        "  open loop: the plant alone (controller type \"none\", and no process answered): no "
+        "answers expected, no deadline misses judged\n");
+    std::printf(
+        "  cycles %lld, overruns %lld, skipped periods %lld, safe-command cycles %lld (the zero "
+        "command held)\n",
+        r.value("cycles", 0LL), r.value("overruns", 0LL), r.value("skipped_periods", 0LL),
+        r.value("safe_command_cycles", 0LL));
+    std::printf("  dropped messages: plant %s\n", r["dropped_messages"].dump().c_str());
+  } else {
+    if (controller.value("kind", "") == "none")
+      std::printf(
+          "  controller type \"none\": an external process answered %lld samples; its deadline "
+          "misses are shown, not judged\n",
+          controller.value("external_answers", 0LL));
+    std::printf(
+        "  cycles %lld, deadline misses %lld (%.3f %%), late answers %lld, overruns %lld, "
+        "safe-command cycles %lld\n",
+        r.value("cycles", 0LL), r.value("deadline_misses", 0LL),
+        percent(r.value("deadline_misses", 0.0), cycles), r.value("late_answers", 0LL),
+        r.value("overruns", 0LL), r.value("safe_command_cycles", 0LL));
+    std::printf("  dropped messages: plant %s, controller %s\n",
+                r["dropped_messages"].dump().c_str(),
+                controller["dropped_messages"].dump().c_str());
+    print_line("round trip", r["round_trip_ns"]);
+    print_line("  baseline LCM ping-pong", pp["round_trip_ns"]);
+  }
   print_line("wake-up lateness", r["wakeup_lateness_ns"]);
   print_line("  baseline bare timer", r["baseline"]["timer"]["wakeup_lateness_ns"]);
   print_line("plant compute (TET)", r["plant_compute_ns"]);
-  print_line("controller compute", r["controller_compute_ns"]);
-  std::printf("  baseline ping-pong: %lld of %lld pings unanswered within the period (%.3f %%)\n",
-              pp.value("unanswered", 0LL), pp.value("sent", 0LL),
-              percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)));
+  if (!open_loop) {
+    print_line("controller compute", r["controller_compute_ns"]);
+    std::printf("  baseline ping-pong: %lld of %lld pings unanswered within the period (%.3f %%)\n",
+                pp.value("unanswered", 0LL), pp.value("sent", 0LL),
+                percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)));
+  }
   const auto& timer = r["baseline"]["timer"];
   if (pp.value("too_short", false) || timer.value("too_short", false))
     std::printf(
         "  WARNING: baselines too short to compare with (%lld pings, %lld timer cycles; each "
         "needs %lld): lengthen --baseline-duration\n",
         pp.value("sent", 0LL), timer.value("cycles", 0LL), pp.value("min_samples", 0LL));
-  print_segment_ratios(r);
+  if (!open_loop) print_segment_ratios(r);  // round trips against the ping-pong's: none here
   print_physical(r);
   if (const auto log = r.find("lcm_log"); log != r.end() && log->is_object())
     std::printf("  LCM log %s: %lld messages, %lld lost\n", log->value("path", "?").c_str(),

@@ -7,7 +7,9 @@
 //   round_trip_ns, wakeup_lateness_ns, plant_compute_ns, controller_compute_ns,
 //   controller {answered, resyncs, resumes, dropped_messages, compute_ns, response_ns, ...},
 //   baseline {timer {wakeup_lateness_ns, ...}, pingpong {round_trip_ns, unanswered, ...}},
-//   scene, lcm_url, cpu, controller_cpu, fifo, set-up texts, lcm_log (when recorded).
+//   scene, lcm_url, cpu, controller_cpu, fifo, set-up texts, lcm_log (when recorded),
+//   open_loop (true: no controller process and no answer came: the plant ran alone),
+//   verdict {result, reasons, ..., judged (a loop without a controller process: what was)}.
 // periods = cycles + skipped_periods: the grid periods the run covered, at least rate x duration,
 // more when a stall in the last cycle skipped past the end.
 // PNGs beside the report: <stem>_round_trip.png and <stem>_wakeup_lateness.png (log-spaced bins,

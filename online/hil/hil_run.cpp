@@ -224,6 +224,20 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
         sim_prediction(loop, static_cast<double>(loop_cycles) / loop.rate_hz);
   report["verdict"]["result"] = to_string(verdict.result);
   report["verdict"]["reasons"] = verdict.reasons;
+  if (!has_controller) {
+    // No controller process: what ran is the plant alone, unless an external process answered
+    // (a user's controller in the same namespace, doc/external_controller.md). Either way
+    // nobody's misses are judged (RunLimits::judge_misses); the verdict says what it judged.
+    const auto answers = plant_json["round_trip_ns"].value("count", std::int64_t{0});
+    controller_json["external_answers"] = answers;
+    report["open_loop"] = answers == 0;
+    report["verdict"]["judged"] =
+        "the plant's own run (divergence, its LCM log, the helper processes); not deadline "
+        "misses: no controller process in this run" +
+        std::string(answers == 0 ? ", and none answered (no answers expected)" : "");
+  } else {
+    report["open_loop"] = false;
+  }
   report["controller"] = controller_json;
   report["scene"] = o.loop.loop_path;
   report["duration_s"] = duration_s;

@@ -13,11 +13,14 @@
 //   4. the controller process (forked, online/loop/controller_loop.hpp), and once it has
 //      subscribed, the plant process (forked, online/loop/plant_loop.hpp) for the duration; then
 //      the controller is stopped (SIGTERM) and both hand back their figures. A loop without a
-//      controller runs the plant alone (report "controller": {"kind": "none"}). Meanwhile a live
+//      controller runs the plant alone (report "controller": {"kind": "none", "external_answers":
+//      answers a user's own process sent}, "open_loop": true when none came). Meanwhile a live
 //      status line (online/hil/status_line.hpp). With lcm_log, the plant process records what
 //      it sends and receives (rt/event_log_recorder.hpp);
 //   5. the verdict (online/loop/run_verdict.hpp): the plant's limits (a log that could not be
 //      written, or lost messages, among them), and a controller process that failed fails the run.
+//      Without a controller process the deadline misses are not judged (nobody is expected to
+//      answer): the report's verdict "judged" says what was.
 //      SIGINT / SIGTERM end the loop early; the report then covers what ran ("partial": true,
 //      verdict "interrupted"). Before the loop ran, an interruption throws VerdictFailure (130) and
 //      nothing is reported.
