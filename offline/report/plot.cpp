@@ -114,6 +114,8 @@ std::string labels(const PlotSpec& spec) {
     << "set ylabel " << quote(spec.ylabel) << "\n"
     << (spec.logx ? "set logscale x\n" : "unset logscale x\n")
     << (spec.logy ? "set logscale y\n" : "unset logscale y\n");
+  if (spec.x_max > spec.x_min)
+    s << "set xrange [" << format_number(spec.x_min) << ":" << format_number(spec.x_max) << "]\n";
   return s.str();
 }
 

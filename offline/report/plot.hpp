@@ -25,6 +25,8 @@ struct PlotSpec {
   bool logy = false;
   int width_px = 1000;
   int height_px = 600;
+  /// x_max > x_min: the x axis spans exactly [x_min, x_max]; else it ends where the data do.
+  double x_min = 0, x_max = 0;
 };
 
 /// One curve. `style` is a gnuplot `with` clause, e.g. "lines lw 2 dt 2" (dashed) or

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "common/atomic_file.hpp"
@@ -150,10 +151,38 @@ nlohmann::json to_json(const TradeoffResult& r) {
   return j;
 }
 
+namespace {
+
+// The picture's x value of a row: ns per step, or % of the period.
+double picture_cost(const Measurement& m, Cost cost) {
+  return cost == Cost::kStep ? m.ns_per_step : 100 * m.period_share;
+}
+
+}  // namespace
+
+AxisRange cost_axis(const std::vector<double>& costs) {
+  double lo = std::numeric_limits<double>::infinity(), hi = 0;
+  for (const double c : costs)
+    if (std::isfinite(c) && c > 0) lo = std::min(lo, c), hi = std::max(hi, c);
+  if (hi == 0) return {};  // nothing measured: gnuplot's own axis
+  if (hi <= lo * (1 + 1e-9)) return {lo * 0.9, hi * 1.1, false};
+  if (hi > 10 * lo) {
+    const double margin = std::pow(hi / lo, kCostAxisMargin);
+    return {lo / margin, hi * margin, true};
+  }
+  const double margin = kCostAxisMargin * (hi - lo);
+  return {std::max(0.0, lo - margin), hi + margin, false};
+}
+
+AxisRange front_cost_axis(const TradeoffResult& r) {
+  std::vector<double> costs;
+  for (const Measurement& m : r.rows)
+    if (m.skipped.empty()) costs.push_back(picture_cost(m, r.cost));
+  return cost_axis(costs);
+}
+
 void write_front_png(const std::string& path, const TradeoffResult& r, const std::string& title) {
-  const auto x_of = [&](const Measurement& m) {
-    return r.cost == Cost::kStep ? m.ns_per_step : 100 * m.period_share;
-  };
+  const auto x_of = [&](const Measurement& m) { return picture_cost(m, r.cost); };
   report::Series all{"every configuration", {}, {}, "points pt 6 ps 1 lc rgb '#999999'"};
   for (const Measurement& m : r.rows)
     if (m.skipped.empty()) {
@@ -173,14 +202,17 @@ void write_front_png(const std::string& path, const TradeoffResult& r, const std
                       "points pt 7 ps 2"});
   }
   series.insert(series.begin() + 1, line);
+  const AxisRange axis = front_cost_axis(r);
   report::plot_lines({.title = title,
                       .xlabel = r.cost == Cost::kStep ? "closed-loop step [ns]"
                                                       : "closed-loop step [% of the period]",
                       .ylabel = "relative H-inf error in the band",
-                      .logx = true,
+                      .logx = axis.log,
                       .logy = true,
                       .width_px = 1200,
-                      .height_px = 750},
+                      .height_px = 750,
+                      .x_min = axis.min,
+                      .x_max = axis.max},
                      series, path);
 }
 

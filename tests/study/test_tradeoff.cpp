@@ -12,6 +12,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -218,4 +219,49 @@ TEST_CASE("tradeoff: options it cannot take are refused naming them") {
   o.orders = {11};
   CHECK_THROWS_WITH(study::run_tradeoff(three_masses(), o),
                     Catch::Contains("--orders") && Catch::Contains("1 .. 10"));
+}
+
+TEST_CASE(
+    "tradeoff: the front's cost axis spans the costs with a margin, log only beyond a decade") {
+  // The sweep: every step between 50 and 90 ns (gnuplot's log axis made it 10 to 100 ns).
+  const study::AxisRange narrow = study::cost_axis({52.0, 61.5, 90.0, 50.0, 73.2});
+  CHECK_FALSE(narrow.log);
+  const double span = 90.0 - 50.0;
+  CHECK(narrow.min == Approx(50.0 - study::kCostAxisMargin * span));
+  CHECK(narrow.max == Approx(90.0 + study::kCostAxisMargin * span));
+  // The data fill most of the axis: their span is 1 / (1 + 2 x margin) of it.
+  CHECK(span / (narrow.max - narrow.min) == Approx(1 / (1 + 2 * study::kCostAxisMargin)));
+  CHECK(span / (narrow.max - narrow.min) > 0.8);
+
+  // Over more than a decade (the share of the period at rates 10x apart): log, the margin in
+  // decades; non-finite and non-positive costs (nothing measured) are left out.
+  const study::AxisRange wide =
+      study::cost_axis({0.05, 0.4, 2.5, std::numeric_limits<double>::quiet_NaN(), 0.0});
+  CHECK(wide.log);
+  const double decades = std::log10(2.5 / 0.05);
+  CHECK(std::log10(0.05 / wide.min) == Approx(study::kCostAxisMargin * decades));
+  CHECK(std::log10(wide.max / 2.5) == Approx(study::kCostAxisMargin * decades));
+
+  // Equal costs: +-10 % around them; a linear axis never goes below zero.
+  const study::AxisRange equal = study::cost_axis({40.0, 40.0});
+  CHECK(equal.min == Approx(36.0));
+  CHECK(equal.max == Approx(44.0));
+  CHECK(study::cost_axis({0.1, 1.0}).min >= 0);
+  const study::AxisRange none = study::cost_axis({});
+  CHECK_FALSE(none.max > none.min);  // nothing measured: gnuplot's own axis
+
+  // The measured sweep: the axis spans every measured row's cost, with the margin at both ends.
+  const auto& r = sweep();
+  const study::AxisRange axis = study::front_cost_axis(r);
+  double lo = 1e300, hi = 0;
+  for (const auto& m : r.rows)
+    if (m.skipped.empty()) lo = std::min(lo, m.ns_per_step), hi = std::max(hi, m.ns_per_step);
+  REQUIRE(hi > lo);
+  CHECK(axis.log == (hi > 10 * lo));
+  CHECK(axis.min < lo);
+  CHECK(axis.max > hi);
+  if (!axis.log) {
+    CHECK(lo - axis.min <= study::kCostAxisMargin * (hi - lo) * (1 + 1e-9));
+    CHECK(axis.max - hi == Approx(study::kCostAxisMargin * (hi - lo)));
+  }
 }
