@@ -116,8 +116,8 @@ HealthCheck float_headroom(const plant::lti::DiscreteStateSpace& d) {
   } catch (const std::invalid_argument& e) {
     return {"float", "no modal form: " + std::string(e.what()), "float not assessed", true};
   }
-  double headroom = std::numeric_limits<double>::infinity();
-  int lost = 0, decaying = 0;
+  double headroom = std::numeric_limits<double>::infinity(), worst_change = 0;
+  int refused = 0, decaying = 0;
   for (Eigen::Index i = 0, b = 0; b < static_cast<Eigen::Index>(m.block_sizes.size()); ++b) {
     const int size = m.block_sizes[static_cast<std::size_t>(b)];
     const double a = m.Lambda_minus_I(i, i), im = size == 2 ? m.Lambda_minus_I(i, i + 1) : 0.0;
@@ -126,19 +126,23 @@ HealthCheck float_headroom(const plant::lti::DiscreteStateSpace& d) {
     // On the circle (integrators, undamped modes): marginal in double already.
     if (!(margin.exact < 0) || plant::runtime::on_unit_circle(a, im, margin.exact)) continue;
     decaying += size;
-    if (margin.stored >= 0) lost += size;
+    if (!margin.kept()) refused += size;
+    worst_change = std::max(worst_change, margin.decay_change());
     const double shift = std::abs(margin.stored - margin.exact);
     if (shift > 0) headroom = std::min(headroom, -margin.exact / shift);
   }
-  std::ostringstream f;
+  std::ostringstream f, v;
   f.precision(3);
   f << decaying << " decaying poles, smallest headroom " << headroom
-    << " (distance to |z| = 1 over float's shift of it)";
-  return {"float", text(f),
-          lost == 0 ? "float keeps every decaying pole inside"
-                    : std::to_string(lost) +
-                          " poles would not decay in float: the float modal plant refuses them",
-          lost == 0};
+    << " (distance to |z| = 1 over float's shift of it), decay changed by up to "
+    << 100 * worst_change << " %";
+  if (refused == 0)
+    v << "float keeps every decaying pole inside, within " << 100 * plant::runtime::kDecayTolerance
+      << " % of its decay";
+  else
+    v << refused << " poles would decay more than " << 100 * plant::runtime::kDecayTolerance
+      << " % off, or not at all, in float: the float plants refuse them";
+  return {"float", text(f), text(v), refused == 0};
 }
 
 }  // namespace

@@ -17,8 +17,8 @@
 //   commands use), when the scene has a controller.
 // - float: for each decaying pole of the modal plant, its distance to the unit circle against
 //   what rounding Λ - I to float moves it by (plant/runtime/pole_precision.hpp); the smallest
-//   ratio is the headroom. A float modal plant refuses a pole that float puts on or outside the
-//   circle.
+//   ratio is the headroom; and how much float changes each pole's decay. The float plants refuse
+//   a pole float puts on or outside the circle, or whose decay it changes by more than 10 %.
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>

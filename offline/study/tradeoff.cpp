@@ -438,8 +438,17 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
               } catch (const std::domain_error&) {
                 m.dc_error = INFINITY;
               }
-            KernelRuns k = single ? kernel_runs<float>(*a, floor, steps)
-                                  : kernel_runs<double>(*a, floor, steps);
+            // The runtime plant refuses what its scalar cannot hold (pole_precision.hpp): the
+            // row says why, as a user's run would.
+            KernelRuns k;
+            try {
+              k = single ? kernel_runs<float>(*a, floor, steps)
+                         : kernel_runs<double>(*a, floor, steps);
+            } catch (const std::invalid_argument& e) {
+              m.skipped = e.what();
+              result.rows.push_back(m);
+              continue;
+            }
             m.kernel = k.kernel;
             m.closed_loop_radius = scene::has_controller(c) ? sampled->closed_loop.spectral_radius
                                                             : sampled->plant.spectral_radius;

@@ -1,12 +1,13 @@
 #pragma once
-// Whether a pole keeps its distance from the unit circle once the modal runtime stores it in
-// Scalar. The modal plant keeps Λ - I: a pole z = 1 + a ± jb as the entries a and b. Its squared
-// modulus is |z|² = 1 + m with m = 2a + a² + b² (m < 0: inside the circle, decaying). Rounding a
-// and b to float moves m by up to about 2^-24 (2|a| + 2b²); a lightly damped fast mode, or any
-// mode whose 1 - |z| is below that, ends up on or outside the circle in float: a plant that
-// decays in double would ring forever or grow. Start-up refuses it (ModalPlant,
-// GeneralModalPlant), and likewise for the dense form (DensePlant, GeneralDensePlant);
-// `flexloop analyse` reports each pole's headroom.
+// Whether a pole keeps its decay once the runtime stores it in Scalar. The modal plant keeps
+// Λ - I: a pole z = 1 + a ± jb as the entries a and b. Its squared modulus is |z|² = 1 + m with
+// m = 2a + a² + b² (m < 0: inside the circle, decaying at a rate ∝ -m). Rounding a and b to
+// float moves m by up to about 2^-24 (2|a| + 2b²). A lightly damped fast mode whose -m is not
+// well above that changes its decay, and the height of its resonance peak (∝ 1/-m) with it; one
+// whose -m is below it ends up on or outside the circle: a plant that decays in double would
+// ring forever or grow. Start-up refuses both, a pole whose decay float changes by more than
+// kDecayTolerance and one float does not keep inside (ModalPlant, GeneralModalPlant, and likewise
+// DensePlant, GeneralDensePlant); `flexloop analyse` reports each pole's headroom.
 #include <Eigen/Core>
 #include <cmath>
 #include <sstream>
@@ -16,9 +17,18 @@
 
 namespace flexloop::plant::runtime {
 
+/// The largest relative change of a decaying pole's m that start-up accepts: past it, that mode's
+/// resonance peak in the stored plant is more than 10 % off the machine's.
+inline constexpr double kDecayTolerance = 0.1;
+
 struct PoleMargin {
   double exact;   ///< m = |z|² - 1 from a, b in double
   double stored;  ///< the same from a, b rounded to Scalar (computed in double)
+
+  /// How much rounding changed the decay: |stored - exact| / |exact|.
+  double decay_change() const noexcept { return std::abs(stored - exact) / std::abs(exact); }
+  /// Decays in Scalar, at a rate within kDecayTolerance of double's.
+  bool kept() const noexcept { return stored < 0 && decay_change() <= kDecayTolerance; }
 };
 
 template <typename Scalar>
@@ -42,18 +52,25 @@ inline bool on_unit_circle(double a, double b, double exact_margin) noexcept {
   std::ostringstream os;
   os.precision(3);
   os << who << ": " << pole << ", z = 1 + (" << a << (b < 0 ? " - " : " + ") << std::abs(b)
-     << "j), is closer to the unit circle than float resolves (|z|^2 - 1 = " << exact
-     << " in double, " << stored << " " << stored_as
-     << "): the plant would not decay; run it in double";
+     << "j), decays with |z|^2 - 1 = " << exact << " in double but " << stored << " " << stored_as
+     << ": ";
+  if (stored >= 0)
+    os << "float puts it on or outside the unit circle, the plant would not decay";
+  else
+    os << "float changes its decay by " << 100 * std::abs(stored - exact) / std::abs(exact)
+       << " % (more than " << 100 * kDecayTolerance
+       << " %), and its resonance peak by about as much";
+  os << "; run it in double";
   throw std::invalid_argument(os.str());
 }
 
 /// @throws std::invalid_argument naming `who`, the row and both margins when the pole 1 + a ± jb
-/// is inside the unit circle in double (not on it) but not once stored as Scalar.
+/// is inside the unit circle in double (not on it) and, stored as Scalar, is not
+/// (PoleMargin::kept).
 template <typename Scalar>
 void require_pole_kept_inside(double a, double b, Eigen::Index row, const std::string& who) {
   const PoleMargin p = pole_margin<Scalar>(a, b);
-  if (!(p.exact < 0) || on_unit_circle(a, b, p.exact) || p.stored < 0) return;
+  if (!(p.exact < 0) || on_unit_circle(a, b, p.exact) || p.kept()) return;
   throw_pole_not_kept(who, "the pole at row " + std::to_string(row), a, b, p.exact, p.stored,
                       "in float");
 }
@@ -61,8 +78,9 @@ void require_pole_kept_inside(double a, double b, Eigen::Index row, const std::s
 /// The dense plants' counterpart: they store Ad - I rounded to Scalar, so their poles are the
 /// eigenvalues of I + fl(Ad - I). Each pole of Ad inside the unit circle (not on it, as above)
 /// is paired with the nearest pole of the stored matrix; when that one is on or outside the
-/// circle the plant would not decay. Start-up only: an eigen-decomposition of both matrices,
-/// O(n^3). @throws std::invalid_argument naming `who` and the pole.
+/// circle, or decays more than kDecayTolerance apart, the plant is refused as above. Start-up only:
+/// an eigen-decomposition of both matrices, O(n^3). @throws std::invalid_argument naming `who` and
+/// the pole.
 void require_dense_poles_kept_inside(const Eigen::MatrixXd& Ad, const Eigen::MatrixXd& stored,
                                      const std::string& who);
 

@@ -6,8 +6,8 @@
 // accumulate beyond what the plant's own damping lets them, however long the run.
 //
 // And a decaying pole closer to the unit circle than float resolves is refused when a float modal
-// or dense plant starts, in both the compiled and the general form
-// (plant/runtime/pole_precision.hpp).
+// or dense plant starts, in both the compiled and the general form, as is one whose decay float
+// changes by more than 10 % (plant/runtime/pole_precision.hpp).
 //
 // The input: scene-level floor accelerations and forces for the first half, then nothing, so the
 // second half is the free decay of a lightly damped plant towards rest, where the states pass
@@ -85,7 +85,7 @@ TEST_CASE("a decaying pole that float would put on the unit circle is refused at
   const Eigen::MatrixXd B = Eigen::MatrixXd::Ones(2, 2), C = Eigen::MatrixXd::Ones(1, 2),
                         D = Eigen::MatrixXd::Zero(1, 2), T = Eigen::MatrixXd::Identity(2, 2);
   using Float = plant::runtime::ModalPlant<float, 2, 2, 1>;
-  const char* kRefused = "closer to the unit circle than float resolves";
+  const char* kRefused = "float puts it on or outside the unit circle";
   using Double = plant::runtime::ModalPlant<double, 2, 2, 1>;
   CHECK_THROWS_WITH(Float::from_modal_form(L, B, C, D, T), Catch::Contains(kRefused));
   CHECK_NOTHROW(Double::from_modal_form(L, B, C, D, T));
@@ -109,4 +109,48 @@ TEST_CASE("a decaying pole that float would put on the unit circle is refused at
   const auto& d = test::metrology().s.plant.sys;
   CHECK_NOTHROW(
       plant::runtime::DensePlant<float, kNx, kNu, kNy>::from_matrices(d.A, d.B, d.C, d.D));
+}
+
+namespace {
+
+// A fast, lightly damped pole z = 1 + a ± jb whose stored float b lies just inside the circle and
+// whose exact b is chosen so that float's m = |z|^2 - 1 is `ratio` times double's: float stays
+// inside but decays `ratio` - 1 faster.
+Eigen::Matrix2d pole_with_float_decay_ratio(double ratio) {
+  const double a = static_cast<float>(std::cos(0.5) - 1);  // exact in float and in double
+  const double on_circle = std::sqrt(-(2 * a + a * a));
+  float stored_b = static_cast<float>(on_circle);
+  if (stored_b >= on_circle) stored_b = std::nextafter(stored_b, 0.0f);
+  const double stored_m = 2 * a + a * a + double(stored_b) * stored_b;
+  const double b = std::sqrt(stored_m / ratio - 2 * a - a * a);
+  return (Eigen::Matrix2d() << a, b, -b, a).finished();
+}
+
+}  // namespace
+
+TEST_CASE("a pole whose decay float changes by more than 10 % is refused at start-up",
+          "[hard][float]") {
+  const Eigen::MatrixXd B = Eigen::MatrixXd::Ones(2, 2), C = Eigen::MatrixXd::Ones(1, 2),
+                        D = Eigen::MatrixXd::Zero(1, 2), T = Eigen::MatrixXd::Identity(2, 2);
+  const char* kRefused = "float changes its decay by 50";
+  const Eigen::Matrix2d L = pole_with_float_decay_ratio(1.5);
+  const auto margin = plant::runtime::pole_margin<float>(L(0, 0), L(0, 1));
+  REQUIRE(margin.stored < 0);
+  REQUIRE(margin.decay_change() == Approx(0.5).epsilon(1e-6));
+  using Float = plant::runtime::ModalPlant<float, 2, 2, 1>;
+  CHECK_THROWS_WITH(Float::from_modal_form(L, B, C, D, T), Catch::Contains(kRefused));
+  CHECK_THROWS_WITH(plant::runtime::GeneralModalPlant<float>::from_modal_form(L, B, C, D, T, 1),
+                    Catch::Contains(kRefused));
+  CHECK_NOTHROW(plant::runtime::ModalPlant<double, 2, 2, 1>::from_modal_form(L, B, C, D, T));
+  const Eigen::MatrixXd Ad = Eigen::Matrix2d::Identity() + L;
+  using DenseFloat = plant::runtime::DensePlant<float, 2, 2, 1>;
+  CHECK_THROWS_WITH(DenseFloat::from_matrices(Ad, B, C, D), Catch::Contains("float changes"));
+  CHECK_THROWS_WITH(plant::runtime::GeneralDensePlant<float>::from_matrices(Ad, B, C, D, 1),
+                    Catch::Contains("float changes"));
+  // 5 % is within the tolerance: kept, both forms.
+  const Eigen::Matrix2d near = pole_with_float_decay_ratio(1.05);
+  REQUIRE(plant::runtime::pole_margin<float>(near(0, 0), near(0, 1)).decay_change() ==
+          Approx(0.05).epsilon(1e-4));
+  CHECK_NOTHROW(Float::from_modal_form(near, B, C, D, T));
+  CHECK_NOTHROW(DenseFloat::from_matrices(Eigen::Matrix2d::Identity() + near, B, C, D));
 }
