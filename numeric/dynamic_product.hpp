@@ -6,9 +6,9 @@
 //
 // The rows are taken in blocks of up to four widest SIMD packets held in registers; within a
 // block every column costs one broadcast of its vector entry and one multiply-add per packet, and
-// the columns alternate between two independent chains of sums, added at the end. Why not Eigen's
-// dynamic-size product, which the general path used before: for the small matrices of a loop
-// (6 to 30 rows) its run-time dispatch and blocking cost more than the arithmetic.
+// the columns are dealt round independent chains of sums (8 packets in flight), added at the end.
+// Why not Eigen's dynamic-size product, which the general path used before: for the small matrices
+// of a loop (6 to 30 rows) its run-time dispatch and blocking cost more than the arithmetic.
 //
 // Storage: every matrix has a whole number of widest packets of rows (padded_row_count(): zeros
 // below the real rows), so that no block has a scalar tail; `init` and `out` have as many entries.
@@ -37,14 +37,23 @@ constexpr Eigen::Index padded_row_count(Eigen::Index rows) {
 
 namespace detail {
 
-// sums[c] += M(:, j) m_j over the columns j of M, alternating between the two chains c = 0, 1.
-template <typename Packet, int P, int Packets, typename Scalar>
-EIGEN_ALWAYS_INLINE void add_columns(Registers<Packet, Packets> (&sums)[2], const Scalar* M,
+// Independent chains of sums a block keeps: a multiply-add waits ~4 cycles for its sum, and a
+// core issues two a cycle, so about 8 packets of sums in flight keep it busy. A block of one
+// packet of rows (an output product: a few outputs over many states) needs 8 chains; wider
+// blocks get the same from their own packets with fewer.
+template <int Packets>
+inline constexpr int kChains = Packets == 1   ? 8
+                               : Packets == 2 ? 4
+                                              : 2;
+
+// sums[c] += M(:, j) m_j over the columns j of M, the columns dealt round the Chains chains.
+template <typename Packet, int P, int Packets, int Chains, typename Scalar>
+EIGEN_ALWAYS_INLINE void add_columns(Registers<Packet, Packets> (&sums)[Chains], const Scalar* M,
                                      Eigen::Index k, const Scalar* m, Eigen::Index ld) {
   Eigen::Index j = 0;
-  for (; j + 1 < k; j += 2) {
-#pragma GCC unroll 2
-    for (int c = 0; c < 2; ++c) {
+  for (; j + Chains <= k; j += Chains) {
+#pragma GCC unroll 8
+    for (int c = 0; c < Chains; ++c) {
       const Packet x = ei::pset1<Packet>(m[j + c]);
       const Scalar* column = M + (j + c) * ld;
 #pragma GCC unroll 4
@@ -52,34 +61,41 @@ EIGEN_ALWAYS_INLINE void add_columns(Registers<Packet, Packets> (&sums)[2], cons
         sums[c][p] = ei::pmadd(ei::ploadu<Packet>(column + p * P), x, sums[c][p]);
     }
   }
-  if (j < k) {
+  for (int c = 0; j < k; ++j, ++c) {
     const Packet x = ei::pset1<Packet>(m[j]);
     const Scalar* column = M + j * ld;
 #pragma GCC unroll 4
     for (int p = 0; p < Packets; ++p)
-      sums[0][p] = ei::pmadd(ei::ploadu<Packet>(column + p * P), x, sums[0][p]);
+      sums[c][p] = ei::pmadd(ei::ploadu<Packet>(column + p * P), x, sums[c][p]);
   }
 }
 
 // Rows [0, Packets * P) of out = init + A a + B b; A and B start at the block's first row, with
-// `ld` entries from one column to the next. Two chains of sums (even and odd columns), so that a
-// product of k columns waits on k/2 dependent multiply-adds, not k.
+// `ld` entries from one column to the next. kChains<Packets> chains of sums, so that a product
+// of k columns waits on k / Chains dependent multiply-adds, not k; added pairwise at the end.
 template <typename Scalar, int Packets>
 EIGEN_ALWAYS_INLINE void product_sum_block(const Scalar* A, Eigen::Index ka, const Scalar* a,
                                            const Scalar* B, Eigen::Index kb, const Scalar* b,
                                            Eigen::Index ld, const Scalar* init, Scalar* out) {
   using Packet = typename PacketLevel<Scalar, 0>::type;
   constexpr int P = kPacketSize<Scalar, 0>;
-  Registers<Packet, Packets> sums[2];
+  constexpr int Chains = kChains<Packets>;
+  Registers<Packet, Packets> sums[Chains];
+#pragma GCC unroll 8
+  for (int c = 0; c < Chains; ++c)
 #pragma GCC unroll 4
-  for (int p = 0; p < Packets; ++p) {
-    sums[0][p] = init ? ei::ploadu<Packet>(init + p * P) : ei::pset1<Packet>(Scalar(0));
-    sums[1][p] = ei::pset1<Packet>(Scalar(0));
-  }
+    for (int p = 0; p < Packets; ++p)
+      sums[c][p] = c == 0 && init ? ei::ploadu<Packet>(init + p * P) : ei::pset1<Packet>(Scalar(0));
   add_columns<Packet, P>(sums, A, ka, a, ld);
   add_columns<Packet, P>(sums, B, kb, b, ld);
+#pragma GCC unroll 3
+  for (int width = Chains / 2; width > 0; width /= 2)
 #pragma GCC unroll 4
-  for (int p = 0; p < Packets; ++p) ei::pstoreu(out + p * P, ei::padd(sums[0][p], sums[1][p]));
+    for (int c = 0; c < width; ++c)
+#pragma GCC unroll 4
+      for (int p = 0; p < Packets; ++p) sums[c][p] = ei::padd(sums[c][p], sums[c + width][p]);
+#pragma GCC unroll 4
+  for (int p = 0; p < Packets; ++p) ei::pstoreu(out + p * P, sums[0][p]);
 }
 
 }  // namespace detail
