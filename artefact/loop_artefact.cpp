@@ -5,6 +5,7 @@
 
 #include "common/input_error.hpp"
 #include "common/json_document.hpp"
+#include "numeric/stationary_covariance.hpp"
 
 namespace flexloop::artefact {
 
@@ -351,6 +352,8 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
       out->floor_gain = s.matrix("floor_gain", n, nf * a.channels.disturbances.size(), "start row",
                                  "floor filter state");
       out->covariance = s.matrix("covariance", n, n, "start row", "start row");
+      const std::string defect = numeric::covariance_defect(out->covariance);
+      require(defect.empty(), s.place("covariance"), defect);
     }
   } else {
     a.start.open_loop.unavailable = a.start.closed_loop.unavailable =

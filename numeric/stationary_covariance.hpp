@@ -8,7 +8,11 @@
 // 1e-32 and stays far below the stopping test for the 64 rounds allowed. A mode the noise drives
 // on or outside the circle makes the sum grow: no stationary state.
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
 #include <optional>
+#include <sstream>
+#include <string>
 
 namespace flexloop::numeric {
 
@@ -34,6 +38,28 @@ inline std::optional<Eigen::MatrixXd> stationary_covariance(const Eigen::MatrixX
 inline Eigen::MatrixXd covariance_root(const Eigen::MatrixXd& P) {
   const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(P);
   return eig.eigenvectors() * eig.eigenvalues().cwiseMax(0).cwiseSqrt().asDiagonal();
+}
+
+/// What keeps P from being a covariance, or empty: an entry that is not symmetric, or an
+/// eigenvalue below zero by more than rounding (1e-9 of the largest). For matrices read from a
+/// file (an artefact's start), where a hand edit may have broken either.
+inline std::string covariance_defect(const Eigen::MatrixXd& P) {
+  if (P.size() == 0) return {};
+  std::ostringstream os;
+  os.precision(3);
+  const double scale = P.cwiseAbs().maxCoeff();
+  for (Eigen::Index j = 0; j < P.cols(); ++j)
+    for (Eigen::Index i = j + 1; i < P.rows(); ++i)
+      if (!(std::abs(P(i, j) - P(j, i)) <= 1e-12 * scale)) {
+        os << "not symmetric: entry (" << i << ", " << j << ") is " << P(i, j) << ", entry (" << j
+           << ", " << i << ") " << P(j, i);
+        return os.str();
+      }
+  const Eigen::VectorXd lambda = Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(P).eigenvalues();
+  const double largest = lambda(lambda.size() - 1);
+  if (lambda(0) >= -1e-9 * std::max(largest, 0.0)) return {};
+  os << "not positive semidefinite: eigenvalue " << lambda(0) << " against the largest " << largest;
+  return os.str();
 }
 
 }  // namespace flexloop::numeric

@@ -122,6 +122,14 @@ TEST_CASE("loop artefact: bad artefacts name the file, the key and what is wrong
              Contains("key 'transport_delay_samples': is 40, must be 0 .. 32"));
   CHECK_THAT(error_of([](json& j) { j["rate_hz"] = -10; }), Contains("key 'rate_hz': must be > 0"));
   CHECK_THAT(error_of([](json& j) { j.erase("floor"); }), Contains("key 'floor': is missing"));
+  // A start covariance a hand edit broke: not symmetric, not positive semidefinite.
+  CHECK_THAT(error_of([](json& j) {
+               j["start"]["closed_loop"]["covariance"][0][1] =
+                   2 * j["start"]["closed_loop"]["covariance"][0][1].get<double>() + 1;
+             }),
+             Contains("key 'closed_loop': key 'covariance': not symmetric: entry (1, 0)"));
+  CHECK_THAT(error_of([](json& j) { j["start"]["open_loop"]["covariance"][0][0] = -1.0; }),
+             Contains("key 'open_loop': key 'covariance': not positive semidefinite: eigenvalue"));
   // Not JSON at all: the file is named.
   const auto broken = temp_file("broken.json");
   std::ofstream(broken) << "{\"format\": ";
