@@ -165,7 +165,7 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
     }
     if (controller) controller->signal(SIGCONT);
   };
-  StatusLine line(*status.get(), loop.rate_hz, o.status_line);
+  StatusLine line(*status.get(), loop.rate_hz, o.status_line, has_controller);
   const auto watch = [&] {
     // Repeated while the stop stands: a stop that came before the plant installed its own
     // handlers is not lost.

@@ -94,10 +94,14 @@ TEST_CASE("run verdict: the report's JSON reads back as the same verdict") {
 }
 
 TEST_CASE("hil status line: the figures of the last second in the user's units") {
-  const std::string line = StatusLine::format(10000, 40000, 100000, 12, 0, 41234);
+  const std::string line = StatusLine::format(10000, 40000, 100000, 12, 0, 41234, true);
   CHECK(line ==
         "hil 10 kHz: 4 / 10 s, 40000 cycles, 12 misses (0.030 %), round trip p99 41.2 us, safe 0");
+  // No controller process: unanswered samples are expected, not misses.
+  CHECK(StatusLine::format(10000, 40000, 100000, 40000, 40000, 0, false) ==
+        "hil 10 kHz, no controller process: 4 / 10 s, 40000 cycles, 40000 unanswered, round "
+        "trip p99 0.0 us, safe 40000");
   SharedLoopStatus status;
-  StatusLine quiet(*status.get(), 1000, false);
+  StatusLine quiet(*status.get(), 1000, false, true);
   CHECK_FALSE(quiet.enabled());
 }
