@@ -13,6 +13,9 @@
 //                            command): the next measurement contains u's force
 //   sensors(), actuators()   the channel counts
 //
+// step, start, reset and set_previous_command run in the real-time loop: the concept requires
+// them noexcept (a controller that can fail, e.g. foreign code, reports it another way).
+//
 // The safe command, which the plant applies when answers stop coming, is zero force: the
 // controller does not choose it (the plant holds it without a controller to ask).
 #include <Eigen/Core>
@@ -25,10 +28,14 @@ concept LoopController = requires(C c, const C cc, const typename C::Vector v) {
   typename C::Vector;
   { cc.sensors() } -> std::convertible_to<Eigen::Index>;
   { cc.actuators() } -> std::convertible_to<Eigen::Index>;
-  c.step(v);
-  c.start(v, v);
-  c.reset();
-  c.set_previous_command(v);
+  { c.step(v) }
+  noexcept;
+  { c.start(v, v) }
+  noexcept;
+  { c.reset() }
+  noexcept;
+  { c.set_previous_command(v) }
+  noexcept;
 };
 
 }  // namespace flexloop::controller::runtime

@@ -15,6 +15,22 @@ namespace flexloop::hil {
 
 namespace {
 
+// The cycle: one sample's answer, timed, published, accounted. No allocation, lock or exception
+// (ControllerStation::answer, LcmPublisher::publish, LatencyHistogram::record).
+template <class Controller>
+void answer_sample(ControllerStation<Controller>& station, const flexloop_msgs::sensor_sample_t& s,
+                   rt::LcmPublisher<flexloop_msgs::actuator_command_t>& command,
+                   ControllerLoopResult& r) noexcept {
+  const std::int64_t t0 = rt::monotonic_now_ns();
+  flexloop_msgs::actuator_command_t& cmd = station.answer(s);
+  const std::int64_t t1 = rt::monotonic_now_ns();
+  cmd.controller_compute_ns = t1 - t0;
+  cmd.t_ns = t1;
+  command.publish(cmd);
+  r.compute->record(t1 - t0);
+  r.response->record(rt::monotonic_now_ns() - station.samples().newest_received_ns());
+}
+
 template <class Controller>
 ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o,
                               const artefact::LoopArtefact& loop,
@@ -63,14 +79,7 @@ ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o
     if (now >= end) break;
     lcm.handle_until(now + kLookNs < end ? now + kLookNs : end, receive, wake, spin_from);
     if (const flexloop_msgs::sensor_sample_t* s = station->samples().take()) {
-      const std::int64_t t0 = rt::monotonic_now_ns();
-      flexloop_msgs::actuator_command_t& cmd = station->answer(*s);
-      const std::int64_t t1 = rt::monotonic_now_ns();
-      cmd.controller_compute_ns = t1 - t0;
-      cmd.t_ns = t1;
-      command.publish(cmd);
-      r.compute->record(t1 - t0);
-      r.response->record(rt::monotonic_now_ns() - station->samples().newest_received_ns());
+      answer_sample(*station, *s, command, r);
       spin_from = s->t_ns + period_ns - spin_margin_ns;
     }
   }

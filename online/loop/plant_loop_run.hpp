@@ -26,188 +26,259 @@
 
 namespace flexloop::hil::detail {
 
+/// The plant loop of one run in three parts:
+///   configure (the constructor)  the start's draw, the station, the log, LCM, the process's
+///                                real-time set-up: everything that allocates, opens or throws
+///   run()                        the periods, cycle() after cycle(), with the segments' pauses
+///                                between them
+///   collect()                    the run's figures into the result
 template <class Hardware>
-void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopOptions& o,
-                    const std::string& url, PlantLoopResult& r) {
-  const rt::PeriodicClockOptions clock_options{
-      .period_ns = static_cast<std::int64_t>(1e9 / loop.rate_hz + 0.5),
-      .wait_mode = o.wait,
-      .spin_margin_ns = o.spin_margin_ns};
-  rt::PeriodicClock clock(clock_options);
-  const double duration_s = o.duration_s > 0 ? o.duration_s : loop.duration_s;
-  const auto periods = static_cast<std::int64_t>(duration_s * loop.rate_hz + 0.5);
-  // A new epoch per run: the controller sees a restart, old answers are stale.
-  const std::int64_t epoch = rt::monotonic_now_ns() ^ (static_cast<std::int64_t>(getpid()) << 40);
-  const auto& actuator = loop.effects.actuator;
-  r.physical.command_limit = actuator.present ? actuator.force_limit_n / std::abs(actuator.gain)
-                                              : std::numeric_limits<double>::infinity();
-  // The start the controller process draws as well (online/sim/loop_start.hpp).
-  const auto& stationary = sim::run_start(loop);
-  std::optional<sim::DrawnStart> start;
-  if (o.start == sim::StartKind::kStationary && stationary.exists()) {
-    start = sim::draw_start(loop, stationary, sim::floor_filter_states(hw));
-    sim::start_hardware_at(loop, *start, hw);
+class PlantLoopRun {
+ public:
+  PlantLoopRun(Hardware hw, const artefact::LoopArtefact& loop, const LoopOptions& o,
+               const std::string& url, PlantLoopResult& r)
+      : loop_(loop),
+        o_(o),
+        r_(r),
+        clock_options_{.period_ns = static_cast<std::int64_t>(1e9 / loop.rate_hz + 0.5),
+                       .wait_mode = o.wait,
+                       .spin_margin_ns = o.spin_margin_ns},
+        clock_(clock_options_),
+        duration_s_(o.duration_s > 0 ? o.duration_s : loop.duration_s),
+        periods_(static_cast<std::int64_t>(duration_s_ * loop.rate_hz + 0.5)),
+        station_(make_station(std::move(hw))),
+        recorder_(make_recorder(loop, o)),
+        lcm_(make_transport(url)),
+        sensor_(*lcm_, o.channels.sensor),
+        stats_(*lcm_, o.channels.stats, loop.rate_hz, o.status),
+        receive_(rt::receive_mode_for(o.wait)),
+        segments_(std::max(1, o.segments)),
+        // The overrun policy (online/loop/run_verdict.hpp): 0 = go on whatever misses.
+        miss_stop_(o.limits.stop_after_misses > 0 ? o.limits.stop_after_misses
+                                                  : std::numeric_limits<std::int64_t>::max()) {
+    if (o.status != nullptr) o.status->periods_planned.store(periods_, std::memory_order_relaxed);
+    r.rate_hz = loop.rate_hz;
+    r.spin_margin_ns = rt::effective_spin_margin_ns(clock_options_);
+    const rt::LoopProcessSetup setup = rt::set_up_loop_process(*lcm_, o.realtime);
+    r.fifo = setup.fifo;
+    r.setup = setup.text + (dma_.active() ? "  ok    " : "  WARN  ") + dma_.message() + "\n";
+    r.segments.reserve(static_cast<std::size_t>(segments_));
+    if (!o.quiet)
+      std::printf(
+          "plant: %s, %.6g Hz for %.6g s (%lld periods), wait %s, LCM %s\nstart: %s\n%s",
+          loop.name.c_str(), loop.rate_hz, duration_s_, static_cast<long long>(periods_),
+          rt::to_string(o.wait), url.c_str(),
+          sim::describe_start(o.start, sim::run_start(loop), sim::run_loop_name(loop)).c_str(),
+          r.setup.c_str());
+    std::fflush(stdout);
   }
-  auto station = std::make_unique<PlantStation<Hardware>>(
-      std::move(hw), PlantStationSettings{.safe_after = o.safe_after,
-                                          .epoch = epoch,
-                                          .period_ns = clock_options.period_ns,
-                                          .command_limit = r.physical.command_limit,
-                                          .safe_ramp_periods = static_cast<std::int64_t>(
-                                              o.safe_ramp_s * loop.rate_hz + 0.5)});
-  if (start) station->start_command(typename Hardware::Command(start->last_command));
-  // The log (before the subscription and the publishers, which record into it): about a second
-  // of the loop's traffic in its ring, the channel map first.
-  std::unique_ptr<rt::EventLogRecorder> recorder;
-  if (!o.lcm_log.empty()) {
-    const std::string map = channel_map_json(loop).dump();
-    const int largest = std::max({rt::max_encoded_size<flexloop_msgs::sensor_sample_t>(),
-                                  rt::max_encoded_size<flexloop_msgs::actuator_command_t>(),
-                                  rt::max_encoded_size<flexloop_msgs::loop_stats_t>(),
-                                  static_cast<int>(map.size())});
-    recorder = std::make_unique<rt::EventLogRecorder>(o.lcm_log, largest,
-                                                      static_cast<int>(2 * loop.rate_hz) + 1024);
-    recorder->record(recorder->channel(kChannelMapChannel), map.data(),
-                     static_cast<int>(map.size()), rt::monotonic_now_ns());
-  }
-  rt::LcmTransport lcm(url, o.receive_path);
-  lcm.record_to(recorder.get());
-  lcm.subscribe(o.channels.command, station->commands());
-  rt::LcmPublisher<flexloop_msgs::sensor_sample_t> sensor(lcm, o.channels.sensor);
-  StatsPublisher stats(lcm, o.channels.stats, loop.rate_hz, o.status);
-  if (o.status != nullptr) o.status->periods_planned.store(periods, std::memory_order_relaxed);
-  const rt::CpuDmaLatencyHold dma;
-  r.rate_hz = loop.rate_hz;
-  r.spin_margin_ns = rt::effective_spin_margin_ns(clock_options);
-  const rt::LoopProcessSetup setup = rt::set_up_loop_process(lcm, o.realtime);
-  r.fifo = setup.fifo;
-  r.setup = setup.text + (dma.active() ? "  ok    " : "  WARN  ") + dma.message() + "\n";
-  if (!o.quiet)
-    std::printf(
-        "plant: %s, %.6g Hz for %.6g s (%lld periods), wait %s, LCM %s\nstart: %s\n%s",
-        loop.name.c_str(), loop.rate_hz, duration_s, static_cast<long long>(periods),
-        rt::to_string(o.wait), url.c_str(),
-        sim::describe_start(o.start, sim::run_start(loop), sim::run_loop_name(loop)).c_str(),
-        r.setup.c_str());
-  std::fflush(stdout);
 
-  LoopAccounts& a = r.accounts;
-  const rt::ReceiveMode receive = rt::receive_mode_for(o.wait);
-  const auto answered = [&] { return station->answered(); };
-  std::int64_t published_ns = 0;
-  const auto record_answer = [&] {
-    if (const auto* answer = station->last_answer()) {
-      const std::int64_t round_trip = station->commands().newest_received_ns() - published_ns;
-      a.round_trip->record(round_trip);
-      a.segment_round_trip->record(round_trip);
-      a.controller_compute->record(answer->controller_compute_ns);
+  /// The periods until the duration, a stop, the miss limit or a divergence (r.end says which).
+  void run() {
+    clock_.start();
+    stats_.start(rt::monotonic_now_ns());
+    r_.end = RunEnd::kDuration;
+    while (clock_.schedule().periods_elapsed() < periods_) {
+      if (stop_requested()) {
+        r_.end = RunEnd::kInterrupted;
+        break;
+      }
+      if (station_->deadline_misses() >= miss_stop_) {
+        r_.end = RunEnd::kMissLimit;
+        break;
+      }
+      if (static_cast<std::int64_t>(r_.segments.size()) + 1 < segments_ &&
+          clock_.schedule().periods_elapsed() >=
+              periods_ * static_cast<std::int64_t>(r_.segments.size() + 1) / segments_) {
+        // The last sample had its window (the receive above ran to its answer or the deadline):
+        // an answer that comes during the pause stays unread, and so counts as a miss.
+        close_segment();
+        if (o_.between_segments) o_.between_segments();
+        clock_.resume();
+        continue;  // the stop and miss checks again, after the pause
+      }
+      if (!cycle()) {
+        r_.divergence = plant::runtime::locate_divergence(
+            samples_, 1.0 / loop_.rate_hz, station_->hardware().performance(), station_->command());
+        r_.end = RunEnd::kDivergence;
+        break;
+      }
     }
-  };
-  // Segments (LoopOptions::segments): segment k ends once the grid covered periods (k+1)/K.
-  const std::int64_t segments = std::max(1, o.segments);
-  r.segments.reserve(static_cast<std::size_t>(segments));
-  SegmentFigures total;  // the counts when the current segment began
-  const auto close_segment = [&] {
-    SegmentFigures s;
-    s.periods = clock.schedule().periods_elapsed() - total.periods;
-    s.cycles = clock.schedule().cycles() - total.cycles;
-    s.deadline_misses = station->deadline_misses() - total.deadline_misses;
-    s.answers = a.segment_round_trip->count();
-    s.round_trip_p99_ns = s.answers > 0 ? a.segment_round_trip->percentile(0.99) : 0;
-    a.segment_round_trip->reset();
-    total.periods += s.periods;
-    total.cycles += s.cycles;
-    total.deadline_misses += s.deadline_misses;
-    r.segments.push_back(s);
-  };
-  LoopCounts counts;
-  long samples = 0;
-  clock.start();
-  stats.start(rt::monotonic_now_ns());
-  // The overrun policy (online/loop/run_verdict.hpp): 0 = go on whatever misses.
-  const std::int64_t miss_stop = o.limits.stop_after_misses > 0
-                                     ? o.limits.stop_after_misses
-                                     : std::numeric_limits<std::int64_t>::max();
-  r.end = RunEnd::kDuration;
-  while (clock.schedule().periods_elapsed() < periods) {
-    if (stop_requested()) {
-      r.end = RunEnd::kInterrupted;
-      break;
+    // The last sample's answer had its window too.
+    station_->settle(clock_.next_deadline_ns());
+    record_answer();
+    close_segment();
+  }
+
+  void collect() {
+    const rt::DeadlineSchedule& s = clock_.schedule();
+    r_.periods = s.periods_elapsed();
+    r_.cycles = s.cycles();
+    r_.overruns = s.overruns();
+    r_.skipped_periods = s.skipped_periods();
+    r_.deadline_misses = station_->deadline_misses();
+    r_.late_answers = station_->late_answers();
+    r_.safe_command_cycles = station_->safe_command_cycles();
+    r_.drops = station_->commands().drops();
+    r_.stats_published = stats_.published();
+    r_.publish_failures = sensor_.failures();
+    r_.physical.performance = loop_.channels.performance;
+    r_.physical.actuators = loop_.channels.actuators;
+    r_.physical.rms_performance = station_->rms_performance();
+    r_.physical.rms_command = station_->rms_command();
+    r_.physical.saturated_share = station_->saturated_share();
+    if (recorder_) {
+      r_.lcm_log.error = recorder_->finish();
+      r_.lcm_log.recorded = recorder_->recorded();
+      r_.lcm_log.dropped = recorder_->dropped();
     }
-    if (station->deadline_misses() >= miss_stop) {
-      r.end = RunEnd::kMissLimit;
-      break;
-    }
-    if (static_cast<std::int64_t>(r.segments.size()) + 1 < segments &&
-        clock.schedule().periods_elapsed() >=
-            periods * static_cast<std::int64_t>(r.segments.size() + 1) / segments) {
-      // The last sample had its window (the receive above ran to its answer or the deadline):
-      // an answer that comes during the pause stays unread, and so counts as a miss.
-      close_segment();
-      if (o.between_segments) o.between_segments();
-      clock.resume();
-      continue;  // the stop and miss checks again, after the pause
-    }
-    const rt::CycleStart c = clock.wait_next();
+  }
+
+ private:
+  /// One period: wait for its deadline, apply the command the last answer settles, sample and
+  /// publish, wait for the answer. No allocation or exception, and no lock but LCM's own queue's
+  /// on its receive-thread path (rt/lcm_transport.hpp). False: the plant's outputs left the
+  /// finite range (a divergence; nothing published).
+  bool cycle() noexcept {
+    LoopAccounts& a = r_.accounts;
+    const rt::CycleStart c = clock_.wait_next();
     a.wakeup_lateness->record(c.lateness_ns);
     const std::int64_t t0 = rt::monotonic_now_ns();
-    station->settle(c.due_ns);
+    station_->settle(c.due_ns);
     record_answer();
-    const auto& sample = station->sample(t0);
+    const auto& sample = station_->sample(t0);
     // The plant's outputs with the command its actuators hold (the answer to the previous
     // sample): sim checks the same outputs with the command that answers them, so a divergence
     // driven by the command can show one sample apart.
-    if (plant::runtime::beyond_range(station->hardware().performance(), station->command())) {
-      r.divergence = plant::runtime::locate_divergence(
-          samples, 1.0 / loop.rate_hz, station->hardware().performance(), station->command());
-      r.end = RunEnd::kDivergence;
-      break;
-    }
-    ++samples;
-    published_ns = rt::monotonic_now_ns();
-    a.plant_compute->record(published_ns - t0);
-    sensor.publish(sample);
+    if (plant::runtime::beyond_range(station_->hardware().performance(), station_->command()))
+      return false;
+    ++samples_;
+    published_ns_ = rt::monotonic_now_ns();
+    a.plant_compute->record(published_ns_ - t0);
+    sensor_.publish(sample);
     // Waiting for the answer (hybrid): spin from the publication on while the controller
     // answers. Once safe_after samples in a row went unanswered (nobody answers: the plant alone,
     // or a controller that stopped), sleep until the clock's own spin window before the deadline
     // instead: spinning whole periods at SCHED_FIFO uses up the kernel's RT bandwidth
     // (sched_rt_runtime_us, 95 % of each second) and the loop is then throttled for the rest of
-    // the second (measured before: the plant alone at 10 kHz for 2 s, one wake-up 48.4 ms late,
-    // 488 periods skipped). The first answer brings the spinning back (the miss count resets).
+    // the second (the plant alone at 10 kHz for 2 s: one wake-up 48.4 ms late, 488 periods
+    // skipped). The first answer brings the spinning back (the miss count resets).
     const std::int64_t spin_from =
-        station->consecutive_misses() < station->settings().safe_after
-            ? published_ns
-            : std::max(published_ns, clock.next_deadline_ns() - r.spin_margin_ns);
-    lcm.handle_until(clock.next_deadline_ns(), receive, answered, spin_from);
-    counts = {clock.schedule().cycles(), station->deadline_misses(), clock.schedule().overruns(),
-              station->commands().drops().total(), station->safe_command_cycles()};
-    stats.poll(rt::monotonic_now_ns(), a, counts);
+        station_->consecutive_misses() < station_->settings().safe_after
+            ? published_ns_
+            : std::max(published_ns_, clock_.next_deadline_ns() - r_.spin_margin_ns);
+    lcm_->handle_until(
+        clock_.next_deadline_ns(), receive_, [this] { return station_->answered(); }, spin_from);
+    const LoopCounts counts{clock_.schedule().cycles(), station_->deadline_misses(),
+                            clock_.schedule().overruns(), station_->commands().drops().total(),
+                            station_->safe_command_cycles()};
+    stats_.poll(rt::monotonic_now_ns(), a, counts);
+    return true;
   }
-  // The last sample's answer had its window too.
-  station->settle(clock.next_deadline_ns());
-  record_answer();
-  close_segment();
-  const rt::DeadlineSchedule& s = clock.schedule();
-  r.periods = s.periods_elapsed();
-  r.cycles = s.cycles();
-  r.overruns = s.overruns();
-  r.skipped_periods = s.skipped_periods();
-  r.deadline_misses = station->deadline_misses();
-  r.late_answers = station->late_answers();
-  r.safe_command_cycles = station->safe_command_cycles();
-  r.drops = station->commands().drops();
-  r.stats_published = stats.published();
-  r.publish_failures = sensor.failures();
-  r.physical.performance = loop.channels.performance;
-  r.physical.actuators = loop.channels.actuators;
-  r.physical.rms_performance = station->rms_performance();
-  r.physical.rms_command = station->rms_command();
-  r.physical.saturated_share = station->saturated_share();
-  if (recorder) {
-    r.lcm_log.error = recorder->finish();
-    r.lcm_log.recorded = recorder->recorded();
-    r.lcm_log.dropped = recorder->dropped();
+
+  void record_answer() noexcept {
+    if (const auto* answer = station_->last_answer()) {
+      LoopAccounts& a = r_.accounts;
+      const std::int64_t round_trip = station_->commands().newest_received_ns() - published_ns_;
+      a.round_trip->record(round_trip);
+      a.segment_round_trip->record(round_trip);
+      a.controller_compute->record(answer->controller_compute_ns);
+    }
   }
+
+  // Segments (LoopOptions::segments): segment k ends once the grid covered periods (k+1)/K.
+  void close_segment() {
+    SegmentFigures s;
+    s.periods = clock_.schedule().periods_elapsed() - total_.periods;
+    s.cycles = clock_.schedule().cycles() - total_.cycles;
+    s.deadline_misses = station_->deadline_misses() - total_.deadline_misses;
+    LoopAccounts& a = r_.accounts;
+    s.answers = a.segment_round_trip->count();
+    s.round_trip_p99_ns = s.answers > 0 ? a.segment_round_trip->percentile(0.99) : 0;
+    a.segment_round_trip->reset();
+    total_.periods += s.periods;
+    total_.cycles += s.cycles;
+    total_.deadline_misses += s.deadline_misses;
+    r_.segments.push_back(s);
+  }
+
+  // The station at the run's start: the start the controller process draws as well
+  // (online/sim/loop_start.hpp), or rest.
+  std::unique_ptr<PlantStation<Hardware>> make_station(Hardware hw) {
+    const auto& actuator = loop_.effects.actuator;
+    r_.physical.command_limit = actuator.present ? actuator.force_limit_n / std::abs(actuator.gain)
+                                                 : std::numeric_limits<double>::infinity();
+    const auto& stationary = sim::run_start(loop_);
+    std::optional<sim::DrawnStart> start;
+    if (o_.start == sim::StartKind::kStationary && stationary.exists()) {
+      start = sim::draw_start(loop_, stationary, sim::floor_filter_states(hw));
+      sim::start_hardware_at(loop_, *start, hw);
+    }
+    // A new epoch per run: the controller sees a restart, old answers are stale.
+    const std::int64_t epoch = rt::monotonic_now_ns() ^ (static_cast<std::int64_t>(getpid()) << 40);
+    auto station = std::make_unique<PlantStation<Hardware>>(
+        std::move(hw), PlantStationSettings{.safe_after = o_.safe_after,
+                                            .epoch = epoch,
+                                            .period_ns = clock_options_.period_ns,
+                                            .command_limit = r_.physical.command_limit,
+                                            .safe_ramp_periods = static_cast<std::int64_t>(
+                                                o_.safe_ramp_s * loop_.rate_hz + 0.5)});
+    if (start) station->start_command(typename Hardware::Command(start->last_command));
+    return station;
+  }
+
+  // The log (before the subscription and the publishers, which record into it): about a second
+  // of the loop's traffic in its ring, the channel map first. Null: no log asked for.
+  static std::unique_ptr<rt::EventLogRecorder> make_recorder(const artefact::LoopArtefact& loop,
+                                                             const LoopOptions& o) {
+    if (o.lcm_log.empty()) return nullptr;
+    const std::string map = channel_map_json(loop).dump();
+    const int largest = std::max({rt::max_encoded_size<flexloop_msgs::sensor_sample_t>(),
+                                  rt::max_encoded_size<flexloop_msgs::actuator_command_t>(),
+                                  rt::max_encoded_size<flexloop_msgs::loop_stats_t>(),
+                                  static_cast<int>(map.size())});
+    auto recorder = std::make_unique<rt::EventLogRecorder>(
+        o.lcm_log, largest, static_cast<int>(2 * loop.rate_hz) + 1024);
+    recorder->record(recorder->channel(kChannelMapChannel), map.data(),
+                     static_cast<int>(map.size()), rt::monotonic_now_ns());
+    return recorder;
+  }
+
+  // LCM, recording into the log and delivering answers to the station: wired before the
+  // publishers, which take the recorder when they are made.
+  std::unique_ptr<rt::LcmTransport> make_transport(const std::string& url) {
+    auto lcm = std::make_unique<rt::LcmTransport>(url, o_.receive_path);
+    lcm->record_to(recorder_.get());
+    lcm->subscribe(o_.channels.command, station_->commands());
+    return lcm;
+  }
+
+  const artefact::LoopArtefact& loop_;
+  const LoopOptions& o_;
+  PlantLoopResult& r_;
+  rt::PeriodicClockOptions clock_options_;
+  rt::PeriodicClock clock_;
+  double duration_s_;
+  std::int64_t periods_;
+  std::unique_ptr<PlantStation<Hardware>> station_;
+  std::unique_ptr<rt::EventLogRecorder> recorder_;
+  std::unique_ptr<rt::LcmTransport> lcm_;
+  rt::LcmPublisher<flexloop_msgs::sensor_sample_t> sensor_;
+  StatsPublisher stats_;
+  const rt::CpuDmaLatencyHold dma_;
+  rt::ReceiveMode receive_;
+  std::int64_t segments_, miss_stop_;
+  std::int64_t published_ns_ = 0;
+  long samples_ = 0;
+  SegmentFigures total_;  // the counts when the current segment began
+};
+
+template <class Hardware>
+void run_plant_with(Hardware hw, const artefact::LoopArtefact& loop, const LoopOptions& o,
+                    const std::string& url, PlantLoopResult& r) {
+  PlantLoopRun<Hardware> run(std::move(hw), loop, o, url, r);
+  run.run();
+  run.collect();
 }
 
 /// The loop on the fixed-size kernels of the compiled loop that matches the artefact
