@@ -38,32 +38,33 @@ json vector_json(const Eigen::VectorXd& v) {
   return out;
 }
 
-std::uint64_t seed_at(const JsonReader& r, const std::string& key) {
+std::uint64_t seed_at(const common::JsonReader& r, const std::string& key) {
   const json& v = r.get(key);
   if (!v.is_number_unsigned())
-    throw InputError(r.place(key), "expected an unsigned integer, found " + json_type_of(v));
+    throw common::InputError(r.place(key),
+                             "expected an unsigned integer, found " + common::json_type_of(v));
   return v.get<std::uint64_t>();
 }
 
-SensorEffect read_sensor(const JsonReader& effects, const std::string& key) {
+SensorEffect read_sensor(const common::JsonReader& effects, const std::string& key) {
   SensorEffect s;
   if (!effects.has(key) || effects.get(key).is_null()) return s;
-  const JsonReader r = effects.object(key);
+  const common::JsonReader r = effects.object(key);
   s.present = true;
   s.gain_error = r.number("gain_error");
-  if (s.gain_error <= -1) throw InputError(r.place("gain_error"), "must be > -1");
+  if (s.gain_error <= -1) throw common::InputError(r.place("gain_error"), "must be > -1");
   s.noise_rms = r.number("noise_rms");
-  if (s.noise_rms < 0) throw InputError(r.place("noise_rms"), "must be >= 0");
+  if (s.noise_rms < 0) throw common::InputError(r.place("noise_rms"), "must be >= 0");
   s.adc_bits = static_cast<int>(r.integer("adc_bits", 1, 53));
   s.adc_range = r.number("adc_range");
-  if (s.adc_range <= 0) throw InputError(r.place("adc_range"), "must be > 0");
+  if (s.adc_range <= 0) throw common::InputError(r.place("adc_range"), "must be > 0");
   s.delay_samples = static_cast<int>(r.integer("delay_samples", 0, kMaxDelaySamples));
   s.seed = seed_at(r, "seed");
   return s;
 }
 
 void require(bool ok, const std::string& place, const std::string& what) {
-  if (!ok) throw InputError(place, what);
+  if (!ok) throw common::InputError(place, what);
 }
 
 }  // namespace
@@ -97,35 +98,36 @@ json to_json(const LoopArtefact& a) {
   json plant = {{"form", a.plant.form},
                 {"states", a.plant.states},
                 {"spectral_radius", a.plant.spectral_radius},
-                {"A", matrix_to_json(a.plant.A)},
-                {"B", matrix_to_json(a.plant.B)},
-                {"C", matrix_to_json(a.plant.C)},
-                {"D", matrix_to_json(a.plant.D)}};
+                {"A", common::matrix_to_json(a.plant.A)},
+                {"B", common::matrix_to_json(a.plant.B)},
+                {"C", common::matrix_to_json(a.plant.C)},
+                {"D", common::matrix_to_json(a.plant.D)}};
   if (a.plant.form == "modal")
-    plant["modal"] = {{"Lambda_minus_I", matrix_to_json(a.plant.modal.Lambda_minus_I)},
-                      {"B", matrix_to_json(a.plant.modal.B)},
-                      {"C", matrix_to_json(a.plant.modal.C)},
-                      {"D", matrix_to_json(a.plant.modal.D)},
-                      {"T", matrix_to_json(a.plant.modal.T)}};
+    plant["modal"] = {{"Lambda_minus_I", common::matrix_to_json(a.plant.modal.Lambda_minus_I)},
+                      {"B", common::matrix_to_json(a.plant.modal.B)},
+                      {"C", common::matrix_to_json(a.plant.modal.C)},
+                      {"D", common::matrix_to_json(a.plant.modal.D)},
+                      {"T", common::matrix_to_json(a.plant.modal.T)}};
   json controller = {{"type", to_string(a.controller)}};
   if (a.controller == ControllerKind::kPiForceFeedback) {
-    controller["K_P"] = matrix_to_json(a.pi.K_P);
-    controller["K_I"] = matrix_to_json(a.pi.K_I);
+    controller["K_P"] = common::matrix_to_json(a.pi.K_P);
+    controller["K_I"] = common::matrix_to_json(a.pi.K_I);
     controller["leak_rad_s"] = a.pi.leak_rad_s;
     controller["u_min"] = vector_json(a.pi.u_min);
     controller["u_max"] = vector_json(a.pi.u_max);
-    if (a.pi.feedthrough.size() > 0) controller["feedthrough"] = matrix_to_json(a.pi.feedthrough);
+    if (a.pi.feedthrough.size() > 0)
+      controller["feedthrough"] = common::matrix_to_json(a.pi.feedthrough);
     controller["feedthrough_delay"] = a.pi.feedthrough_delay;
   } else if (a.controller == ControllerKind::kStateSpace) {
     const auto& c = a.state_space;
     controller["states"] = c.A.rows();
-    controller["A"] = matrix_to_json(c.A);
-    controller["B"] = matrix_to_json(c.B);
-    controller["C"] = matrix_to_json(c.C);
-    controller["D"] = matrix_to_json(c.D);
+    controller["A"] = common::matrix_to_json(c.A);
+    controller["B"] = common::matrix_to_json(c.B);
+    controller["C"] = common::matrix_to_json(c.C);
+    controller["D"] = common::matrix_to_json(c.D);
     controller["u_min"] = vector_json(c.u_min);
     controller["u_max"] = vector_json(c.u_max);
-    controller["feedthrough"] = matrix_to_json(c.feedthrough);
+    controller["feedthrough"] = common::matrix_to_json(c.feedthrough);
     controller["feedthrough_delay"] = c.feedthrough_delay;
     controller["anti_windup"] = to_string(c.anti_windup);
   }
@@ -133,11 +135,11 @@ json to_json(const LoopArtefact& a) {
   if (a.floor.spectrum == "white")
     floor["rms_mps2"] = a.floor.rms_mps2;
   else
-    floor["filter"] = {{"A", matrix_to_json(a.floor_filter.A)},
-                       {"B", matrix_to_json(a.floor_filter.B)},
-                       {"C", matrix_to_json(a.floor_filter.C)},
-                       {"D", matrix_to_json(a.floor_filter.D)},
-                       {"motion", matrix_to_json(a.floor_filter.motion)}};
+    floor["filter"] = {{"A", common::matrix_to_json(a.floor_filter.A)},
+                       {"B", common::matrix_to_json(a.floor_filter.B)},
+                       {"C", common::matrix_to_json(a.floor_filter.C)},
+                       {"D", common::matrix_to_json(a.floor_filter.D)},
+                       {"motion", common::matrix_to_json(a.floor_filter.motion)}};
   const auto& e = a.effects;
   json effects = {{"actuator", nullptr},
                   {"force_sensor", sensor_json(e.force_sensor)},
@@ -159,8 +161,8 @@ json to_json(const LoopArtefact& a) {
                   {"controller_states", st.controller_states},
                   {"actuator_lag", st.actuator_lag},
                   {"note", st.note},
-                  {"floor_gain", matrix_to_json(st.floor_gain)},
-                  {"covariance", matrix_to_json(st.covariance)}};
+                  {"floor_gain", common::matrix_to_json(st.floor_gain)},
+                  {"covariance", common::matrix_to_json(st.covariance)}};
   }
   const auto& p = a.provenance;
   return {{"format", kLoopArtefactFormat},
@@ -186,7 +188,7 @@ json to_json(const LoopArtefact& a) {
 }
 
 LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
-  const JsonReader r(j, place);
+  const common::JsonReader r(j, place);
   LoopArtefact a;
   a.source = place;
   require(r.string("format") == kLoopArtefactFormat, r.place("format"),
@@ -201,23 +203,24 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
   a.method = r.string("method");
   a.prewarp_hz = r.number("prewarp_hz");
 
-  const JsonReader ch = r.object("channels");
+  const common::JsonReader ch = r.object("channels");
   for (int k = 0; k < 4; ++k) {
     const json& list = ch.get(kChannelKinds[k]);
     const std::string where = ch.place(kChannelKinds[k]);
-    require(list.is_array(), where, "expected a list of channels, found " + json_type_of(list));
+    require(list.is_array(), where,
+            "expected a list of channels, found " + common::json_type_of(list));
     require(!list.empty() && list.size() <= static_cast<std::size_t>(numeric::kMaxChannels), where,
             "has " + std::to_string(list.size()) + " channels; each kind takes 1 .. " +
                 std::to_string(numeric::kMaxChannels));
     for (std::size_t i = 0; i < list.size(); ++i) {
-      const JsonReader c(list[i], where + " entry " + std::to_string(i + 1));
+      const common::JsonReader c(list[i], where + " entry " + std::to_string(i + 1));
       kind(a.channels, k).push_back({c.string("name"), c.string("unit")});
     }
   }
   const std::size_t nw = a.channels.disturbances.size(), nc = a.channels.actuators.size(),
                     nz = a.channels.performance.size(), ns = a.channels.sensors.size();
 
-  const JsonReader pl = r.object("plant");
+  const common::JsonReader pl = r.object("plant");
   a.plant.form = pl.string("form");
   require(a.plant.form == "dense" || a.plant.form == "modal", pl.place("form"),
           "is \"" + a.plant.form + "\"; expected \"dense\" or \"modal\"");
@@ -233,7 +236,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
   a.plant.D = pl.matrix("D", nz + ns, nw + nc, "output (performance, then sensors)",
                         "input (disturbances, then actuators)");
   if (a.plant.form == "modal") {
-    const JsonReader m = pl.object("modal");
+    const common::JsonReader m = pl.object("modal");
     a.plant.modal.Lambda_minus_I = m.matrix("Lambda_minus_I", nx, nx, "state", "state");
     a.plant.modal.B = m.matrix("B", nx, nw + nc, "state", "input");
     a.plant.modal.C = m.matrix("C", nz + ns, nx, "output", "state");
@@ -241,7 +244,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
     a.plant.modal.T = m.matrix("T", nx, nx, "state", "state");
   }
 
-  const JsonReader co = r.object("controller");
+  const common::JsonReader co = r.object("controller");
   const std::string type = co.string("type");
   if (type == "none") {
     a.controller = ControllerKind::kNone;
@@ -288,23 +291,23 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
     try {
       c.anti_windup = artefact::parse_anti_windup(co.string("anti_windup"));
     } catch (const std::invalid_argument& e) {
-      throw InputError(co.place("anti_windup"), e.what());
+      throw common::InputError(co.place("anti_windup"), e.what());
     }
     c.dt = 1.0 / a.rate_hz;
   } else {
-    throw InputError(co.place("type"), "is \"" + type +
-                                           "\"; this flexloop knows \"pi_force_feedback\", "
-                                           "\"state_space\" and \"none\"");
+    throw common::InputError(co.place("type"), "is \"" + type +
+                                                   "\"; this flexloop knows \"pi_force_feedback\", "
+                                                   "\"state_space\" and \"none\"");
   }
 
-  const JsonReader fl = r.object("floor");
+  const common::JsonReader fl = r.object("floor");
   a.floor.spectrum = fl.string("spectrum");
   a.floor.seed = seed_at(fl, "seed");
   if (a.floor.spectrum == "white") {
     a.floor.rms_mps2 = fl.number("rms_mps2");
     require(a.floor.rms_mps2 >= 0, fl.place("rms_mps2"), "must be >= 0");
   } else {
-    const JsonReader f = fl.object("filter");
+    const common::JsonReader f = fl.object("filter");
     const std::size_t n = kFloorFilterOrder;
     a.floor_filter.A = f.matrix("A", n, n, "filter state", "filter state");
     a.floor_filter.B = f.matrix("B", n, 1, "filter state", "noise input");
@@ -313,9 +316,9 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
     a.floor_filter.motion = f.matrix("motion", 2, n, "velocity / displacement", "filter state");
   }
 
-  const JsonReader ef = r.object("effects");
+  const common::JsonReader ef = r.object("effects");
   if (!ef.get("actuator").is_null()) {
-    const JsonReader ac = ef.object("actuator");
+    const common::JsonReader ac = ef.object("actuator");
     a.effects.actuator.present = true;
     a.effects.actuator.gain = ac.number("gain");
     require(a.effects.actuator.gain != 0, ac.place("gain"), "must not be 0");
@@ -331,11 +334,11 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
 
   // An artefact without "start" (written before starts were stored) starts at rest.
   if (r.has("start")) {
-    const JsonReader st = r.object("start");
+    const common::JsonReader st = r.object("start");
     for (auto [key, out] :
          {std::pair<const char*, StationaryStart*>{"open_loop", &a.start.open_loop},
           {"closed_loop", &a.start.closed_loop}}) {
-      const JsonReader s = st.object(key);
+      const common::JsonReader s = st.object(key);
       if (s.has("unavailable")) {
         out->unavailable = s.string("unavailable");
         require(!out->unavailable.empty(), s.place("unavailable"), "must say why");
@@ -364,7 +367,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
   require(a.duration_s > 0, r.object("run").place("duration_s"), "must be > 0");
 
   if (r.has("provenance")) {
-    const JsonReader p = r.object("provenance");
+    const common::JsonReader p = r.object("provenance");
     auto text = [&p](const char* key) { return p.has(key) ? p.string(key) : std::string(); };
     a.provenance = {text("scene"),        text("scene_sha256"),     text("model"),
                     text("model_sha256"), text("flexloop_version"), text("flexloop_git")};
@@ -430,36 +433,40 @@ void validate(const LoopArtefact& a) {
 }
 
 LoopArtefact read_loop_artefact(const std::filesystem::path& file) {
-  return loop_artefact_from_json(parse_json_file(file), file.string());
+  return loop_artefact_from_json(common::parse_json_file(file), file.string());
 }
 
 LoopArtefact read_loop_artefact(const std::filesystem::path& file, const LoopOverrides& o) {
   const std::string path = file.string();
   if (!is_loop_artefact_file(file))
-    throw InputError(path, "is not a loop artefact (a JSON object with \"format\": \"" +
-                               std::string(kLoopArtefactFormat) +
-                               "\"); build one from a scene: flexloop build SCENE -o LOOP.json");
+    throw common::InputError(path,
+                             "is not a loop artefact (a JSON object with \"format\": \"" +
+                                 std::string(kLoopArtefactFormat) +
+                                 "\"); build one from a scene: flexloop build SCENE -o LOOP.json");
   LoopArtefact a = read_loop_artefact(file);
   if (o.rate_hz > 0 && o.rate_hz != a.rate_hz)
-    throw InputError(path, "key 'rate_hz': the artefact is built for " + std::to_string(a.rate_hz) +
-                               " Hz; rebuild it at another rate (flexloop build SCENE --rate HZ)");
+    throw common::InputError(
+        path, "key 'rate_hz': the artefact is built for " + std::to_string(a.rate_hz) +
+                  " Hz; rebuild it at another rate (flexloop build SCENE --rate HZ)");
   if (!o.form.empty() && o.form != a.plant.form)
-    throw InputError(path, "key 'plant': the artefact holds the " + a.plant.form +
-                               " form; rebuild it (flexloop build SCENE --form " + o.form + ")");
+    throw common::InputError(path, "key 'plant': the artefact holds the " + a.plant.form +
+                                       " form; rebuild it (flexloop build SCENE --form " + o.form +
+                                       ")");
   if (o.duration_s > 0) a.duration_s = o.duration_s;
   return a;
 }
 
 void write_loop_artefact(const std::filesystem::path& file, const LoopArtefact& a) {
-  write_json_atomically(file, to_json(a),
-                        {"format", "version", "name", "rate_hz", "method", "prewarp_hz", "channels",
-                         "controller", "floor", "effects", "run", "provenance", "plant", "form",
-                         "states", "spectral_radius", "name", "unit", "type"});
+  common::write_json_atomically(
+      file, to_json(a),
+      {"format", "version", "name", "rate_hz", "method", "prewarp_hz", "channels", "controller",
+       "floor", "effects", "run", "provenance", "plant", "form", "states", "spectral_radius",
+       "name", "unit", "type"});
 }
 
 bool is_loop_artefact_file(const std::filesystem::path& file) {
   try {
-    const json j = parse_json_file(file);
+    const json j = common::parse_json_file(file);
     return j.is_object() && j.value("format", std::string()) == kLoopArtefactFormat;
   } catch (const std::exception&) {
     return false;

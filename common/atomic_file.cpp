@@ -12,7 +12,7 @@
 
 #include "common/input_error.hpp"
 
-namespace flexloop {
+namespace flexloop::common {
 
 namespace {
 
@@ -73,4 +73,4 @@ void write_text_atomically(const std::filesystem::path& file, const std::string&
   }
 }
 
-}  // namespace flexloop
+}  // namespace flexloop::common

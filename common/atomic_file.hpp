@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-namespace flexloop {
+namespace flexloop::common {
 
 /// @throws std::runtime_error "cannot write <file>: <step>: <system error>".
 void write_text_atomically(const std::filesystem::path& file, const std::string& text);
@@ -18,4 +18,4 @@ void write_text_atomically(const std::filesystem::path& file, const std::string&
 /// @throws flexloop::InputError "<file>: cannot be written: <system error>" (exit 2).
 void require_writable(const std::filesystem::path& file);
 
-}  // namespace flexloop
+}  // namespace flexloop::common

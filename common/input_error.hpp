@@ -4,7 +4,7 @@
 #include <stdexcept>
 #include <string>
 
-namespace flexloop {
+namespace flexloop::common {
 
 class InputError : public std::runtime_error {
  public:
@@ -16,4 +16,4 @@ class InputError : public std::runtime_error {
   std::string place_;
 };
 
-}  // namespace flexloop
+}  // namespace flexloop::common

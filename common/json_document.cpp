@@ -10,7 +10,7 @@
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 
-namespace flexloop {
+namespace flexloop::common {
 
 using nlohmann::json;
 
@@ -210,4 +210,4 @@ Eigen::VectorXd JsonReader::vector(const std::string& key) const {
   return out;
 }
 
-}  // namespace flexloop
+}  // namespace flexloop::common

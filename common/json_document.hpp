@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-namespace flexloop {
+namespace flexloop::common {
 
 /// "string \"x\"", "number", "array", ... for messages.
 std::string json_type_of(const nlohmann::json& v);
@@ -58,4 +58,4 @@ class JsonReader {
   std::string place_;
 };
 
-}  // namespace flexloop
+}  // namespace flexloop::common

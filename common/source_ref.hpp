@@ -2,7 +2,7 @@
 // Where something was read: a file and a line (0: the file as a whole), as input errors print it.
 #include <string>
 
-namespace flexloop {
+namespace flexloop::common {
 
 struct SourceRef {
   std::string file;
@@ -10,4 +10,4 @@ struct SourceRef {
   std::string str() const { return line > 0 ? file + ":" + std::to_string(line) : file; }
 };
 
-}  // namespace flexloop
+}  // namespace flexloop::common

@@ -17,7 +17,7 @@
 #include "common/source_ref.hpp"
 #include "common/toml_text_check.hpp"
 
-namespace flexloop {
+namespace flexloop::common {
 
 class TomlReader {
  public:
@@ -134,4 +134,4 @@ inline std::string read_input_file(const std::string& path, const std::string& w
   return ss.str();
 }
 
-}  // namespace flexloop
+}  // namespace flexloop::common

@@ -1,6 +1,6 @@
 #include "common/toml_text_check.hpp"
 
-namespace flexloop {
+namespace flexloop::common {
 namespace {
 
 /// Length of the valid UTF-8 sequence starting at text[i], or 0 when it is invalid.
@@ -324,4 +324,4 @@ std::optional<TomlTextProblem> toml_text_problem(std::string_view text) {
   return Scanner(text).run();
 }
 
-}  // namespace flexloop
+}  // namespace flexloop::common

@@ -16,7 +16,7 @@
 #include <string>
 #include <string_view>
 
-namespace flexloop {
+namespace flexloop::common {
 
 /// Where the first invalid UTF-8 sequence starts: its 1-based line and its byte offset.
 struct Utf8Error {
@@ -37,4 +37,4 @@ struct TomlTextProblem {
 /// The first reason not to hand `text` to toml++ (see the header comment), or nothing.
 std::optional<TomlTextProblem> toml_text_problem(std::string_view text);
 
-}  // namespace flexloop
+}  // namespace flexloop::common

@@ -21,7 +21,7 @@
 #include "plant/lti/pole_text.hpp"
 #include "plant/lti/state_space_json.hpp"
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 namespace {
 
@@ -250,7 +250,7 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
       sj["stable_omega_d_hz"] =
           r.omega_d_hz ? nlohmann::json(*r.omega_d_hz) : nlohmann::json(nullptr);
     }
-  } catch (const InputError& e) {
+  } catch (const common::InputError& e) {
     std::printf("sampled loop: not formed: %s\n", e.what());
   }
   const bool stable = p.loop.stable() && sampled_stable;
@@ -353,7 +353,7 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
     const auto health = numerical_health(p, scene::sample_scene(p).plant, sampled_loop);
     print_health(health);
     j["numerical_health"] = health_json(health);
-  } catch (const InputError& e) {
+  } catch (const common::InputError& e) {
     std::printf("numerical health: the plant is not sampled: %s\n", e.what());
   }
 
@@ -456,4 +456,4 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
       dir.c_str());
 }
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

@@ -7,7 +7,7 @@
 
 #include "plant/lti/modal_analysis.hpp"
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 /// analysis.json's "static_stability" (both analyse paths): the verdict, its figures and the
 /// sentence plant::lti::to_string prints.
@@ -21,4 +21,4 @@ struct FrequencyGrid {
 void analyse_scene(const std::string& scene_path, const std::string& out_dir,
                    const FrequencyGrid& grid);
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

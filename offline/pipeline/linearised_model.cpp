@@ -5,7 +5,7 @@
 #include "plant/model/massless_condensation.hpp"
 #include "plant/model/model_parser.hpp"
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 LinearisedModel linearise_model_file(const std::string& path, std::vector<std::string> inputs,
                                      std::vector<std::string> outputs) {
@@ -38,4 +38,4 @@ LinearisedModel linearise_model_file(const std::string& path, std::vector<std::s
   return r;
 }
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

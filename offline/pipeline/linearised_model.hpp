@@ -12,7 +12,7 @@
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model.hpp"
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 struct LinearisedModel {
   plant::model::Model model;
@@ -30,4 +30,4 @@ struct LinearisedModel {
 LinearisedModel linearise_model_file(const std::string& path, std::vector<std::string> inputs,
                                      std::vector<std::string> outputs);
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

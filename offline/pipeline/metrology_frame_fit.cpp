@@ -12,7 +12,7 @@
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model_parser.hpp"
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 namespace {
 
@@ -197,4 +197,4 @@ MetrologyFrameFit fit_metrology_frame(const MetrologyFrameGeometry& geometry, do
   return fit;
 }
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

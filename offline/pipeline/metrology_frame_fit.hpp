@@ -26,7 +26,7 @@
 #include <functional>
 #include <string>
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 struct MetrologyFrameGeometry {
   double triangle_side_m = 1.5;
@@ -67,4 +67,4 @@ MetrologyFrameFit fit_metrology_frame(const MetrologyFrameGeometry& geometry, do
 /// Sorted natural frequencies of the model text (parsed and linearised).
 std::array<double, 6> metrology_frame_frequencies(const MetrologyFrameParameters& p);
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

@@ -11,7 +11,7 @@
 #include "plant/model/massless_condensation.hpp"
 #include "plant/runtime/pole_precision.hpp"
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 namespace {
 
@@ -173,4 +173,4 @@ nlohmann::json health_json(const std::vector<HealthCheck>& checks) {
   return out;
 }
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

@@ -26,7 +26,7 @@
 
 #include "offline/scene/scene_plant.hpp"
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 struct HealthCheck {
   std::string name;     ///< e.g. "exponential"
@@ -46,4 +46,4 @@ std::vector<HealthCheck> numerical_health(const scene::ScenePlant& p,
 void print_health(const std::vector<HealthCheck>& checks);
 nlohmann::json health_json(const std::vector<HealthCheck>& checks);
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

@@ -3,7 +3,7 @@
 #include "flexloop/build_info.hpp"
 #include "offline/scene/loop_input.hpp"
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 nlohmann::json make_provenance(const std::string& source_path, const std::string& command) {
   return {{"source", source_path},
@@ -13,4 +13,4 @@ nlohmann::json make_provenance(const std::string& source_path, const std::string
           {"command", command}};
 }
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

@@ -4,10 +4,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-namespace flexloop::cli {
+namespace flexloop::pipeline {
 
 /// {"source": path, "source_sha256": ..., "flexloop_version": ..., "flexloop_git": ..., "command":
 /// ...}
 nlohmann::json make_provenance(const std::string& source_path, const std::string& command);
 
-}  // namespace flexloop::cli
+}  // namespace flexloop::pipeline

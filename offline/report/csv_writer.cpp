@@ -55,7 +55,7 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
     }
     text += '\n';
   }
-  write_text_atomically(path, text);
+  common::write_text_atomically(path, text);
 }
 
 void write_csv_columns(const std::string& path, const std::vector<std::string>& header,

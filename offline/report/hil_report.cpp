@@ -8,7 +8,7 @@
 #include "offline/report/plot.hpp"
 #include "plant/lti/state_space_json.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::report {
 
 namespace {
 
@@ -246,4 +246,4 @@ void print_sweep_table(const std::vector<nlohmann::json>& reports) {
   }
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::report

@@ -18,7 +18,7 @@
 #include <string>
 #include <vector>
 
-namespace flexloop::hil {
+namespace flexloop::report {
 
 /// Writes the report (without its "histograms" bins) atomically to `path` and draws the PNGs;
 /// returns the paths written.
@@ -38,4 +38,4 @@ void print_physical(const nlohmann::json& report);
 /// One table row per report (rate, misses, round trip, baselines), for `--sweep`.
 void print_sweep_table(const std::vector<nlohmann::json>& reports);
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::report

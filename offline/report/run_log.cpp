@@ -40,8 +40,8 @@ Channels channel_map(const std::string& text, const std::string& path) {
     c.performance = list("performance");
     c.actuators = list("actuators");
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(path,
-                     std::string("channel ") + kChannelMap + ": not a channel map: " + e.what());
+    throw common::InputError(
+        path, std::string("channel ") + kChannelMap + ": not a channel map: " + e.what());
   }
   return c;
 }
@@ -56,18 +56,18 @@ template <class Message>
 Message decoded(const lcm::LogEvent& e, const std::string& path, const char* type) {
   Message m;
   if (m.decode(e.data, 0, static_cast<int>(e.datalen)) != static_cast<int>(e.datalen))
-    throw InputError(path, "event " + std::to_string(e.eventnum) + ": " + e.channel +
-                               " does not decode as this flexloop's " + type +
-                               " (a log of another version of msgs/?)");
+    throw common::InputError(path, "event " + std::to_string(e.eventnum) + ": " + e.channel +
+                                       " does not decode as this flexloop's " + type +
+                                       " (a log of another version of msgs/?)");
   return m;
 }
 
 }  // namespace
 
 RunTable read_run_log(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError(path, "cannot open the log file");
+  if (!std::filesystem::exists(path)) throw common::InputError(path, "cannot open the log file");
   lcm::LogFile log(path, "r");
-  if (!log.good()) throw InputError(path, "cannot be read as an LCM log");
+  if (!log.good()) throw common::InputError(path, "cannot be read as an LCM log");
   std::string map_text;
   std::map<std::int64_t, Sample> samples;                                        // by seq
   std::map<std::pair<std::int64_t, std::int64_t>, std::vector<double>> answers;  // (epoch, seq)
@@ -89,8 +89,8 @@ RunTable read_run_log(const std::string& path) {
     }
   }
   if (map_text.empty())
-    throw InputError(path, std::string("no channel map (channel ") + kChannelMap +
-                               "): record the run with `flexloop hil --lcm-log FILE`");
+    throw common::InputError(path, std::string("no channel map (channel ") + kChannelMap +
+                                       "): record the run with `flexloop hil --lcm-log FILE`");
   const Channels ch = channel_map(map_text, path);
   RunTable t;
   t.loop = nlohmann::json::parse(map_text).value("loop", "");
@@ -103,12 +103,12 @@ RunTable read_run_log(const std::string& path) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   for (const auto& [seq, s] : samples) {
     if (s.sensors.size() != ch.sensors.size() || s.performance.size() != ch.performance.size())
-      throw InputError(path, "sample " + std::to_string(seq) + ": " +
-                                 std::to_string(s.sensors.size()) + " sensors and " +
-                                 std::to_string(s.performance.size()) +
-                                 " performance channels; the channel map has " +
-                                 std::to_string(ch.sensors.size()) + " and " +
-                                 std::to_string(ch.performance.size()));
+      throw common::InputError(path, "sample " + std::to_string(seq) + ": " +
+                                         std::to_string(s.sensors.size()) + " sensors and " +
+                                         std::to_string(s.performance.size()) +
+                                         " performance channels; the channel map has " +
+                                         std::to_string(ch.sensors.size()) + " and " +
+                                         std::to_string(ch.performance.size()));
     std::size_t k = 0;
     t.columns[k++].push_back(static_cast<double>(s.t_ns - t0) * 1e-9);
     t.columns[k++].push_back(static_cast<double>(seq));

@@ -75,7 +75,7 @@ void stage_table(const std::string& path, const std::vector<std::string>& names,
                  Eigen::Ref<const Eigen::MatrixXd> data) {
   const std::string ext = extension(path);
   if (!is_table_file(path))
-    throw InputError(path, "a table is written as .csv or .mat (got '" + ext + "')");
+    throw common::InputError(path, "a table is written as .csv or .mat (got '" + ext + "')");
   if (static_cast<Eigen::Index>(names.size()) != data.cols())
     throw std::invalid_argument(path + ": " + std::to_string(names.size()) + " column names for " +
                                 std::to_string(data.cols()) + " columns");

@@ -111,7 +111,7 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
       const auto m = plant::lti::to_modal_form(sampled.plant);
       a.plant.modal = {m.Lambda_minus_I, m.B, m.C, m.D, m.T};
     } catch (const std::invalid_argument& e) {
-      throw InputError(
+      throw common::InputError(
           sc.file, std::string("the modal form is refused: ") + e.what() + " (use the dense form)");
     }
   }

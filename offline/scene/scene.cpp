@@ -13,35 +13,35 @@ namespace flexloop::scene {
 
 namespace {
 
-std::vector<std::string> names(const TomlReader& r, const char* key) {
+std::vector<std::string> names(const common::TomlReader& r, const char* key) {
   std::vector<std::string> out;
   for (const auto& [s, n] : r.strings(key)) out.push_back(s);
   if (out.empty()) r.fail("'" + std::string(key) + "' must list at least one channel");
   return out;
 }
 
-double positive(const TomlReader& r, const char* key, double def) {
+double positive(const common::TomlReader& r, const char* key, double def) {
   const double v = r.number(key, def);
   if (!(v > 0) || !std::isfinite(v))
     r.fail("'" + std::string(key) + "' must be positive and finite", r.get(key));
   return v;
 }
 
-double non_negative(const TomlReader& r, const char* key, double def) {
+double non_negative(const common::TomlReader& r, const char* key, double def) {
   const double v = r.number(key, def);
   if (!(v >= 0)) r.fail("'" + std::string(key) + "' must not be negative", r.get(key));
   return v;
 }
 
 // A non-negative integer (seeds, bit counts, sample counts).
-std::uint64_t count(const TomlReader& r, const char* key, std::uint64_t def) {
+std::uint64_t count(const common::TomlReader& r, const char* key, std::uint64_t def) {
   const double v = r.number(key, static_cast<double>(def));
   if (!(v >= 0) || v != std::floor(v) || v > 9.007199254740992e15)
     r.fail("'" + std::string(key) + "' must be a non-negative integer", r.get(key));
   return static_cast<std::uint64_t>(v);
 }
 
-const toml::table* table(const TomlReader& top, const toml::table& root, const char* key,
+const toml::table* table(const common::TomlReader& top, const toml::table& root, const char* key,
                          bool required) {
   const auto* n = root.get(key);
   if (!n) {
@@ -55,13 +55,13 @@ const toml::table* table(const TomlReader& top, const toml::table& root, const c
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& file) {
-  const toml::table root = parse_toml(text, file);
+  const toml::table root = common::parse_toml(text, file);
   Scene s;
   s.file = file;
-  TomlReader top(root, file, "scene file");
+  common::TomlReader top(root, file, "scene file");
   top.allow_only({"scene", "plant", "controller", "discretisation", "floor", "effects", "run"});
 
-  TomlReader sr(*table(top, root, "scene", true), file, "[scene]");
+  common::TomlReader sr(*table(top, root, "scene", true), file, "[scene]");
   sr.allow_only({"name", "model", "description"});
   s.name = sr.string("name");
   const std::string model = sr.string("model");
@@ -70,7 +70,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
   if (!std::filesystem::exists(s.model_path))
     sr.fail("model file '" + s.model_path + "' does not exist", sr.get("model"));
 
-  TomlReader pr(*table(top, root, "plant", true), file, "[plant]");
+  common::TomlReader pr(*table(top, root, "plant", true), file, "[plant]");
   pr.allow_only({"gravity_preload", "disturbances", "actuators", "performance", "sensors",
                  "reduction", "order", "band_hz"});
   s.gravity_preload = pr.boolean("gravity_preload", false);
@@ -97,7 +97,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
 
   s.controller.place = file;
   if (const auto* t = table(top, root, "controller", false)) {
-    TomlReader cr(*t, file, "[controller]");
+    common::TomlReader cr(*t, file, "[controller]");
     auto& c = s.controller;
     c.type = cr.string("type", c.type);
     if (c.type == "pi_force_feedback") {
@@ -139,7 +139,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
             pr.get("sensors"));
 
   if (const auto* t = table(top, root, "discretisation", false)) {
-    TomlReader dr(*t, file, "[discretisation]");
+    common::TomlReader dr(*t, file, "[discretisation]");
     dr.allow_only({"method", "rate_hz", "prewarp_hz"});
     auto& d = s.discretisation;
     if (dr.has("method")) {
@@ -160,7 +160,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
   }
 
   if (const auto* t = table(top, root, "floor", false)) {
-    TomlReader fr(*t, file, "[floor]");
+    common::TomlReader fr(*t, file, "[floor]");
     fr.allow_only({"spectrum", "rms_mps2", "seed"});
     auto& f = s.floor;
     f.spectrum = fr.string("spectrum", f.spectrum);
@@ -178,11 +178,11 @@ Scene parse_scene(const std::string& text, const std::string& file) {
   }
 
   if (const auto* t = table(top, root, "effects", false)) {
-    TomlReader er(*t, file, "[effects]");
+    common::TomlReader er(*t, file, "[effects]");
     er.allow_only({"actuator", "force_sensor", "accelerometer", "transport_delay"});
     auto& e = s.effects;
     if (const auto* a = table(er, *t, "actuator", false)) {
-      TomlReader ar(*a, file, "[effects.actuator]");
+      common::TomlReader ar(*a, file, "[effects.actuator]");
       ar.allow_only({"gain", "force_limit_n", "lag_s"});
       e.actuator.present = true;
       e.actuator.gain = ar.number("gain", 1.0);
@@ -195,7 +195,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
                                      std::tuple{"accelerometer", &e.accelerometer, "mps2"}}) {
       const auto* st = table(er, *t, key, false);
       if (!st) continue;
-      TomlReader r(*st, file, "[effects." + std::string(key) + "]");
+      common::TomlReader r(*st, file, "[effects." + std::string(key) + "]");
       const std::string noise = std::string("noise_rms_") + unit,
                         range = std::string("adc_range_") + unit;
       r.allow_only(
@@ -216,7 +216,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
       sensor->seed = count(r, "seed", std::string(key) == "force_sensor" ? 2 : 3);
     }
     if (const auto* d = table(er, *t, "transport_delay", false)) {
-      TomlReader dr(*d, file, "[effects.transport_delay]");
+      common::TomlReader dr(*d, file, "[effects.transport_delay]");
       dr.allow_only({"samples"});
       e.transport_delay_samples = static_cast<int>(count(dr, "samples", 0));
       if (e.transport_delay_samples < 1 || e.transport_delay_samples > 32)
@@ -229,7 +229,7 @@ Scene parse_scene(const std::string& text, const std::string& file) {
   }
 
   if (const auto* t = table(top, root, "run", false)) {
-    TomlReader rr(*t, file, "[run]");
+    common::TomlReader rr(*t, file, "[run]");
     rr.allow_only({"duration_s"});
     s.run.duration_s = positive(rr, "duration_s", s.run.duration_s);
   }
@@ -237,14 +237,14 @@ Scene parse_scene(const std::string& text, const std::string& file) {
 }
 
 Scene load_scene(const std::string& path) {
-  return parse_scene(read_input_file(path, "scene file"), path);
+  return parse_scene(common::read_input_file(path, "scene file"), path);
 }
 
 bool is_scene_file(const std::string& path) {
   try {
-    const toml::table root = parse_toml(read_input_file(path, "file"), path);
+    const toml::table root = common::parse_toml(common::read_input_file(path, "file"), path);
     return root.contains("scene");
-  } catch (const InputError&) {
+  } catch (const common::InputError&) {
     return false;
   }
 }

@@ -32,15 +32,15 @@ std::vector<Eigen::Index> order_of(const std::vector<std::string>& file_labels,
                                    const std::string& place, const char* key, const char* kind) {
   for (const auto& l : file_labels)
     if (std::find(scene_channels.begin(), scene_channels.end(), l) == scene_channels.end())
-      throw InputError(place, std::string("key '") + key + "': '" + l +
-                                  "' is not one of the scene's " + kind + " (" +
-                                  joined(scene_channels) + ")");
+      throw common::InputError(place, std::string("key '") + key + "': '" + l +
+                                          "' is not one of the scene's " + kind + " (" +
+                                          joined(scene_channels) + ")");
   std::vector<Eigen::Index> index;
   for (const auto& c : scene_channels) {
     const auto it = std::find(file_labels.begin(), file_labels.end(), c);
     if (it == file_labels.end())
-      throw InputError(place, std::string("key '") + key + "': the scene's " + kind + " '" + c +
-                                  "' is missing (the controller must take every one)");
+      throw common::InputError(place, std::string("key '") + key + "': the scene's " + kind + " '" +
+                                          c + "' is missing (the controller must take every one)");
     index.push_back(it - file_labels.begin());
   }
   return index;
@@ -69,17 +69,18 @@ plant::lti::StateSpace in_scene_order(const plant::lti::StateSpace& c, const Sce
 SceneController load_scene_controller(const Scene& scene) {
   const auto& c = scene.controller;
   const std::string& file = c.file;
-  const nlohmann::json j = parse_json_file(file);
+  const nlohmann::json j = common::parse_json_file(file);
   SceneController out;
   const auto& d = scene.discretisation;
   const double dt = 1.0 / d.rate_hz;
   if (j.is_object() && j.contains("dt")) {
     plant::lti::DiscreteStateSpace ds = plant::lti::discrete_from_json(j, file).sys;
     if (std::abs(ds.dt * d.rate_hz - 1) > 1e-9)
-      throw InputError(file, "key 'dt': the controller is designed for " + hz(1 / ds.dt) +
-                                 ", the scene runs at " + hz(d.rate_hz) + " (" + c.file_place +
-                                 "): design it at the scene's rate, or give it in continuous time "
-                                 "and flexloop discretises it");
+      throw common::InputError(
+          file, "key 'dt': the controller is designed for " + hz(1 / ds.dt) +
+                    ", the scene runs at " + hz(d.rate_hz) + " (" + c.file_place +
+                    "): design it at the scene's rate, or give it in continuous time "
+                    "and flexloop discretises it");
     ds.sys = in_scene_order(ds.sys, scene, file);
     ds.dt = dt;
     out.discrete = ds;
@@ -90,7 +91,7 @@ SceneController load_scene_controller(const Scene& scene) {
     try {
       out.discrete = plant::lti::discretise(cs, {d.method, dt, d.prewarp_hz, false});
     } catch (const std::invalid_argument& e) {
-      throw InputError(
+      throw common::InputError(
           file, std::string("the controller is not discretised at the scene's rate: ") + e.what());
     }
   }

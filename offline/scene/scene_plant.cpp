@@ -29,10 +29,11 @@ std::vector<std::string> concat(std::vector<std::string> a, const std::vector<st
 // alone when neither is there or the file cannot be read again, e.g. a scene parsed from text).
 std::string scene_place(const Scene& sc, const char* table, const char* key) {
   try {
-    const toml::table root = parse_toml(read_input_file(sc.file, "scene file"), sc.file);
+    const toml::table root =
+        common::parse_toml(common::read_input_file(sc.file, "scene file"), sc.file);
     const auto* t = root.get(table);
     if (!t || !t->as_table()) return sc.file;
-    const TomlReader r(*t->as_table(), sc.file, table);
+    const common::TomlReader r(*t->as_table(), sc.file, table);
     return r.place(r.get(key));
   } catch (const std::exception&) {
     return sc.file;
@@ -96,8 +97,8 @@ ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& option
   try {
     p.plant = plant::lti::build_state_space(m, p.lin, concat(scene.disturbances, scene.actuators),
                                             concat(scene.performance, scene.sensors));
-  } catch (const InputError& e) {
-    throw InputError(scene.file, std::string("[plant]: ") + e.what());
+  } catch (const common::InputError& e) {
+    throw common::InputError(scene.file, std::string("[plant]: ") + e.what());
   }
   if (!scene.reduction.method.empty()) p.plant = reduced_plant(p.plant, scene);
   p.partition = {static_cast<Eigen::Index>(scene.disturbances.size()),
@@ -114,7 +115,8 @@ ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& option
       p.loop = controller::design::loop_stability(p.feedback_path, p.controller,
                                                   state_space_reference_rad_s(scene));
     } catch (const std::invalid_argument& e) {
-      throw InputError(scene.controller.file_place, std::string("[controller]: ") + e.what());
+      throw common::InputError(scene.controller.file_place,
+                               std::string("[controller]: ") + e.what());
     }
     return p;
   }
@@ -122,10 +124,11 @@ ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& option
   // The design uses the passive stiffness Kdd (the seed's formula); the actuated struts must be
   // the dynamic coordinates for it to mean what it says.
   if (static_cast<int>(scene.actuators.size()) != nd)
-    throw InputError(scene.file,
-                     "[plant]: PI force feedback needs one actuator per dynamic "
-                     "coordinate (" +
-                         std::to_string(nd) + "), got " + std::to_string(scene.actuators.size()));
+    throw common::InputError(scene.file,
+                             "[plant]: PI force feedback needs one actuator per dynamic "
+                             "coordinate (" +
+                                 std::to_string(nd) + "), got " +
+                                 std::to_string(scene.actuators.size()));
   p.gains = gains_at(p, scene.controller.omega_d_hz);
   p.controller = controller::design::pi_state_space(p.gains, scene.sensors, scene.actuators);
   p.closed_loop = plant::lti::close_loop(p.plant, p.controller, p.partition);
@@ -179,8 +182,8 @@ SampledLoop sampled_loop(const ScenePlant& p, double rate_hz,
     s.stability = controller::design::sampled_loop_stability(
         plant::lti::discretise(p.feedback_path, o), gains, s.hardware);
   } catch (const std::invalid_argument& ex) {
-    throw InputError(p.scene.file, std::string("[discretisation]: the feedback path at ") +
-                                       std::to_string(rate_hz) + " Hz: " + ex.what());
+    throw common::InputError(p.scene.file, std::string("[discretisation]: the feedback path at ") +
+                                               std::to_string(rate_hz) + " Hz: " + ex.what());
   }
   return s;
 }
@@ -197,8 +200,8 @@ SampledLoop sampled_loop(const ScenePlant& p) {
     s.stability = controller::design::sampled_loop_stability(
         g22, p.state_space->discrete, s.hardware, state_space_reference_rad_s(p.scene));
   } catch (const std::invalid_argument& ex) {
-    throw InputError(p.scene.file, std::string("[discretisation]: the sampled loop at ") +
-                                       std::to_string(d.rate_hz) + " Hz: " + ex.what());
+    throw common::InputError(p.scene.file, std::string("[discretisation]: the sampled loop at ") +
+                                               std::to_string(d.rate_hz) + " Hz: " + ex.what());
   }
   return s;
 }
@@ -216,8 +219,8 @@ controller::design::SampledLoopModel sampled_loop_model(const ScenePlant& p) {
                       : controller::design::pi_discrete_controller(p.gains, 1.0 / d.rate_hz),
         s.hardware);
   } catch (const std::invalid_argument& ex) {
-    throw InputError(p.scene.file, std::string("[discretisation]: the sampled loop at ") +
-                                       std::to_string(d.rate_hz) + " Hz: " + ex.what());
+    throw common::InputError(p.scene.file, std::string("[discretisation]: the sampled loop at ") +
+                                               std::to_string(d.rate_hz) + " Hz: " + ex.what());
   }
 }
 
@@ -228,7 +231,7 @@ SampledLoopRemedy stable_sampled_loop_remedy(const ScenePlant& p) {
   const auto stable_at = [&](double rate_hz, const controller::design::PiGains& g) {
     try {
       return sampled_loop(p, rate_hz, g).stability.stable();
-    } catch (const InputError&) {
+    } catch (const common::InputError&) {
       return false;  // a discretisation refused at that rate is no remedy
     }
   };
@@ -265,12 +268,12 @@ SampledLoopRemedy stable_sampled_loop_remedy(const ScenePlant& p) {
 void require_stable_loop(const ScenePlant& p) {
   // The plant first: a divergent passive mode grows in every run (sim runs the controller off too).
   if (!p.statics.stable())
-    throw InputError(scene_place(p.scene, "scene", "model"),
-                     "[scene]: model " + p.scene.model_path +
-                         (p.scene.gravity_preload ? " with the gravity preload: " : ": ") +
-                         plant::lti::to_string(p.statics) +
-                         "; a statically unstable plant is neither built nor run (flexloop "
-                         "analyse shows its modes)");
+    throw common::InputError(scene_place(p.scene, "scene", "model"),
+                             "[scene]: model " + p.scene.model_path +
+                                 (p.scene.gravity_preload ? " with the gravity preload: " : ": ") +
+                                 plant::lti::to_string(p.statics) +
+                                 "; a statically unstable plant is neither built nor run (flexloop "
+                                 "analyse shows its modes)");
   const auto& c = p.scene.controller;
   if (!has_controller(p)) return;  // nothing closes a loop
   if (p.state_space) {
@@ -280,7 +283,7 @@ void require_stable_loop(const ScenePlant& p) {
                     "[controller]: the continuous closed loop with this controller is unstable: "
                     "%d poles in the right half plane, the fastest growing as e^(%.3g t)",
                     p.loop.unstable, p.loop.largest_real_part);
-      throw InputError(c.file_place, growth);
+      throw common::InputError(c.file_place, growth);
     }
     require_stable_sampled_loop(p);
     return;
@@ -312,7 +315,7 @@ void require_stable_loop(const ScenePlant& p) {
   } else {
     what += "; no leak up to omega_d stabilises it: change omega_d_hz or zeta";
   }
-  throw InputError(c.place, what);
+  throw common::InputError(c.place, what);
 }
 
 void require_stable_sampled_loop(const ScenePlant& p) {
@@ -334,11 +337,12 @@ void require_stable_sampled_loop(const ScenePlant& p) {
       has_continuous_loop(p) ? ", although the continuous loop is stable" : "");
   std::string what = head;
   if (p.state_space)
-    throw InputError(p.scene.controller.file_place,
-                     what +
-                         "; the controller file's design does not hold at this rate with the "
-                         "scene's hardware: redesign it for the loop as it runs (`flexloop "
-                         "build` writes the discrete plant it sees)");
+    throw common::InputError(
+        p.scene.controller.file_place,
+        what +
+            "; the controller file's design does not hold at this rate with the "
+            "scene's hardware: redesign it for the loop as it runs (`flexloop "
+            "build` writes the discrete plant it sees)");
   const SampledLoopRemedy r = stable_sampled_loop_remedy(p);
   char fix[400];
   if (r.rate_hz && r.omega_d_hz)
@@ -362,13 +366,13 @@ void require_stable_sampled_loop(const ScenePlant& p) {
                   "; no rate up to %g Hz and no smaller omega_d_hz makes it stable: check the "
                   "[effects] (delays, actuator gain and lag, sensor gain error)",
                   kMaxSuggestedRateHz);
-  throw InputError(scene_place(p.scene, "discretisation", "rate_hz"), what + fix);
+  throw common::InputError(scene_place(p.scene, "discretisation", "rate_hz"), what + fix);
 }
 
 plant::lti::StateSpace reduced_plant(const plant::lti::StateSpace& full, const Scene& scene) {
   const auto& r = scene.reduction;
   const auto fail = [&](const std::string& what) {
-    throw InputError(r.place, "[plant]: reduction: " + what);
+    throw common::InputError(r.place, "[plant]: reduction: " + what);
   };
   if (r.order > full.nx())
     fail("order " + std::to_string(r.order) + " is above the plant's " + std::to_string(full.nx()) +
@@ -405,7 +409,7 @@ plant::lti::StateSpace reduced_plant(const plant::lti::StateSpace& full, const S
              ", ...) do not span the plant's poles at the origin "
              "(a rigid-body mode of the structure itself?): they cannot be kept as states");
     return m.sys;
-  } catch (const InputError&) {
+  } catch (const common::InputError&) {
     throw;
   } catch (const std::invalid_argument& e) {
     fail(e.what());
@@ -427,7 +431,7 @@ SampledScene sample_scene(const ScenePlant& p) {
     s.closed_loop = plant::lti::close_loop_sampled(s.plant, s.controller, p.partition);
     return s;
   } catch (const std::invalid_argument& e) {
-    throw InputError(p.scene.file, std::string("[discretisation]: ") + e.what());
+    throw common::InputError(p.scene.file, std::string("[discretisation]: ") + e.what());
   }
 }
 

@@ -280,30 +280,32 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
   for (const std::string& m : o.methods) try {
       (void)method_of(m);
     } catch (const std::invalid_argument&) {
-      throw InputError(file, "--methods: unknown method '" + m +
-                                 "' (zoh, foh, tustin, tustin-prewarp, backward-euler, euler)");
+      throw common::InputError(file,
+                               "--methods: unknown method '" + m +
+                                   "' (zoh, foh, tustin, tustin-prewarp, backward-euler, euler)");
     }
   for (const std::string& f : o.forms)
-    if (f != "dense" && f != "modal") throw InputError(file, "--forms: '" + f + "' (dense, modal)");
+    if (f != "dense" && f != "modal")
+      throw common::InputError(file, "--forms: '" + f + "' (dense, modal)");
   for (const std::string& s : o.scalars)
     if (s != "double" && s != "float")
-      throw InputError(file, "--scalars: '" + s + "' (double, float)");
+      throw common::InputError(file, "--scalars: '" + s + "' (double, float)");
   for (const std::string& r : o.reductions)
     if (r != "modal" && r != "modal-dc" && r != "balanced")
-      throw InputError(file, "--reductions: '" + r + "' (modal, modal-dc, balanced)");
+      throw common::InputError(file, "--reductions: '" + r + "' (modal, modal-dc, balanced)");
   const int n = static_cast<int>(p.plant.nx());
   for (const int k : o.orders)
     if (k < 1 || k > n)
-      throw InputError(file, "--orders: " + std::to_string(k) + " is outside 1 .. " +
-                                 std::to_string(n) + " (the full order)");
+      throw common::InputError(file, "--orders: " + std::to_string(k) + " is outside 1 .. " +
+                                         std::to_string(n) + " (the full order)");
   const auto& sd = p.scene.discretisation;
   std::vector<double> rates = o.rates_hz;
   if (rates.empty()) rates = {sd.rate_hz / 10, sd.rate_hz / 2, sd.rate_hz, 2 * sd.rate_hz};
   for (const double r : rates)
     if (!(r > 0 && r <= scene::kMaxLoopRateHz))
-      throw InputError(file, "--rates: each rate must be in (0, " +
-                                 std::to_string(static_cast<long>(scene::kMaxLoopRateHz)) +
-                                 "] Hz (the loop commands' ceiling)");
+      throw common::InputError(file, "--rates: each rate must be in (0, " +
+                                         std::to_string(static_cast<long>(scene::kMaxLoopRateHz)) +
+                                         "] Hz (the loop commands' ceiling)");
 
   TradeoffResult result;
   result.full_order = n;

@@ -109,7 +109,7 @@ void write_csv(const std::string& path, const TradeoffResult& r) {
       << (std::find(front.begin(), front.end(), k) != front.end() ? 1 : 0) << ",\"" << why
       << "\"\n";
   }
-  write_text_atomically(path, s.str());
+  common::write_text_atomically(path, s.str());
 }
 
 nlohmann::json to_json(const TradeoffResult& r) {

@@ -5,7 +5,7 @@
 namespace flexloop::hil {
 
 nlohmann::json timer_baseline_json(const rt::TimerBaselineResult& r) {
-  return {{"wakeup_lateness_ns", summary_json(*r.wakeup_lateness)},
+  return {{"wakeup_lateness_ns", loop::summary_json(*r.wakeup_lateness)},
           {"periods", r.periods},
           {"cycles", r.cycles},
           {"overruns", r.overruns},
@@ -15,14 +15,14 @@ nlohmann::json timer_baseline_json(const rt::TimerBaselineResult& r) {
 }
 
 nlohmann::json pingpong_baseline_json(const rt::PingPongResult& r) {
-  return {{"round_trip_ns", summary_json(*r.round_trip)},
-          {"wakeup_lateness_ns", summary_json(*r.wakeup_lateness)},
+  return {{"round_trip_ns", loop::summary_json(*r.round_trip)},
+          {"wakeup_lateness_ns", loop::summary_json(*r.wakeup_lateness)},
           {"sent", r.sent},
           {"answered", r.answered},
           {"unanswered", r.unanswered},
           {"late_answers", r.late_answers},
           {"overruns", r.overruns},
-          {"dropped", drops_json(r.ping_drops)},
+          {"dropped", loop::drops_json(r.ping_drops)},
           {"ping_setup", r.ping_setup},
           {"pong_setup", r.pong_setup},
           {"pong_summary", r.pong_summary},

@@ -27,7 +27,7 @@ namespace flexloop::hil {
 
 namespace {
 
-rt::PeriodicClockOptions clock_options(const LoopOptions& o, double rate_hz) {
+rt::PeriodicClockOptions clock_options(const loop::LoopOptions& o, double rate_hz) {
   return {.period_ns = static_cast<std::int64_t>(1e9 / rate_hz + 0.5),
           .wait_mode = o.wait,
           .spin_margin_ns = o.spin_margin_ns};
@@ -38,7 +38,7 @@ BaselineSettings baseline_settings(const HilOptions& o, double rate_hz, double s
           .receive_path = o.loop.receive_path,
           .realtime = o.loop.realtime,
           .pong_cpu = o.controller_cpu,
-          .url = neighbour_port_url(loop_lcm_url(o.loop.url, o.loop.link)),
+          .url = neighbour_port_url(loop::loop_lcm_url(o.loop.url, o.loop.link)),
           .segment_s = segment_s};
 }
 
@@ -59,10 +59,10 @@ int hil_segments(const HilOptions& o, double duration_s) {
 void prepare_hil_network(const HilOptions& o) {
   static bool entered = false;
   if (o.netns && !entered) {
-    enter_private_loopback_namespace();
+    loop::enter_private_loopback_namespace();
     entered = true;
   }
-  require_private_network("flexloop hil", o.loop.link);
+  loop::require_private_network("flexloop hil", o.loop.link);
 }
 
 namespace {
@@ -92,20 +92,20 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   prepare_hil_network(o);
   // SIGINT / SIGTERM: this process forwards the stop to the plant, and the run ends with the
   // figures of what ran (a Ctrl-C reaches every process of the terminal's group anyway).
-  install_stop_handlers();
+  loop::install_stop_handlers();
   // Both processes start from the one artefact.
-  const std::string url = loop_lcm_url(o.loop.url, o.loop.link);
+  const std::string url = loop::loop_lcm_url(o.loop.url, o.loop.link);
   // A loop without a controller runs the plant alone: it publishes every sample and, with no
   // answer, holds and then applies the zero command (what an external controller would answer).
   const bool has_controller = loop.controller != artefact::ControllerKind::kNone;
-  const SharedLoopStatus status;
-  LoopOptions plant_options = o.loop;
+  const loop::SharedLoopStatus status;
+  loop::LoopOptions plant_options = o.loop;
   plant_options.url = url;
   plant_options.quiet = true;
   plant_options.status = status.get();
   plant_options.limits.judge_misses = has_controller;
   plant_options.lcm_log = o.lcm_log;  // the plant records what it sends and receives
-  LoopOptions controller_options = plant_options;
+  loop::LoopOptions controller_options = plant_options;
   controller_options.realtime.cpu = o.controller_cpu;
   controller_options.duration_s = 0;  // until stopped, after the plant
   controller_options.status = nullptr;
@@ -124,38 +124,40 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
       std::snprintf(text, sizeof text, "%.6g", v);
       return std::string(text);
     };
-    throw InputError("--segments", std::to_string(segments) + " segments of a " + g(duration_s) +
-                                       " s run with " + g(baseline_s) + " s of baselines at " +
-                                       g(loop.rate_hz) + " Hz leave fewer than " +
-                                       g(kMinSegmentPeriods) + " periods per segment; use fewer");
+    throw common::InputError("--segments", std::to_string(segments) + " segments of a " +
+                                               g(duration_s) + " s run with " + g(baseline_s) +
+                                               " s of baselines at " + g(loop.rate_hz) +
+                                               " Hz leave fewer than " + g(kMinSegmentPeriods) +
+                                               " periods per segment; use fewer");
   }
   const rt::CpuDmaLatencyHold dma;  // for the baselines (each loop process holds its own)
   nlohmann::json report;
   InterleavedBaselines baselines(baseline_settings(o, loop.rate_hz, baseline_s / segments));
   baselines.measure_segment();
   const auto interrupted_before_loop = [] {
-    return VerdictFailure{130, "interrupted before the loop ran: nothing was written"};
+    return loop::VerdictFailure{130, "interrupted before the loop ran: nothing was written"};
   };
-  if (stop_requested()) throw interrupted_before_loop();
+  if (loop::stop_requested()) throw interrupted_before_loop();
 
   std::unique_ptr<ChildProcess> controller;
   if (has_controller) {
     controller = std::make_unique<ChildProcess>([&](const ChildLink& link) {
-      return controller_result_json(run_controller_loop(controller_options, loop, link.ready),
-                                    controller_options)
+      return loop::controller_result_json(
+                 loop::run_controller_loop(controller_options, loop, link.ready),
+                 controller_options)
           .dump();
     });
     controller->wait_ready(10 * rt::kNsPerSecond);
   }
   ChildProcess plant([&](const ChildLink& link) {
-    LoopOptions options = plant_options;
+    loop::LoopOptions options = plant_options;
     options.between_segments = link.pause;
-    return plant_result_json(run_plant_loop(options, loop), options, true).dump();
+    return loop::plant_result_json(loop::run_plant_loop(options, loop), options, true).dump();
   });
   // Between two loop segments: the plant waits, the controller process is stopped (SIGSTOP: it
   // neither spins nor reads), the next baseline segment runs on their CPUs.
   const auto between_segments = [&] {
-    if (stop_requested()) return;
+    if (loop::stop_requested()) return;
     if (controller) controller->signal(SIGSTOP);
     try {
       baselines.measure_segment();
@@ -169,7 +171,7 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   const auto watch = [&] {
     // Repeated while the stop stands: a stop that came before the plant installed its own
     // handlers is not lost.
-    if (stop_requested()) plant.signal(SIGTERM);
+    if (loop::stop_requested()) plant.signal(SIGTERM);
     line.tick();
   };
   const auto grace = static_cast<std::int64_t>((duration_s + 30) * 1e9);
@@ -180,10 +182,10 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   } catch (...) {
     line.finish();
     if (controller) controller->signal(SIGTERM);
-    if (stop_requested()) throw interrupted_before_loop();
+    if (loop::stop_requested()) throw interrupted_before_loop();
     throw;
   }
-  RunVerdict verdict = verdict_from_json(plant_json["verdict"]);
+  loop::RunVerdict verdict = loop::verdict_from_json(plant_json["verdict"]);
   nlohmann::json controller_json = {{"kind", "none"},
                                     {"dropped_messages", nlohmann::json::object()}};
   if (controller) {
@@ -193,7 +195,7 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
     } catch (const std::exception& e) {
       // Its failure fails the run; the plant's figures are still reported.
       controller_json = {{"error", e.what()}, {"dropped_messages", nlohmann::json::object()}};
-      add_failure(verdict, std::string("the controller process failed: ") + e.what());
+      loop::add_failure(verdict, std::string("the controller process failed: ") + e.what());
     }
     controller_json["kind"] = artefact::to_string(loop.controller);
   }
@@ -207,7 +209,7 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   const double unanswered_share =
       pp.value("sent", 0.0) > 0 ? pp.value("unanswered", 0.0) / pp.value("sent", 0.0) : 0.0;
   const auto loop_cycles = plant_json.value("cycles", std::int64_t{0});
-  if (verdict.result == RunVerdict::Result::kFail && plant_options.limits.judge_misses &&
+  if (verdict.result == loop::RunVerdict::Result::kFail && plant_options.limits.judge_misses &&
       loop_cycles > 0 &&
       plant_json.value("deadline_misses", 0.0) / loop_cycles >
           plant_options.limits.max_miss_share &&

@@ -36,7 +36,7 @@
 namespace flexloop::hil {
 
 struct HilOptions {
-  LoopOptions loop;        ///< the plant's settings (realtime.cpu: the plant's CPU)
+  loop::LoopOptions loop;  ///< the plant's settings (realtime.cpu: the plant's CPU)
   int controller_cpu = 1;  ///< -1: not pinned
   /// Each baseline's total time (timer, ping-pong), over all segments; 0: the loop's duration.
   double baseline_duration_s = 0;

@@ -6,7 +6,7 @@
 
 namespace flexloop::hil {
 
-StatusLine::StatusLine(const LoopStatus& status, double rate_hz, bool wanted,
+StatusLine::StatusLine(const loop::LoopStatus& status, double rate_hz, bool wanted,
                        bool controller_process)
     : status_(status),
       rate_hz_(rate_hz),

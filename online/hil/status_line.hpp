@@ -16,7 +16,7 @@ namespace flexloop::hil {
 class StatusLine {
  public:
   /// controller_process: hil started one (its unanswered samples are misses).
-  StatusLine(const LoopStatus& status, double rate_hz, bool wanted, bool controller_process);
+  StatusLine(const loop::LoopStatus& status, double rate_hz, bool wanted, bool controller_process);
   /// Prints the newest figures when the loop published new ones since the last call.
   void tick();
   /// Ends the line (a newline when anything was printed).
@@ -29,7 +29,7 @@ class StatusLine {
                             bool controller_process);
 
  private:
-  const LoopStatus& status_;
+  const loop::LoopStatus& status_;
   double rate_hz_;
   bool enabled_;
   bool controller_process_;

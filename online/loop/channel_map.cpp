@@ -2,7 +2,7 @@
 
 #include "artefact/loop_artefact.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 nlohmann::json channel_map_json(const artefact::LoopArtefact& loop) {
   const nlohmann::json a = artefact::to_json(loop);
@@ -18,4 +18,4 @@ nlohmann::json channel_map_json(const artefact::LoopArtefact& loop) {
             {"FLEXLOOP_COMMAND", {{"commands", "channels.actuators"}}}}}};
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

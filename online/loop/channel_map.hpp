@@ -7,7 +7,7 @@
 
 #include "artefact/loop_artefact.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 inline constexpr const char* kChannelMapChannel = "FLEXLOOP_CHANNEL_MAP";
 
@@ -15,4 +15,4 @@ inline constexpr const char* kChannelMapChannel = "FLEXLOOP_CHANNEL_MAP";
 ///  "provenance", "messages": {which message field holds which channels}}.
 nlohmann::json channel_map_json(const artefact::LoopArtefact& loop);
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -11,7 +11,7 @@
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 namespace {
 
@@ -117,4 +117,4 @@ nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopO
           {"controller_setup", r.setup}};
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -18,7 +18,7 @@
 #include "rt/latency_histogram.hpp"
 #include "rt/message_validation.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 struct ControllerLoopResult {
   std::unique_ptr<rt::LatencyHistogram> compute = std::make_unique<rt::LatencyHistogram>();
@@ -45,4 +45,4 @@ ControllerLoopResult run_controller_loop(const LoopOptions& options,
 
 nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopOptions& o);
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

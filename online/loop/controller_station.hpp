@@ -33,7 +33,7 @@
 #include "online/sim/loop_start.hpp"
 #include "rt/message_inbox.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 template <controller::runtime::LoopController Controller>
 class ControllerStation {
@@ -149,4 +149,4 @@ class ControllerStation {
   Vector applied_;
 };
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

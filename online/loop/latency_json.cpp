@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 nlohmann::json summary_json(const rt::LatencySummary& s) {
   return {{"min", s.min},   {"p50", s.p50}, {"p99", s.p99},
@@ -38,4 +38,4 @@ nlohmann::json bins_json(const rt::LatencyHistogram& h) {
   return bins;
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -8,7 +8,7 @@
 #include "rt/latency_histogram.hpp"
 #include "rt/message_validation.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 nlohmann::json summary_json(const rt::LatencySummary& s);
 nlohmann::json summary_json(const rt::LatencyHistogram& h);
@@ -19,4 +19,4 @@ void print_summary(const char* what, const rt::LatencyHistogram& h);
 /// The non-empty bins as [[lower_ns, upper_ns, count], ...], for drawing the histogram later.
 nlohmann::json bins_json(const rt::LatencyHistogram& h);
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -15,7 +15,7 @@
 #include "rt/latency_histogram.hpp"
 #include "rt/lcm_transport.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 struct LoopAccounts {
   std::unique_ptr<rt::LatencyHistogram> round_trip = std::make_unique<rt::LatencyHistogram>();
@@ -103,4 +103,4 @@ class StatsPublisher {
   int stage_ = 0;
 };
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -10,7 +10,7 @@
 #include "controller/runtime/state_space_controller.hpp"
 #include "plant/runtime/compiled_loops.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 /// f(controller) for the artefact's controller (controller/runtime/loop_controller.hpp).
 /// @throws flexloop::InputError naming the artefact when it has no controller to run.
@@ -18,10 +18,11 @@ template <class F>
 decltype(auto) with_loop_controller(const artefact::LoopArtefact& a, F&& f) {
   using artefact::ControllerKind;
   if (a.controller == ControllerKind::kNone)
-    throw InputError(a.source, "key 'controller': the loop has no controller to run (type \"" +
-                                   artefact::to_string(a.controller) +
-                                   "\"); run your own controller process against `flexloop "
-                                   "plant` (doc/external_controller.md)");
+    throw common::InputError(a.source,
+                             "key 'controller': the loop has no controller to run (type \"" +
+                                 artefact::to_string(a.controller) +
+                                 "\"); run your own controller process against `flexloop "
+                                 "plant` (doc/external_controller.md)");
   if (a.controller == ControllerKind::kStateSpace)
     return f(controller::runtime::StateSpaceController<double>::from_parameters(a.state_space));
   return plant::runtime::with_compiled_channels(
@@ -36,4 +37,4 @@ decltype(auto) with_loop_controller(const artefact::LoopArtefact& a, F&& f) {
       });
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

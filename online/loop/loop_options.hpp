@@ -13,7 +13,7 @@
 #include "rt/periodic_clock.hpp"
 #include "rt/realtime_setup.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 struct LoopChannels {
   std::string sensor = "FLEXLOOP_SENSOR";    // sensor_sample_t, plant -> controller
@@ -56,4 +56,4 @@ struct LoopOptions {
   std::string lcm_log;
 };
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -5,7 +5,7 @@
 #include <new>
 #include <stdexcept>
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 SharedLoopStatus::SharedLoopStatus() {
   void* page =
@@ -19,4 +19,4 @@ SharedLoopStatus::~SharedLoopStatus() {
   munmap(status_, sizeof(LoopStatus));
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -6,7 +6,7 @@
 #include <atomic>
 #include <cstdint>
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 struct LoopStatus {
   std::atomic<std::int64_t> updates{0};  ///< publications so far (0: nothing yet)
@@ -33,4 +33,4 @@ class SharedLoopStatus {
   LoopStatus* status_ = nullptr;
 };
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -8,7 +8,7 @@
 #include "online/loop/private_network.hpp"
 #include "online/loop/stop_signal.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 PlantLoopResult run_plant_loop(const LoopOptions& o, const artefact::LoopArtefact& loop) {
   require_private_network("flexloop plant", o.link);
@@ -107,4 +107,4 @@ nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o,
   return j;
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -23,7 +23,7 @@
 #include "plant/runtime/divergence.hpp"
 #include "rt/message_validation.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 /// What the run did physically (beside its timing): judged by the same figures `flexloop sim`
 /// prints.
@@ -89,4 +89,4 @@ RunVerdict plant_verdict(const PlantLoopResult& r, const LoopOptions& o);
 /// them in another process).
 nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o, bool with_bins);
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -2,7 +2,7 @@
 // hardware compositions of online/sim/loop_hardware.hpp.
 #include "online/loop/plant_loop_run.hpp"
 
-namespace flexloop::hil::detail {
+namespace flexloop::loop::detail {
 
 bool run_plant_compiled(const artefact::LoopArtefact& loop, const LoopOptions& o,
                         const std::string& url, PlantLoopResult& r) {
@@ -18,4 +18,4 @@ bool run_plant_compiled(const artefact::LoopArtefact& loop, const LoopOptions& o
       [] { return false; });
 }
 
-}  // namespace flexloop::hil::detail
+}  // namespace flexloop::loop::detail

@@ -3,7 +3,7 @@
 #include "online/loop/plant_loop_run.hpp"
 #include "plant/runtime/general_plant.hpp"
 
-namespace flexloop::hil::detail {
+namespace flexloop::loop::detail {
 
 void run_plant_general(const artefact::LoopArtefact& loop, const LoopOptions& o,
                        const std::string& url, PlantLoopResult& r) {
@@ -20,4 +20,4 @@ void run_plant_general(const artefact::LoopArtefact& loop, const LoopOptions& o,
                                                                  loop.actuators()));
 }
 
-}  // namespace flexloop::hil::detail
+}  // namespace flexloop::loop::detail

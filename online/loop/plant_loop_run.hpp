@@ -24,7 +24,7 @@
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
 
-namespace flexloop::hil::detail {
+namespace flexloop::loop::detail {
 
 /// The plant loop of one run in three parts:
 ///   configure (the constructor)  the start's draw, the station, the log, LCM, the process's
@@ -288,4 +288,4 @@ bool run_plant_compiled(const artefact::LoopArtefact&, const LoopOptions&, const
 void run_plant_general(const artefact::LoopArtefact&, const LoopOptions&, const std::string&,
                        PlantLoopResult&);  // any size, sized at start-up
 
-}  // namespace flexloop::hil::detail
+}  // namespace flexloop::loop::detail

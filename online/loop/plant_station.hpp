@@ -45,7 +45,7 @@
 
 #include "rt/message_inbox.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 struct PlantStationSettings {
   int safe_after = 10;     ///< consecutive missed answers before the safe command, >= 1
@@ -220,4 +220,4 @@ class PlantStation {
   int consecutive_misses_ = 0;
 };
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -19,7 +19,7 @@
 
 #include "rt/loopback_guard.hpp"
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 namespace {
 
@@ -131,4 +131,4 @@ std::string loop_lcm_url(const std::string& given, const std::string& link) {
   return url;
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -11,7 +11,7 @@
 // and LCM_DEFAULT_URL set to the ttl=0 URL. Needs CAP_SYS_ADMIN (root). Set-up only.
 #include <string>
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 /// Throws std::runtime_error saying what failed (e.g. no permission to unshare).
 void enter_private_loopback_namespace();
@@ -25,4 +25,4 @@ void require_private_network(const std::string& who, const std::string& link);
 /// same group with ttl=1 (link). std::runtime_error when its ttl is above 0 (no link) or 1 (link).
 std::string loop_lcm_url(const std::string& given, const std::string& link);
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

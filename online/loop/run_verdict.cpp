@@ -2,7 +2,7 @@
 
 #include <cstdio>
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 std::string to_string(RunEnd end) {
   switch (end) {
@@ -102,12 +102,12 @@ std::string verdict_message(const RunVerdict& v) {
   return m;
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 void throw_unless_pass(const RunVerdict& v) {
   if (v.result != RunVerdict::Result::kPass) throw VerdictFailure{exit_code(v), verdict_message(v)};
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

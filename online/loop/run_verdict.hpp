@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 struct RunLimits {
   double max_miss_share = 0.01;        ///< fail when misses / cycles is above this
@@ -63,4 +63,4 @@ std::string verdict_message(const RunVerdict& v);
 /// Throws VerdictFailure for a verdict that is not a pass (the report is written first).
 void throw_unless_pass(const RunVerdict& v);
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

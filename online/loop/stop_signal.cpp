@@ -2,7 +2,7 @@
 
 #include <signal.h>
 
-namespace flexloop::hil {
+namespace flexloop::loop {
 
 namespace {
 volatile sig_atomic_t g_stop = 0;
@@ -24,4 +24,4 @@ bool stop_requested() noexcept {
   return g_stop != 0;
 }
 
-}  // namespace flexloop::hil
+}  // namespace flexloop::loop

@@ -93,17 +93,19 @@ Plant plant_at_floor_start(Plant plant, const Floor& floor, const artefact::Loop
     return x;
   };
   if (any && !requires { floor.motion(); })
-    throw InputError(a.source,
-                     "[floor]: this plant has the floor's position as a state (gravity preload), "
-                     "and a white floor acceleration has no stationary position (it would drift "
-                     "as a random walk); use a VC spectrum");
+    throw common::InputError(
+        a.source,
+        "[floor]: this plant has the floor's position as a state (gravity preload), "
+        "and a white floor acceleration has no stationary position (it would drift "
+        "as a random walk); use a VC spectrum");
   // Only the zero-order hold keeps the continuous state as the discrete one; Tustin, FOH and
   // backward Euler use shifted or scaled coordinates (plant/lti/discretise.hpp).
   if (any && a.method != "zoh")
-    throw InputError(a.source,
-                     "[discretisation]: this plant has the floor's position and velocity as "
-                     "states (gravity preload), which start where the floor is; that needs "
-                     "method = \"zoh\" (the other methods' states are other coordinates)");
+    throw common::InputError(
+        a.source,
+        "[discretisation]: this plant has the floor's position and velocity as "
+        "states (gravity preload), which start where the floor is; that needs "
+        "method = \"zoh\" (the other methods' states are other coordinates)");
   if constexpr (requires(const Plant p) { p.physical_state(); })
     plant.set_state(
         plant_coordinates<Plant>(a, at_floor(Eigen::VectorXd::Zero(a.plant.A.rows()).eval())));
@@ -297,9 +299,9 @@ decltype(auto) with_hardware(const artefact::LoopArtefact& a, const Plant& plant
 template <int NW, int NC, int NS = NC, class Plant, class F>
 decltype(auto) with_bare_hardware(const artefact::LoopArtefact& a, const Plant& plant, F&& f) {
   if (has_effects(a.effects))
-    throw InputError(a.source,
-                     "[effects]: a bare loop runs without hardware effects; compose them "
-                     "with with_hardware");
+    throw common::InputError(a.source,
+                             "[effects]: a bare loop runs without hardware effects; compose them "
+                             "with with_hardware");
   return with_floor<NW>(a, [&](auto floor) -> decltype(auto) {
     return f(compose_hardware<NW, NC, NS>(a, plant, std::move(floor), NoEffect{}, NoEffect{},
                                           NoEffect{}, NoEffect{}));

@@ -41,11 +41,11 @@ BothRuns run_both(const Plant& plant, const artefact::LoopArtefact& a, const Run
   // The PI feeds back one sensor per actuator (the artefact's validation holds NS = NC already).
   if constexpr (NS != NC)
     if (pi)
-      throw InputError(a.source,
-                       "[controller]: the PI force feedback needs one sensor per "
-                       "actuator; this loop has " +
-                           std::to_string(a.sensors()) + " sensors and " +
-                           std::to_string(a.actuators()) + " actuators");
+      throw common::InputError(a.source,
+                               "[controller]: the PI force feedback needs one sensor per "
+                               "actuator; this loop has " +
+                                   std::to_string(a.sensors()) + " sensors and " +
+                                   std::to_string(a.actuators()) + " actuators");
   // The state-space controller is start-up-sized: it runs with the general path's hardware
   // (run_compiled leaves it to run_general).
   constexpr bool kGeneral = NW == Eigen::Dynamic && NC == Eigen::Dynamic && NS == Eigen::Dynamic;

@@ -28,8 +28,8 @@ struct Name {
 Name split(const std::string& name, const std::string& what) {
   const auto colon = name.find(':');
   if (colon == std::string::npos || colon == 0 || colon + 1 == name.size())
-    throw InputError(what + " '" + name + "'",
-                     "expected KIND:TARGET, e.g. force:x.3, stress:e1.4, acc:x.9, pos:x.3");
+    throw common::InputError(what + " '" + name + "'",
+                             "expected KIND:TARGET, e.g. force:x.3, stress:e1.4, acc:x.9, pos:x.3");
   return {name.substr(0, colon), name.substr(colon + 1)};
 }
 
@@ -65,8 +65,8 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
     try {
       mc = model::condense_massless(Mdd, KNGdd, CDdd, {}, {}, labels);
     } catch (const std::invalid_argument& e) {
-      throw InputError(m.file,
-                       std::string("the mass matrix of the dynamic coordinates: ") + e.what());
+      throw common::InputError(
+          m.file, std::string("the mass matrix of the dynamic coordinates: ") + e.what());
     }
   }
   const int nb = mc.massless_count, na = nd - nb;
@@ -86,9 +86,9 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
     for (int j = 0; j < na; ++j) TP.row(j) = mc.T.row(P[static_cast<std::size_t>(j)]);
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(TP.transpose());
     if (!(lu.rcond() > 1e-12))
-      throw InputError(m.file,
-                       "massless condensation: no set of dynamic coordinates describes "
-                       "the massive directions (rows of T singular)");
+      throw common::InputError(m.file,
+                               "massless condensation: no set of dynamic coordinates describes "
+                               "the massive directions (rows of T singular)");
     R = lu.solve(mc.T.transpose()).transpose();
     for (int j = 0; j < na; ++j)
       R.row(P[static_cast<std::size_t>(j)]) = Eigen::RowVectorXd::Unit(na, j);
@@ -98,7 +98,8 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
   const Eigen::MatrixXd Mr = R.transpose() * Mdd * R;
   Eigen::LDLT<Eigen::MatrixXd> mdd(Mr);
   if (na > 0 && (mdd.info() != Eigen::Success || !mdd.isPositive()))
-    throw InputError(m.file, "the mass matrix of the dynamic coordinates is not positive definite");
+    throw common::InputError(m.file,
+                             "the mass matrix of the dynamic coordinates is not positive definite");
 
   // Which prescribed-coordinate signals are inputs.
   std::vector<int> pos_in(nr, -1), vel_in(nr, -1), acc_in(nr, -1);
@@ -109,14 +110,14 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
     const std::string place = "input '" + inputs[j] + "'";
     if (kind == "force") {
       const int i = m.coordinate_index(target);
-      if (i < 0) throw InputError(place, "unknown nodal coordinate '" + target + "'");
+      if (i < 0) throw common::InputError(place, "unknown nodal coordinate '" + target + "'");
       Bf.col(j) = lin.DFx.row(i).head(nd).transpose();
     } else if (kind == "stress") {
       const int k = m.deformation_index(target);
-      if (k < 0) throw InputError(place, "unknown deformation '" + target + "'");
+      if (k < 0) throw common::InputError(place, "unknown deformation '" + target + "'");
       if (m.deformation_roles[k] == model::DeformationRole::kRigid ||
           m.deformation_roles[k] == model::DeformationRole::kInert)
-        throw InputError(
+        throw common::InputError(
             place, "'" + target +
                        "' is rigid: an actuator stress needs a flexible or released deformation");
       Bf.col(j) = -lin.DFe.row(k).head(nd).transpose();
@@ -124,14 +125,16 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
     } else if (kind == "pos" || kind == "vel" || kind == "acc") {
       const int i = qd_index(target);
       if (i < nd)
-        throw InputError(place, "'" + target +
-                                    "' is not a prescribed coordinate (prescribed: list it in "
-                                    "[coordinates] prescribed)");
+        throw common::InputError(place,
+                                 "'" + target +
+                                     "' is not a prescribed coordinate (prescribed: list it in "
+                                     "[coordinates] prescribed)");
       auto& slot = kind == "pos" ? pos_in : kind == "vel" ? vel_in : acc_in;
-      if (slot[i - nd] >= 0) throw InputError(place, "listed twice");
+      if (slot[i - nd] >= 0) throw common::InputError(place, "listed twice");
       slot[i - nd] = j;
     } else {
-      throw InputError(place, "unknown input kind '" + kind + "' (force, stress, pos, vel, acc)");
+      throw common::InputError(place,
+                               "unknown input kind '" + kind + "' (force, stress, pos, vel, acc)");
     }
   }
 
@@ -176,9 +179,9 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
     const bool any = pos_in[r] >= 0 || vel_in[r] >= 0 || acc_in[r] >= 0;
     if (!any) continue;  // held at its operating value
     if (need_acc && acc_in[r] < 0)
-      throw InputError("input 'pos:" + label + "'/'vel:" + label + "'",
-                       "the dynamics depend on the acceleration of '" + label +
-                           "': give it as acc:" + label + " (or all of acc, vel and pos)");
+      throw common::InputError("input 'pos:" + label + "'/'vel:" + label + "'",
+                               "the dynamics depend on the acceleration of '" + label +
+                                   "': give it as acc:" + label + " (or all of acc, vel and pos)");
     if (need_vel && vel_in[r] < 0)
       vel_state[r] = static_cast<int>(states.size()), states.push_back("vel:" + label);
     if (need_pos && pos_in[r] < 0)
@@ -358,9 +361,9 @@ StateSpace build_state_space(const Model& m, const Linearisation& lin,
       combine(1, lin.Sd.row(k) * lin.DFe, s);
       if (stress_in[k] >= 0) s.du(stress_in[k]) += 1.0;
     } else if (i < 0 && k < 0) {
-      throw InputError(place, "unknown coordinate or deformation '" + target + "'");
+      throw common::InputError(place, "unknown coordinate or deformation '" + target + "'");
     } else {
-      throw InputError(
+      throw common::InputError(
           place,
           "unknown output kind '" + kind +
               "' for this target (pos/vel/acc/reaction of a nodal coordinate, pos/stress of a "

@@ -26,13 +26,14 @@ void put_labels(json& j, const StateSpace& s) {
   j["outputs"] = s.outputs;
 }
 
-using Reader = JsonReader;
+using Reader = common::JsonReader;
 
 json read_provenance(const Reader& r, const json& j) {
   if (!r.has("provenance")) return nullptr;
   const json& p = j.at("provenance");
   if (!p.is_object())
-    throw InputError(r.place("provenance"), "expected an object, found " + json_type_of(p));
+    throw common::InputError(r.place("provenance"),
+                             "expected an object, found " + common::json_type_of(p));
   return p;
 }
 
@@ -50,7 +51,7 @@ StateSpace read_system(const Reader& r, const char* a, const char* b, const char
   try {
     s.validate();  // the sizes are right by construction; this keeps the two checks in step
   } catch (const std::invalid_argument& e) {
-    throw InputError(r.place(), e.what());
+    throw common::InputError(r.place(), e.what());
   }
   return s;
 }
@@ -61,10 +62,10 @@ json to_json(const StateSpace& sys, const json& provenance) {
   sys.validate();
   json j = json::object();
   put_labels(j, sys);
-  j["A"] = matrix_to_json(sys.A);
-  j["B"] = matrix_to_json(sys.B);
-  j["C"] = matrix_to_json(sys.C);
-  j["D"] = matrix_to_json(sys.D);
+  j["A"] = common::matrix_to_json(sys.A);
+  j["B"] = common::matrix_to_json(sys.B);
+  j["C"] = common::matrix_to_json(sys.C);
+  j["D"] = common::matrix_to_json(sys.D);
   if (!provenance.is_null()) j["provenance"] = provenance;
   return j;
 }
@@ -79,10 +80,10 @@ json to_json(const DiscreteStateSpace& d, const json& provenance) {
   j["prewarp_hz"] = d.prewarp_hz;
   j["spectral_radius"] = d.spectral_radius;
   put_labels(j, d.sys);
-  j["Ad"] = matrix_to_json(d.sys.A);
-  j["Bd"] = matrix_to_json(d.sys.B);
-  j["Cd"] = matrix_to_json(d.sys.C);
-  j["Dd"] = matrix_to_json(d.sys.D);
+  j["Ad"] = common::matrix_to_json(d.sys.A);
+  j["Bd"] = common::matrix_to_json(d.sys.B);
+  j["Cd"] = common::matrix_to_json(d.sys.C);
+  j["Dd"] = common::matrix_to_json(d.sys.D);
   if (!provenance.is_null()) j["provenance"] = provenance;
   return j;
 }
@@ -102,30 +103,30 @@ DiscreteArtefact discrete_from_json(const json& j, const std::string& source) {
   try {
     d.method = parse_discretisation_method(r.string("method"));
   } catch (const std::invalid_argument& e) {
-    throw InputError(r.place("method"), e.what());
+    throw common::InputError(r.place("method"), e.what());
   }
   d.dt = r.number("dt");
-  if (d.dt <= 0) throw InputError(r.place("dt"), "must be > 0");
+  if (d.dt <= 0) throw common::InputError(r.place("dt"), "must be > 0");
   d.prewarp_hz = r.number("prewarp_hz");
-  if (d.prewarp_hz < 0) throw InputError(r.place("prewarp_hz"), "must be >= 0");
+  if (d.prewarp_hz < 0) throw common::InputError(r.place("prewarp_hz"), "must be >= 0");
   d.spectral_radius = r.number("spectral_radius");
   d.sys = read_system(r, "Ad", "Bd", "Cd", "Dd");
   // The stated spectral radius is what users and the runtime trust; catch a hand-edited Ad.
   const double rho = spectral_radius(d.sys.A);
   if (std::abs(rho - d.spectral_radius) > 1e-9 * std::max(1.0, rho))
-    throw InputError(r.place("spectral_radius"), "is " + json(d.spectral_radius).dump() +
-                                                     " but Ad's is " + json(rho).dump() +
-                                                     "; the file was edited or corrupted");
+    throw common::InputError(r.place("spectral_radius"), "is " + json(d.spectral_radius).dump() +
+                                                             " but Ad's is " + json(rho).dump() +
+                                                             "; the file was edited or corrupted");
   out.provenance = read_provenance(r, j);
   return out;
 }
 
 ContinuousArtefact read_continuous(const std::filesystem::path& file) {
-  return continuous_from_json(parse_json_file(file), file.string());
+  return continuous_from_json(common::parse_json_file(file), file.string());
 }
 
 DiscreteArtefact read_discrete(const std::filesystem::path& file) {
-  return discrete_from_json(parse_json_file(file), file.string());
+  return discrete_from_json(common::parse_json_file(file), file.string());
 }
 
 void write_continuous(const std::filesystem::path& file, const StateSpace& sys,
@@ -140,7 +141,7 @@ void write_discrete(const std::filesystem::path& file, const DiscreteStateSpace&
 
 void write_json_atomically(const std::filesystem::path& file, const json& j) {
   // Known keys in a fixed order, then the rest.
-  flexloop::write_json_atomically(
+  common::write_json_atomically(
       file, j,
       {"method", "dt", "prewarp_hz", "spectral_radius", "states", "inputs", "outputs", "A", "B",
        "C", "D", "Ad", "Bd", "Cd", "Dd", "provenance"});

@@ -39,7 +39,7 @@ struct DiscreteArtefact {
 /// Throws std::invalid_argument when the system does not validate (e.g. a non-finite entry,
 /// which JSON cannot represent).
 nlohmann::json to_json(const StateSpace& sys, const nlohmann::json& provenance = nullptr);
-using flexloop::matrix_to_json;  // common/json_document.hpp: a matrix as a list of rows
+using common::matrix_to_json;  // common/json_document.hpp: a matrix as a list of rows
 nlohmann::json to_json(const DiscreteStateSpace& sys, const nlohmann::json& provenance = nullptr);
 
 /// `source` names the document in error places (usually the file name).

@@ -55,7 +55,7 @@ Eigen::VectorXd g_target(const Partition& p, const Eigen::VectorXd& q) {
     os << (i > rank ? ", " : "")
        << m.deformation_labels[p.g_rows[qrt.colsPermutation().indices()(i)]];
   os << " (fix or free those coordinates, or release those deformations)";
-  throw InputError(m.file, os.str());
+  throw common::InputError(m.file, os.str());
 }
 
 }  // namespace

@@ -128,10 +128,11 @@ Linearisation linearise(const Model& m, const OperatingPoint& op) {
   if (!stationary)  // the beam mass's velocity terms are not formed (beam_mass.hpp)
     for (const auto& el : m.elements)
       if (el.mass_model == MassModel::kBeam)
-        throw InputError(el.source.str(), "element '" + el.id +
-                                              "': mass_model = \"beam\" is linearised at rest "
-                                              "only; this operating point moves (qd or qdd "
-                                              "non-zero): use lumped or consistent");
+        throw common::InputError(el.source.str(),
+                                 "element '" + el.id +
+                                     "': mass_model = \"beam\" is linearised at rest "
+                                     "only; this operating point moves (qd or qdd "
+                                     "non-zero): use lumped or consistent");
 
   // Kinematics: x, DF, x', x''.
   L.x = solve_configuration(m, p, blocks, L.q, m.x_reference);

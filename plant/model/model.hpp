@@ -24,7 +24,7 @@
 namespace flexloop::plant::model {
 
 /// Where something was written in the model file, for error messages.
-using flexloop::SourceRef;
+using common::SourceRef;
 
 enum class ElementType { kTruss, kPlanarBeam, kSpatialBeam };
 enum class DeformationKind { kRigid, kFlexible, kReleased };
@@ -49,7 +49,7 @@ struct Node {
   int first_coordinate = 0;     // index of the node's first coordinate in x
   int coordinate_count = 0;
   int euler_deformation = -1;  // index of "euler.<node>" in e (3-D rotational nodes)
-  SourceRef source;
+  common::SourceRef source;
 };
 
 struct Element {
@@ -67,7 +67,7 @@ struct Element {
   SpatialBeamReference spatial_ref{};
   PlanarBeamReference planar_ref{};
   int first_deformation = 0;  // index of "e1.<id>" in e
-  SourceRef source;
+  common::SourceRef source;
 
   int deformation_count() const { return static_cast<int>(kinds.size()); }
 };

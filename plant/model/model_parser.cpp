@@ -16,14 +16,14 @@ namespace flexloop::plant::model {
 
 namespace {
 
-DeformationKind parse_kind(const TomlReader& r, const std::string& s, const toml::node* n) {
+DeformationKind parse_kind(const common::TomlReader& r, const std::string& s, const toml::node* n) {
   if (s == "rigid") return DeformationKind::kRigid;
   if (s == "flexible") return DeformationKind::kFlexible;
   if (s == "released") return DeformationKind::kReleased;
   r.fail("deformation mode '" + s + "' is not one of rigid, flexible, released", n);
 }
 
-void require_positive(const TomlReader& r, const char* key, double v) {
+void require_positive(const common::TomlReader& r, const char* key, double v) {
   if (!(v > 0)) r.fail("'" + std::string(key) + "' must be positive", r.get(key));
 }
 
@@ -41,7 +41,7 @@ void mask_modes(Element& el) {
   }
 }
 
-void read_modes_and_damping(const TomlReader& r, Element& el, int n) {
+void read_modes_and_damping(const common::TomlReader& r, Element& el, int n) {
   el.kinds.assign(n, DeformationKind::kFlexible);
   if (r.has("modes")) {
     auto modes = r.strings("modes");
@@ -100,15 +100,15 @@ void mark_inert_deformations(Model& m) {
 }
 
 Model parse_model(const std::string& text, const std::string& file) {
-  const toml::table root = parse_toml(text, file);
-  TomlReader top(root, file, "model file");
+  const toml::table root = common::parse_toml(text, file);
+  common::TomlReader top(root, file, "model file");
   top.allow_only({"model", "node", "element", "coordinates", "configuration"});
 
   Model m;
   m.file = file;
   const auto* model_tbl = root["model"].as_table();
   if (!model_tbl) top.fail("missing [model] table");
-  TomlReader mr(*model_tbl, file, "[model]");
+  common::TomlReader mr(*model_tbl, file, "[model]");
   mr.allow_only({"name", "dimension", "gravity"});
   m.name = mr.string("name", std::string("unnamed"));
   const double dim = mr.number("dimension", 3.0);
@@ -124,7 +124,7 @@ Model parse_model(const std::string& text, const std::string& file) {
   for (const auto& item : *nodes) {
     const auto* t = item.as_table();
     if (!t) top.fail("[[node]] entries must be tables", &item);
-    TomlReader r(*t, file, "node");
+    common::TomlReader r(*t, file, "node");
     r.allow_only(
         {"id", "position", "rotational", "angle", "orientation", "mass", "inertia", "force"});
     Node n;
@@ -200,7 +200,7 @@ Model parse_model(const std::string& text, const std::string& file) {
     for (const auto& item : *elements) {
       const auto* t = item.as_table();
       if (!t) top.fail("[[element]] entries must be tables", &item);
-      TomlReader r(*t, file, "element");
+      common::TomlReader r(*t, file, "element");
       Element el;
       el.id = r.string("id");
       el.source = r.source();
@@ -339,7 +339,7 @@ Model parse_model(const std::string& text, const std::string& file) {
   const auto* coords = root["coordinates"].as_table();
   if (!coords)
     top.fail("missing [coordinates] table (which coordinates are fixed, dynamic, prescribed)");
-  TomlReader cr(*coords, file, "[coordinates]");
+  common::TomlReader cr(*coords, file, "[coordinates]");
   cr.allow_only({"fixed", "fixed_nodes", "dynamic", "prescribed"});
   std::set<std::string> assigned;
   auto claim = [&](const std::string& label, const toml::node* n) {
@@ -391,7 +391,7 @@ Model parse_model(const std::string& text, const std::string& file) {
 
   // Operating point (optional): { label = value } tables for q, qd, qdd.
   if (const auto* cfg = root["configuration"].as_table()) {
-    TomlReader fr(*cfg, file, "[configuration]");
+    common::TomlReader fr(*cfg, file, "[configuration]");
     fr.allow_only({"q", "qd", "qdd"});
     for (const auto& [key, out] :
          {std::pair{"q", &m.op_q}, std::pair{"qd", &m.op_qd}, std::pair{"qdd", &m.op_qdd}}) {
@@ -431,7 +431,7 @@ Model parse_model(const std::string& text, const std::string& file) {
 }
 
 Model load_model(const std::string& path) {
-  return parse_model(read_input_file(path, "model file"), path);
+  return parse_model(common::read_input_file(path, "model file"), path);
 }
 
 }  // namespace flexloop::plant::model

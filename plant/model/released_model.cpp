@@ -9,25 +9,26 @@ Model release_to_prescribed(const Model& m, const std::string& label) {
   Model r = m;
   if (const int i = m.coordinate_index(label); i >= 0) {
     if (m.coordinate_roles[i] != CoordinateRole::kFixed)
-      throw InputError("output 'reaction:" + label + "'",
-                       "'" + label + "' is not a fixed coordinate");
+      throw common::InputError("output 'reaction:" + label + "'",
+                               "'" + label + "' is not a fixed coordinate");
     if (label[0] == 'l')  // an Euler parameter: its generalised force is not a physical moment
-      throw InputError(
+      throw common::InputError(
           "output 'reaction:" + label + "'",
           "reactions are available on translations (and planar angles), not on Euler parameters");
     r.coordinate_roles[i] = CoordinateRole::kPrescribed;
   } else if (const int k = m.deformation_index(label); k >= 0) {
     if (m.deformation_roles[k] == DeformationRole::kInert)
-      throw InputError(
+      throw common::InputError(
           "output 'stress:" + label + "'",
           "'" + label +
               "' joins fixed coordinates only: its stress is not determined by the model");
     if (m.deformation_roles[k] != DeformationRole::kRigid)
-      throw InputError("output 'stress:" + label + "'",
-                       "'" + label + "' is not a rigid deformation");
+      throw common::InputError("output 'stress:" + label + "'",
+                               "'" + label + "' is not a rigid deformation");
     r.deformation_roles[k] = DeformationRole::kPrescribed;
   } else {
-    throw InputError("output '" + label + "'", "unknown coordinate or deformation '" + label + "'");
+    throw common::InputError("output '" + label + "'",
+                             "unknown coordinate or deformation '" + label + "'");
   }
   r.generalised.push_back(label);
   mark_inert_deformations(r);

@@ -52,8 +52,8 @@ TEST_CASE("allocation: the controller process's answers from a stationary start 
     const sim::DrawnStart drawn =
         sim::draw_start(a, a.start.closed_loop, sim::floor_start_states(a));
     const auto messages = samples(a);
-    hil::with_loop_controller(a, [&](auto controller) {
-      hil::ControllerStation station(controller, 5, drawn);
+    loop::with_loop_controller(a, [&](auto controller) {
+      loop::ControllerStation station(controller, 5, drawn);
       double sum = 0;
       const std::uint64_t before = test::allocation_count();
       for (const auto& s : messages) sum += station.answer(s).commands[0];

@@ -36,7 +36,7 @@ std::string error_of(Edit edit) {
   edit(j);
   try {
     artefact::loop_artefact_from_json(j, "loop.json");
-  } catch (const InputError& e) {
+  } catch (const common::InputError& e) {
     return e.what();
   }
   return "accepted";

@@ -124,7 +124,7 @@ leak_hz = 0.0
   try {
     scene::require_stable_loop(p);
     FAIL("an unstable loop was accepted");
-  } catch (const InputError& e) {
+  } catch (const common::InputError& e) {
     const std::string what = e.what();
     INFO(what);
     CHECK(what.rfind("tools/scenes/preload_without_leak.toml:13: [controller]: the closed loop is "

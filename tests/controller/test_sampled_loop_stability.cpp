@@ -120,7 +120,7 @@ TEST_CASE(
   try {
     scene::require_stable_loop(p);
     FAIL("the unstable sampled loop was accepted");
-  } catch (const InputError& e) {
+  } catch (const common::InputError& e) {
     const std::string what = e.what();
     INFO(what);
     // At the rate_hz line of the fixture (line 22), with the spectral radius and the remedies.
@@ -205,7 +205,7 @@ TEST_CASE(
   CHECK(ok.steps == 100000);
   CHECK(ok.largest <= 10 * ok.initial);
   const auto above = one_strut(rate, 1.02 * *remedy.omega_d_hz);
-  CHECK_THROWS_AS(scene::require_stable_loop(above), InputError);
+  CHECK_THROWS_AS(scene::require_stable_loop(above), common::InputError);
   const RuntimeRun run = run_runtime_loop(above, 1000000, 0, 1000);
   INFO("runtime growth " << run.growth << ", spectral radius " << radius(above));
   CHECK(radius(above) > 1);

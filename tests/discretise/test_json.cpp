@@ -71,7 +71,7 @@ std::pair<std::string, std::string> read_error(const fs::path& file, bool discre
       read_discrete(file);
     else
       read_continuous(file);
-  } catch (const flexloop::InputError& e) {
+  } catch (const flexloop::common::InputError& e) {
     return {e.place(), e.what()};
   }
   return {"(no error)", ""};
@@ -152,7 +152,7 @@ TEST_CASE("a system JSON cannot hold is refused before anything is written") {
                   std::runtime_error);
 }
 
-TEST_CASE("bad continuous files give InputError with the place") {
+TEST_CASE("bad continuous files give flexloop::common::InputError with the place") {
   TempDir dir;
   const std::string f = (dir.path / "p.json").string();
   struct Case {
@@ -223,7 +223,7 @@ TEST_CASE("bad continuous files give InputError with the place") {
   }
 }
 
-TEST_CASE("bad discrete files give InputError with the place") {
+TEST_CASE("bad discrete files give flexloop::common::InputError with the place") {
   TempDir dir;
   const std::string f = (dir.path / "d.json").string();
   const auto sys = continuous_from_json(nlohmann::json::parse(kGood), "good").sys;

@@ -22,7 +22,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const bool same_shape =
         b.plant.A.rows() == a.plant.A.rows() && b.plant.A.cols() == a.plant.A.cols();
     if (b.rate_hz != a.rate_hz || !same_shape || b.plant.A != a.plant.A) __builtin_trap();
-  } catch (const flexloop::InputError&) {
+  } catch (const flexloop::common::InputError&) {
   }
   return 0;
 }

@@ -12,7 +12,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     flexloop::scene::parse_scene(text, "fuzz.toml");
-  } catch (const flexloop::InputError&) {
+  } catch (const flexloop::common::InputError&) {
   }
   return 0;
 }

@@ -211,7 +211,7 @@ spectrum = "VC-C"
     try {
       scene::load_loop(scene_file);
       FAIL("a column at " << k.alpha << " times its buckling load was built");
-    } catch (const InputError& e) {
+    } catch (const common::InputError& e) {
       const std::string what = e.what();
       INFO(what);
       CHECK(what.rfind(scene_file + ":3: [scene]: model " + (dir / "column_model.toml").string(),

@@ -60,8 +60,8 @@ auto deliver(rt::MessageInbox<Msg>& inbox, const Msg& m, std::int64_t received_n
 }
 
 struct StationPair {
-  hil::PlantStation<HilHardware> plant;
-  hil::ControllerStation<HilController> controller;
+  loop::PlantStation<HilHardware> plant;
+  loop::ControllerStation<HilController> controller;
   std::int64_t k = 0;  // next cycle
 
   /// safe_ramp_periods 0: the safe command is zero at once.
@@ -76,9 +76,9 @@ struct StationPair {
 
   /// One cycle; the controller answers when `answer` (returns where the settled command came from);
   /// a `late` answer reaches the plant after the next deadline (it is never applied).
-  hil::CommandSource cycle(bool answer = true, bool late = false) {
+  loop::CommandSource cycle(bool answer = true, bool late = false) {
     const std::int64_t due = k * kPeriod;
-    const hil::CommandSource source = plant.settle(due);
+    const loop::CommandSource source = plant.settle(due);
     const auto& s = plant.sample(due);
     deliver(controller.samples(), s, due + kTransit);
     if (const auto* got = controller.samples().take(); got && answer) {

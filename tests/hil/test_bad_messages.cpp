@@ -10,7 +10,7 @@
 
 using namespace flexloop;
 using namespace flexloop::test;
-using hil::CommandSource;
+using loop::CommandSource;
 
 namespace {
 

@@ -40,7 +40,7 @@ TEST_CASE(
     "direct receive: LCM's messages arrive through the loop's own socket, LCM's subscribers "
     "still get them, foreign datagrams are skipped") {
   try {
-    hil::enter_private_loopback_namespace();
+    loop::enter_private_loopback_namespace();
   } catch (const std::exception& e) {
     WARN("skipped: cannot enter a private network namespace: " << e.what());
     return;

@@ -8,6 +8,7 @@
 #include "online/loop/run_verdict.hpp"
 
 using namespace flexloop::hil;
+using namespace flexloop::loop;
 
 namespace {
 bool mentions(const RunVerdict& v, const std::string& text) {

@@ -12,7 +12,7 @@
 
 using namespace flexloop;
 using namespace flexloop::test;
-using hil::CommandSource;
+using loop::CommandSource;
 
 TEST_CASE("hil stations: answers in time reproduce the in-process closed loop exactly") {
   StationPair pair;
@@ -80,7 +80,7 @@ TEST_CASE("hil stations: without the bumpless restart the first answer after the
   // The same stop, but a controller that does not know the plant went safe (safe_after far
   // above the gap): its first answer is far from the zero force the plant holds.
   StationPair pair(5);
-  hil::ControllerStation unaware(hil_controller(), 1'000'000);
+  loop::ControllerStation unaware(hil_controller(), 1'000'000);
   std::swap(pair.controller, unaware);
   for (int k = 0; k < 500; ++k) pair.cycle();
   pair.cycle(false);
@@ -99,8 +99,8 @@ TEST_CASE("hil stations: a restarted plant (new epoch) makes the controller resy
   REQUIRE(controller.controller().state().cwiseAbs().maxCoeff() > 0);
 
   // A new plant run (new epoch, seq from 1 again, later time) talks to the same controller.
-  hil::PlantStation<HilHardware> restarted(hil_hardware(0.0),
-                                           {.safe_after = 5, .epoch = 12, .period_ns = kPeriod});
+  loop::PlantStation<HilHardware> restarted(hil_hardware(0.0),
+                                            {.safe_after = 5, .epoch = 12, .period_ns = kPeriod});
   const std::int64_t t0 = 1000 * kPeriod;
   restarted.settle(t0);
   const auto& s = restarted.sample(t0);

@@ -21,8 +21,8 @@ constexpr long kSteps = 4000;
 // The stations on `hw` against the in-process run `reference` (every sample logged: t, floor (6),
 // performance (6), performance sensors (6), sensors (6), commands (6)), every answer in time.
 template <class Hardware, class Controller>
-void stations_reproduce(hil::PlantStation<Hardware>& station,
-                        hil::ControllerStation<Controller>& controller,
+void stations_reproduce(loop::PlantStation<Hardware>& station,
+                        loop::ControllerStation<Controller>& controller,
                         const sim::RunResult& reference) {
   const Eigen::Index z0 = 1 + 6, u0 = 1 + 6 + 3 * 6;
   ChannelVector sum_u2 = ChannelVector::Zero();
@@ -72,9 +72,9 @@ TEST_CASE(
   sim::with_hardware<6, 6>(scene, plant, [&](auto hw) {
     SECTION("from rest") {
       const sim::RunResult reference = sim::run_closed_loop(hw, hil_controller(scene), kLogged, {});
-      hil::PlantStation<decltype(hw)> station(hw,
-                                              {.safe_after = 5, .epoch = 3, .period_ns = kPeriod});
-      hil::ControllerStation controller(hil_controller(scene), 5);
+      loop::PlantStation<decltype(hw)> station(hw,
+                                               {.safe_after = 5, .epoch = 3, .period_ns = kPeriod});
+      loop::ControllerStation controller(hil_controller(scene), 5);
       stations_reproduce(station, controller, reference);
     }
     SECTION("from the stationary start, drawn apart by the plant and the controller side") {
@@ -90,10 +90,10 @@ TEST_CASE(
       const auto drawn =
           sim::draw_start(scene, sim::run_start(scene), sim::floor_filter_states(plant_side));
       sim::start_hardware_at(scene, drawn, plant_side);
-      hil::PlantStation<decltype(hw)> station(plant_side,
-                                              {.safe_after = 5, .epoch = 3, .period_ns = kPeriod});
+      loop::PlantStation<decltype(hw)> station(plant_side,
+                                               {.safe_after = 5, .epoch = 3, .period_ns = kPeriod});
       station.start_command(ChannelVector(drawn.last_command));
-      hil::ControllerStation controller_side(
+      loop::ControllerStation controller_side(
           hil_controller(scene), 5,
           sim::draw_start(scene, sim::run_start(scene), sim::floor_start_states(scene)));
       stations_reproduce(station, controller_side, reference);

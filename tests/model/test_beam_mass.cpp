@@ -283,7 +283,7 @@ TEST_CASE("beam mass: refused on a truss, and at an operating point that moves",
   CHECK_NOTHROW(model::linearise(m));  // at rest
   model::OperatingPoint moving;
   moving.qd = Eigen::VectorXd::Unit(3, 1);
-  CHECK_THROWS_AS(model::linearise(m, moving), flexloop::InputError);
+  CHECK_THROWS_AS(model::linearise(m, moving), flexloop::common::InputError);
   CHECK_THROWS_WITH(model::linearise(m, moving),
                     Catch::Contains("beam.toml:") && Catch::Contains("linearised at rest only"));
 }

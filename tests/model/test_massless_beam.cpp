@@ -331,7 +331,8 @@ TEST_CASE(
   // The tip hinge (e3 of the last beam released) leaves phi.5 without mass and stiffness.
   Options hinge = opts(Coordinates::kNodal);
   hinge.tip_release = "released";
-  CHECK_THROWS_AS(build(cantilever(5, hinge), {"force:y.5"}, {"pos:y.5"}), flexloop::InputError);
+  CHECK_THROWS_AS(build(cantilever(5, hinge), {"force:y.5"}, {"pos:y.5"}),
+                  flexloop::common::InputError);
   CHECK_THROWS_WITH(build(cantilever(5, hinge), {"force:y.5"}, {"pos:y.5"}),
                     Catch::Contains("massless mechanism") && Catch::Contains("phi.5"));
 }

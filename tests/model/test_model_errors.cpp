@@ -12,7 +12,7 @@
 #include "plant/model/model_parser.hpp"
 
 using namespace flexloop::plant;
-using flexloop::InputError;
+using flexloop::common::InputError;
 
 namespace {
 
@@ -32,7 +32,7 @@ std::string error_of(const std::string& text) {
     const auto m = model::parse_model(text, "bad.toml");
     const auto lin = model::linearise(m);
     lti::build_state_space(m, lin, {}, {});
-  } catch (const InputError& e) {
+  } catch (const flexloop::common::InputError& e) {
     return e.what();
   }
   return "no error";
@@ -180,12 +180,13 @@ TEST_CASE("model file: text that is not valid UTF-8 is refused with its line, be
 }
 
 TEST_CASE("UTF-8 validation: valid text passes, each kind of bad sequence is found where it is") {
-  using flexloop::first_invalid_utf8;
-  CHECK_FALSE(first_invalid_utf8("plain ASCII\n"));
+  using flexloop::common::first_invalid_utf8;
+  CHECK_FALSE(flexloop::common::first_invalid_utf8("plain ASCII\n"));
+  CHECK_FALSE(flexloop::common::first_invalid_utf8(
+      "\xC2\xA7 3, \xCE\xBC"
+      "m, \xE2\x88\x9E, \xF0\x9F\x98\x80"));  // §, µ, ∞, U+1F600
   CHECK_FALSE(
-      first_invalid_utf8("\xC2\xA7 3, \xCE\xBC"
-                         "m, \xE2\x88\x9E, \xF0\x9F\x98\x80"));  // §, µ, ∞, U+1F600
-  CHECK_FALSE(first_invalid_utf8("\xF4\x8F\xBF\xBF"));           // U+10FFFF, the last code point
+      flexloop::common::first_invalid_utf8("\xF4\x8F\xBF\xBF"));  // U+10FFFF, the last code point
   const char* bad[] = {
       "\x80",              // lone continuation byte
       "\xC0\xAF",          // overlong '/'
@@ -200,7 +201,7 @@ TEST_CASE("UTF-8 validation: valid text passes, each kind of bad sequence is fou
   };
   for (const char* b : bad) {
     const std::string text = std::string("a\nb\n") + b + "\n";
-    const auto err = first_invalid_utf8(text);
+    const auto err = flexloop::common::first_invalid_utf8(text);
     REQUIRE(err);
     CHECK(err->line == 3);
     CHECK(err->offset == 4);
@@ -210,7 +211,7 @@ TEST_CASE("UTF-8 validation: valid text passes, each kind of bad sequence is fou
 TEST_CASE("TOML text check: non-ASCII only in comments and string values, else refused by line") {
   // Debian's toml++ 3.3 has undefined behaviour on '°', 'µ', 'Ä', ... wherever it tests them for
   // whitespace (tests/fuzz found two): common/toml_text_check.hpp keeps them where it is safe.
-  using flexloop::toml_text_problem;
+  using flexloop::common::toml_text_problem;
   const char* fine[] = {
       "x = 1  # 5 \xC2\xB5m\n",                       // comment
       "unit = \"m/s\xC2\xB2\"\n",                     // basic string value
@@ -222,7 +223,7 @@ TEST_CASE("TOML text check: non-ASCII only in comments and string values, else r
   };
   for (const char* text : fine) {
     INFO(text);
-    CHECK_FALSE(toml_text_problem(text));
+    CHECK_FALSE(flexloop::common::toml_text_problem(text));
   }
   struct Bad {
     const char* text;
@@ -246,7 +247,7 @@ TEST_CASE("TOML text check: non-ASCII only in comments and string values, else r
   };
   for (const Bad& b : bad) {
     INFO(b.text);
-    const auto p = toml_text_problem(b.text);
+    const auto p = flexloop::common::toml_text_problem(b.text);
     REQUIRE(p);
     CHECK(p->line == b.line);
     CHECK(p->what.find(b.says) != std::string::npos);

@@ -108,7 +108,7 @@ TEST_CASE("scene reduction: bad settings name the file and line") {
   const auto message = [](const std::string& lines, const std::string& name) -> std::string {
     try {
       scene::load_loop(scene_with(lines, name));
-    } catch (const InputError& e) {
+    } catch (const common::InputError& e) {
       return e.what();
     }
     return "no error";

@@ -103,7 +103,7 @@ TEST_CASE("hil machines: a run recorded with --lcm-log holds every sample and it
     lcm::LogFile file(log.string(), "r");
     REQUIRE(file.good());
     for (const lcm::LogEvent* e = file.readNextEvent(); e != nullptr; e = file.readNextEvent()) {
-      if (e->channel == hil::kChannelMapChannel) {
+      if (e->channel == loop::kChannelMapChannel) {
         const auto* text = static_cast<const char*>(e->data);
         map = nlohmann::json::parse(text, text + e->datalen);
         if (first_map < 0) first_map = events;

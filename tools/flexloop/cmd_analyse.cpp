@@ -35,8 +35,8 @@ struct AnalyseArgs {
 };
 
 // The frequency response and the singular values of r.ss: CSV files and pictures in dir.
-void write_response(const std::string& model_name, const LinearisedModel& r,
-                    const FrequencyGrid& grid, const std::string& dir) {
+void write_response(const std::string& model_name, const pipeline::LinearisedModel& r,
+                    const pipeline::FrequencyGrid& grid, const std::string& dir) {
   const auto& ss = r.ss;
   const auto f =
       lti::with_resonances(lti::log_frequency_grid_hz(grid.f_min_hz, grid.f_max_hz, grid.points),
@@ -78,14 +78,16 @@ void write_response(const std::string& model_name, const LinearisedModel& r,
 
 void run(const AnalyseArgs& a) {
   if (!(a.f_min > 0 && a.f_max > a.f_min && a.points >= 2))
-    throw InputError("--fmin/--fmax/--points", "need 0 < fmin < fmax and at least 2 points");
+    throw common::InputError("--fmin/--fmax/--points",
+                             "need 0 < fmin < fmax and at least 2 points");
   if (scene::is_scene_file(a.model)) {
     if (!a.inputs.empty() || !a.outputs.empty())
-      throw InputError(a.model, "a scene names its channels in [plant]; drop --input/--output");
-    analyse_scene(a.model, a.out_dir, {a.f_min, a.f_max, a.points});
+      throw common::InputError(a.model,
+                               "a scene names its channels in [plant]; drop --input/--output");
+    pipeline::analyse_scene(a.model, a.out_dir, {a.f_min, a.f_max, a.points});
     return;
   }
-  const LinearisedModel r = linearise_model_file(a.model, a.inputs, a.outputs);
+  const pipeline::LinearisedModel r = pipeline::linearise_model_file(a.model, a.inputs, a.outputs);
   const auto& m = r.model;
   const auto& ss = r.ss;
   const int nd = m.nd();
@@ -131,9 +133,9 @@ void run(const AnalyseArgs& a) {
                            r.natural_frequencies_hz.data() + r.natural_frequencies_hz.size())},
       {"buckling_multipliers",
        std::vector<double>(buckling.data(), buckling.data() + buckling.size())},
-      {"static_stability", static_stability_json(r.statics)},
+      {"static_stability", pipeline::static_stability_json(r.statics)},
       {"state_space", lti::to_json(ss)},
-      {"provenance", make_provenance(a.model, "flexloop analyse")}};
+      {"provenance", pipeline::make_provenance(a.model, "flexloop analyse")}};
   nlohmann::json shapes = nlohmann::json::array();
   for (Eigen::Index c = 0; c < r.mode_shapes.cols(); ++c)
     shapes.push_back(std::vector<double>(r.mode_shapes.col(c).data(),

@@ -27,7 +27,7 @@ struct BaselineArgs {
   double duration_s = 2;
   std::string wait = "sleep";
   std::string receive;  // empty: follow --wait (sleep: block, hybrid: hybrid, spin: poll)
-  std::string receive_path = rt::to_string(hil::LoopOptions{}.receive_path);
+  std::string receive_path = rt::to_string(loop::LoopOptions{}.receive_path);
   double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
   std::string overrun = "skip";
   int cpu = 0;
@@ -79,7 +79,7 @@ void run_timer(const BaselineArgs& a) {
   const rt::TimerBaselineResult r = rt::run_timer_baseline(o);
   std::printf("%s  %s  %s\n", r.setup.describe().c_str(), dma.active() ? "ok  " : "WARN",
               dma.message().c_str());
-  hil::print_summary("wakeup lateness (ns)", *r.wakeup_lateness);
+  loop::print_summary("wakeup lateness (ns)", *r.wakeup_lateness);
   std::printf("periods %lld, cycles %lld, overruns %lld, skipped periods %lld\n",
               static_cast<long long>(r.periods), static_cast<long long>(r.cycles),
               static_cast<long long>(r.overruns), static_cast<long long>(r.skipped_periods));
@@ -111,8 +111,8 @@ void run_pingpong(const BaselineArgs& a) {
   const rt::PingPongResult r = rt::run_pingpong_baseline(o);
   std::printf("ping:\n%spong:\n%s  %s  %s\n", r.ping_setup.c_str(), r.pong_setup.c_str(),
               dma.active() ? "ok  " : "WARN", dma.message().c_str());
-  hil::print_summary("round trip (ns)", *r.round_trip);
-  hil::print_summary("ping wakeup lateness", *r.wakeup_lateness);
+  loop::print_summary("round trip (ns)", *r.round_trip);
+  loop::print_summary("ping wakeup lateness", *r.wakeup_lateness);
   std::printf(
       "sent %lld, answered %lld, unanswered %lld, late answers %lld, dropped %lld, "
       "overruns %lld\npong: %s\n",

@@ -66,13 +66,13 @@ void run(const DiscretiseArgs& args) {
       return lti::discretise(in.sys, opts);
     } catch (const std::invalid_argument& e) {
       // A refused or impossible discretisation is a problem with the user's choice: exit 2.
-      throw InputError(args.input, e.what());
+      throw common::InputError(args.input, e.what());
     }
   }();
 
   // Input path, its SHA-256 and the flexloop version/commit (shared helper), plus the settings
   // and the input's own provenance so the chain back to the model file is kept.
-  nlohmann::json provenance = make_provenance(args.input, "flexloop discretise");
+  nlohmann::json provenance = pipeline::make_provenance(args.input, "flexloop discretise");
   provenance["settings"] = {{"method", lti::to_string(opts.method)},
                             {"rate_hz", args.rate_hz},
                             {"prewarp_hz", args.prewarp_hz},

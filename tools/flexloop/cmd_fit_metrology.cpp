@@ -18,12 +18,12 @@ namespace {
 
 struct FitArgs {
   std::string output;
-  MetrologyFrameGeometry geometry;
+  pipeline::MetrologyFrameGeometry geometry;
   double mass_kg = 1000.0;
   double damping_ratio = 0.002;
 };
 
-std::string describe(const MetrologyFrameFit& f, const FitArgs& a) {
+std::string describe(const pipeline::MetrologyFrameFit& f, const FitArgs& a) {
   const auto& p = f.fitted;
   const double m = p.mass_kg;
   char buf[2048];
@@ -55,11 +55,11 @@ std::string describe(const MetrologyFrameFit& f, const FitArgs& a) {
 void run(const FitArgs& a) {
   std::printf("fitting the metrology frame: m = %g kg, triangle side %g m, struts at %g deg\n",
               a.mass_kg, a.geometry.triangle_side_m, a.geometry.strut_angle_deg);
-  const MetrologyFrameFit fit =
-      fit_metrology_frame(a.geometry, a.mass_kg, a.damping_ratio, kSeedFrequenciesHz,
-                          [](const std::string& line) { std::printf("%s\n", line.c_str()); });
+  const pipeline::MetrologyFrameFit fit = pipeline::fit_metrology_frame(
+      a.geometry, a.mass_kg, a.damping_ratio, pipeline::kSeedFrequenciesHz,
+      [](const std::string& line) { std::printf("%s\n", line.c_str()); });
   const std::string text = describe(fit, a);
-  write_text_atomically(a.output, metrology_frame_toml(fit.fitted, text));
+  common::write_text_atomically(a.output, pipeline::metrology_frame_toml(fit.fitted, text));
   std::printf("%s", text.c_str());
   std::printf("closed-form start: k = %.6g N/m, I_xx = %.6g, I_zz = %.6g kg m^2, h = %.6g m\n",
               fit.start.strut_stiffness_n_per_m, fit.start.inertia_xx_kgm2,

@@ -55,10 +55,10 @@ void require_bounded(const nlohmann::json& report) {
 
 void run_one(const HilArgs& a, hil::HilOptions o) {
   const nlohmann::json report = hil::run_hil(o, load_hil_loop(o));
-  hil::print_hil_summary(report);
-  print_written(hil::write_hil_report(report, a.report));
+  report::print_hil_summary(report);
+  print_written(report::write_hil_report(report, a.report));
   require_bounded(report);
-  hil::throw_unless_pass(hil::verdict_from_json(report["verdict"]));
+  loop::throw_unless_pass(loop::verdict_from_json(report["verdict"]));
 }
 
 void run_sweep(const HilArgs& a, hil::HilOptions o) {
@@ -69,13 +69,13 @@ void run_sweep(const HilArgs& a, hil::HilOptions o) {
     std::printf("\n--- %.6g Hz ---\n", rate);
     std::fflush(stdout);
     reports.push_back(hil::run_hil(o, load_hil_loop(o)));
-    hil::print_hil_summary(reports.back());
+    report::print_hil_summary(reports.back());
     char suffix[32];
     std::snprintf(suffix, sizeof suffix, "_%.6ghz.json", rate);
-    print_written(hil::write_hil_report(reports.back(), stem + suffix));
+    print_written(report::write_hil_report(reports.back(), stem + suffix));
     require_bounded(reports.back());
-    if (hil::verdict_from_json(reports.back()["verdict"]).result ==
-        hil::RunVerdict::Result::kInterrupted)
+    if (loop::verdict_from_json(reports.back()["verdict"]).result ==
+        loop::RunVerdict::Result::kInterrupted)
       break;  // the rates run so far are still tabled and written
   }
   nlohmann::json all = {{"sweep", nlohmann::json::array()}};
@@ -85,26 +85,26 @@ void run_sweep(const HilArgs& a, hil::HilOptions o) {
   }
   plant::lti::write_json_atomically(a.report, all);
   std::printf("wrote %s\n", a.report.c_str());
-  hil::print_sweep_table(reports);
+  report::print_sweep_table(reports);
   // The sweep runs every rate whatever each one's verdict; the worst decides the exit.
-  hil::RunVerdict worst;
+  loop::RunVerdict worst;
   for (const auto& r : reports) {
-    const hil::RunVerdict v = hil::verdict_from_json(r["verdict"]);
-    if (v.result == hil::RunVerdict::Result::kPass) continue;
-    if (worst.result != hil::RunVerdict::Result::kInterrupted) worst.result = v.result;
+    const loop::RunVerdict v = loop::verdict_from_json(r["verdict"]);
+    if (v.result == loop::RunVerdict::Result::kPass) continue;
+    if (worst.result != loop::RunVerdict::Result::kInterrupted) worst.result = v.result;
     char rate[32];
     std::snprintf(rate, sizeof rate, "%.6g Hz: ", r.value("rate_hz", 0.0));
     for (const auto& reason : v.reasons) worst.reasons.push_back(rate + reason);
   }
-  hil::throw_unless_pass(worst);
+  loop::throw_unless_pass(worst);
 }
 
 void run(const HilArgs& a) {
   hil::HilOptions o = a.hil;
   o.loop = apply_loop_options(a);
   o.status_line = !a.quiet;
-  require_writable(a.report);  // before the baselines and the run, not after them
-  if (!o.lcm_log.empty()) require_writable(o.lcm_log);
+  common::require_writable(a.report);  // before the baselines and the run, not after them
+  if (!o.lcm_log.empty()) common::require_writable(o.lcm_log);
   if (a.sweep)
     run_sweep(a, o);
   else

@@ -39,14 +39,14 @@ std::string name_list(const std::vector<std::string>& names) {
 }
 
 void run(const LineariseArgs& a) {
-  const LinearisedModel r = linearise_model_file(a.model, a.inputs, a.outputs);
+  const pipeline::LinearisedModel r = pipeline::linearise_model_file(a.model, a.inputs, a.outputs);
   const auto& m = r.model;
   const auto& lin = r.lin;
   const auto& ss = r.ss;
   const int nd = m.nd();
   const Eigen::VectorXd& f = r.natural_frequencies_hz;
 
-  nlohmann::json j = lti::to_json(ss, make_provenance(a.model, "flexloop linearise"));
+  nlohmann::json j = lti::to_json(ss, pipeline::make_provenance(a.model, "flexloop linearise"));
   j["natural_frequencies_hz"] = std::vector<double>(f.data(), f.data() + f.size());
   j["generalised_coordinates"] = m.generalised;
   j["dynamic_count"] = nd;

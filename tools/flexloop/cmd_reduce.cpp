@@ -28,12 +28,13 @@ void run(const ReduceArgs& a) {
   const auto in = lti::read_continuous(a.input);
   const int n = static_cast<int>(in.sys.nx());
   if (a.order > n)
-    throw InputError("--order", std::to_string(a.order) + " is above the model's " +
-                                    std::to_string(n) + " states");
+    throw common::InputError("--order", std::to_string(a.order) + " is above the model's " +
+                                            std::to_string(n) + " states");
   if (a.method == "balanced" && a.order < 0)
-    throw InputError("--order", "balanced truncation needs an order (--below-hz is for modal)");
+    throw common::InputError("--order",
+                             "balanced truncation needs an order (--below-hz is for modal)");
   if (a.method != "balanced" && a.order < 0 && !(a.below_hz > 0))
-    throw InputError("--order", "give an order or --below-hz");
+    throw common::InputError("--order", "give an order or --below-hz");
   const lti::ReducedModel r = [&] {
     try {
       if (a.method == "balanced") return lti::balanced_truncation(in.sys, a.order);
@@ -41,11 +42,11 @@ void run(const ReduceArgs& a) {
           in.sys,
           {.order = a.order, .below_hz = a.below_hz, .dc_correction = a.method == "modal-dc"});
     } catch (const std::invalid_argument& e) {
-      throw InputError(a.input, e.what());
+      throw common::InputError(a.input, e.what());
     }
   }();
 
-  nlohmann::json provenance = make_provenance(a.input, "flexloop reduce");
+  nlohmann::json provenance = pipeline::make_provenance(a.input, "flexloop reduce");
   provenance["settings"] = {{"method", a.method}, {"order", a.order}, {"below_hz", a.below_hz}};
   if (std::isfinite(r.error_bound)) provenance["error_bound_hinf"] = r.error_bound;
   if (!in.provenance.is_null()) provenance["source_provenance"] = in.provenance;

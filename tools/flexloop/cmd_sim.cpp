@@ -93,11 +93,12 @@ void require_log_fits(long steps, long log_every, Eigen::Index columns, const st
   const double memory = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
                         static_cast<double>(::sysconf(_SC_PAGE_SIZE));
   if (bytes <= memory / 2) return;
-  throw InputError(path, "the log would take " + report::format_number(std::ceil(bytes / 1e9)) +
-                             " GB, more than half of this machine's memory; log every " +
-                             report::format_number(std::ceil(bytes / (memory / 2)) *
-                                                   static_cast<double>(log_every)) +
-                             "-th sample (--log-every) or run shorter");
+  throw common::InputError(
+      path,
+      "the log would take " + report::format_number(std::ceil(bytes / 1e9)) +
+          " GB, more than half of this machine's memory; log every " +
+          report::format_number(std::ceil(bytes / (memory / 2)) * static_cast<double>(log_every)) +
+          "-th sample (--log-every) or run shorter");
 }
 
 std::string describe_effects(const artefact::EffectsSettings& e) {
@@ -214,14 +215,14 @@ void run(const SimArgs& args) {
   s.log_every = args.log_every;
   const bool plots = !args.plots.empty(), log = !args.log.empty();
   if (log && !report::is_table_file(args.log))
-    throw InputError(args.log, "--log writes .csv or .mat");
-  if (log) require_writable(args.log);  // before the run, not after it
-  if (log || plots) {                   // plots log both runs
+    throw common::InputError(args.log, "--log writes .csv or .mat");
+  if (log) common::require_writable(args.log);  // before the run, not after it
+  if (log || plots) {                           // plots log both runs
     const auto columns = static_cast<Eigen::Index>(log_header(a).size());
     require_log_fits(s.steps, s.log_every, plots ? 2 * columns : columns,
                      log ? args.log : args.plots);
   }
-  if (plots) require_writable(std::filesystem::path(args.plots) / "time_series.png");
+  if (plots) common::require_writable(std::filesystem::path(args.plots) / "time_series.png");
   const std::string floor =
       a.floor.spectrum == "white"
           ? "white " + report::format_number(a.floor.rms_mps2) + " m/s^2 RMS per channel"

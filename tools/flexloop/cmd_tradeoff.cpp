@@ -36,7 +36,7 @@ void run(TradeoffArgs& a) {
   if (reductions.size() == 1 && reductions[0] == "none") reductions.clear();
   a.options.cost = a.cost == "share" ? study::Cost::kShare : study::Cost::kStep;
   for (const char* f : {"tradeoff.csv", "tradeoff.json", "pareto_front.png"})
-    require_writable(dir + f);
+    common::require_writable(dir + f);
   const scene::ScenePlant p = scene::build_scene_plant(scene::load_scene(a.scene));
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   auto last = std::chrono::steady_clock::now() - std::chrono::hours(1);
@@ -60,7 +60,7 @@ void run(TradeoffArgs& a) {
   study::write_csv(dir + "tradeoff.csv", r);
   nlohmann::json j = study::to_json(r);
   j["scene"] = a.scene;
-  write_text_atomically(dir + "tradeoff.json", j.dump(1) + "\n");
+  common::write_text_atomically(dir + "tradeoff.json", j.dump(1) + "\n");
   study::write_front_png(dir + "pareto_front.png", r, p.scene.name + ": accuracy against time");
   if (a.budget > 0) std::cout << study::budget_answer(r, a.budget) << "\n";
   std::cout << "wrote " << dir << "tradeoff.csv, tradeoff.json, pareto_front.png\n";

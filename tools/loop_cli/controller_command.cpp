@@ -17,17 +17,17 @@ namespace flexloop::cli {
 namespace {
 
 void run(const LoopArgs& a, const LoopSource& source) {
-  const hil::LoopOptions o = apply_loop_options(a);
-  const hil::ControllerLoopResult r = hil::run_controller_loop(
+  const loop::LoopOptions o = apply_loop_options(a);
+  const loop::ControllerLoopResult r = loop::run_controller_loop(
       o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
-  hil::print_summary("compute (ns)", *r.compute);
-  hil::print_summary("receive -> send (ns)", *r.response);
+  loop::print_summary("compute (ns)", *r.compute);
+  loop::print_summary("receive -> send (ns)", *r.response);
   std::printf(
       "answered %lld, superseded %lld, plant restarts followed %lld, bumpless resumes %lld, "
       "dropped %s\n",
       static_cast<long long>(r.answered), static_cast<long long>(r.superseded),
       static_cast<long long>(r.resyncs), static_cast<long long>(r.resumes),
-      hil::drops_json(r.drops).dump().c_str());
+      loop::drops_json(r.drops).dump().c_str());
 }
 
 }  // namespace

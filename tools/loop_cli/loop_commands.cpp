@@ -22,10 +22,10 @@ int run_command_line(CLI::App& app, int argc, char** argv) {
     // --help and --version end with 0; a bad option or value is bad input like a bad file: 2
     // (CLI11's own codes, 105 for a failed check, 109 for an extra argument, say nothing more).
     return app.exit(e) == 0 ? 0 : 2;
-  } catch (const hil::VerdictFailure& f) {
+  } catch (const loop::VerdictFailure& f) {
     std::fprintf(stderr, "%s: %s\n", f.code == 130 ? "interrupted" : "error", f.message.c_str());
     return f.code;
-  } catch (const InputError& e) {
+  } catch (const common::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;
   } catch (const std::exception& e) {

@@ -34,7 +34,7 @@ void configure_controller_command(CLI::App* cmd, const LoopSource& source);
 
 /// Parses and runs `app` the way every flexloop program does: exit 0, 2 for bad input
 /// (flexloop::InputError, "error: file: ..."), 1 for other failures, CLI11's codes for usage, a
-/// real-time run's verdict code (hil::VerdictFailure: 3 fail, 130 interrupted).
+/// real-time run's verdict code (loop::VerdictFailure: 3 fail, 130 interrupted).
 int run_command_line(CLI::App& app, int argc, char** argv);
 
 }  // namespace flexloop::cli

@@ -34,7 +34,7 @@ void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock
 }
 
 void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::string& loop_help) {
-  hil::LoopOptions& o = a.options;
+  loop::LoopOptions& o = a.options;
   o.realtime.cpu = default_cpu;
   cmd->add_option("loop", o.loop_path, loop_help)->required()->check(CLI::ExistingFile);
   cmd->add_option(
@@ -85,8 +85,8 @@ void add_verdict_options(CLI::App* cmd, LoopArgs& a) {
       ->check(CLI::Range(std::int64_t{0}, std::int64_t{1'000'000'000'000}));
 }
 
-hil::LoopOptions apply_loop_options(const LoopArgs& a) {
-  hil::LoopOptions o = a.options;
+loop::LoopOptions apply_loop_options(const LoopArgs& a) {
+  loop::LoopOptions o = a.options;
   o.wait = rt::parse_wait_mode(a.wait);
   o.receive_path = rt::parse_receive_path(a.receive_path);
   o.spin_margin_ns = static_cast<std::int64_t>(a.spin_margin_us * 1e3);

@@ -11,13 +11,13 @@
 namespace flexloop::cli {
 
 struct LoopArgs {
-  hil::LoopOptions options;
-  std::string wait = rt::to_string(hil::LoopOptions{}.wait);
-  std::string receive_path = rt::to_string(hil::LoopOptions{}.receive_path);
+  loop::LoopOptions options;
+  std::string wait = rt::to_string(loop::LoopOptions{}.wait);
+  std::string receive_path = rt::to_string(loop::LoopOptions{}.receive_path);
   double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
   bool no_mlock = false;
   std::string start = "stationary";
-  double max_miss_percent = 100 * hil::RunLimits{}.max_miss_share;
+  double max_miss_percent = 100 * loop::RunLimits{}.max_miss_share;
 };
 
 /// --wait sleep|hybrid|spin and --spin-margin-us (also used by `flexloop baseline`).
@@ -35,6 +35,6 @@ void add_safe_ramp_option(CLI::App* cmd, LoopArgs& a);
 /// --max-miss-share and --stop-after-misses: the verdict of a real-time run (plant, hil).
 void add_verdict_options(CLI::App* cmd, LoopArgs& a);
 /// The options as parsed (wait mode, margin, memory locking applied).
-hil::LoopOptions apply_loop_options(const LoopArgs& a);
+loop::LoopOptions apply_loop_options(const LoopArgs& a);
 
 }  // namespace flexloop::cli

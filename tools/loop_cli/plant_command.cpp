@@ -27,16 +27,16 @@ struct PlantArgs : LoopArgs {
 };
 
 void run(const PlantArgs& a, const LoopSource& source) {
-  const hil::LoopOptions o = apply_loop_options(a);
-  if (!a.json.empty()) require_writable(a.json);  // before the run, not after it
-  if (!o.lcm_log.empty()) require_writable(o.lcm_log);
-  const hil::PlantLoopResult r = hil::run_plant_loop(
+  const loop::LoopOptions o = apply_loop_options(a);
+  if (!a.json.empty()) common::require_writable(a.json);  // before the run, not after it
+  if (!o.lcm_log.empty()) common::require_writable(o.lcm_log);
+  const loop::PlantLoopResult r = loop::run_plant_loop(
       o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
-  const hil::LoopAccounts& acc = r.accounts;
-  hil::print_summary("round trip (ns)", *acc.round_trip);
-  hil::print_summary("wakeup lateness (ns)", *acc.wakeup_lateness);
-  hil::print_summary("plant compute (ns)", *acc.plant_compute);
-  hil::print_summary("controller compute", *acc.controller_compute);
+  const loop::LoopAccounts& acc = r.accounts;
+  loop::print_summary("round trip (ns)", *acc.round_trip);
+  loop::print_summary("wakeup lateness (ns)", *acc.wakeup_lateness);
+  loop::print_summary("plant compute (ns)", *acc.plant_compute);
+  loop::print_summary("controller compute", *acc.controller_compute);
   std::printf(
       "cycles %lld, deadline misses %lld, late answers %lld, overruns %lld, safe-command cycles "
       "%lld, dropped %lld, stats published %lld\n",
@@ -44,7 +44,7 @@ void run(const PlantArgs& a, const LoopSource& source) {
       static_cast<long long>(r.late_answers), static_cast<long long>(r.overruns),
       static_cast<long long>(r.safe_command_cycles), static_cast<long long>(r.drops.total()),
       static_cast<long long>(r.stats_published));
-  const hil::PhysicalResults& ph = r.physical;
+  const loop::PhysicalResults& ph = r.physical;
   std::printf("RMS performance outputs:");
   for (std::size_t i = 0; i < ph.performance.size(); ++i)
     std::printf(" %s %.4e %s%s", ph.performance[i].name.c_str(),
@@ -57,11 +57,11 @@ void run(const PlantArgs& a, const LoopSource& source) {
                 static_cast<long long>(r.lcm_log.recorded),
                 static_cast<long long>(r.lcm_log.dropped));
   if (!a.json.empty()) {
-    write_json_atomically(a.json, hil::plant_result_json(r, o, false));
+    common::write_json_atomically(a.json, loop::plant_result_json(r, o, false));
     std::printf("wrote %s\n", a.json.c_str());
   }
   if (r.divergence.happened()) throw std::runtime_error(r.divergence_message);
-  hil::throw_unless_pass(hil::plant_verdict(r, o));
+  loop::throw_unless_pass(loop::plant_verdict(r, o));
 }
 
 }  // namespace
