@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string>
 
+#include "artefact/loop_schema.hpp"
+
 namespace flexloop::artefact {
 
 /// The order of the floor's discrete shaping filter an artefact carries (the online floor
@@ -13,8 +15,8 @@ inline constexpr int kFloorFilterOrder = 9;
 
 /// Stationary random floor acceleration on every disturbance input.
 struct FloorSettings {
-  std::string spectrum = "white";  ///< "white" (band-limited by the sample rate) or "VC-A".."VC-E"
-  double rms_mps2 = 1e-3;          ///< white only: per channel
+  FloorSpectrum spectrum = FloorSpectrum::kWhite;
+  double rms_mps2 = 1e-3;  ///< white only: per channel
   std::uint64_t seed = 1;
 };
 

@@ -63,6 +63,17 @@ SensorEffect read_sensor(const common::JsonReader& effects, const std::string& k
   return s;
 }
 
+// A field that takes one of the schema's names (loop_schema.hpp), refused naming its key.
+template <class Parse>
+auto parse_named(const common::JsonReader& r, const std::string& key, Parse parse) {
+  const std::string name = r.string(key);
+  try {
+    return parse(name);
+  } catch (const std::invalid_argument& e) {
+    throw common::InputError(r.place(key), e.what());
+  }
+}
+
 void require(bool ok, const std::string& place, const std::string& what) {
   if (!ok) throw common::InputError(place, what);
 }
@@ -95,14 +106,14 @@ json to_json(const LoopArtefact& a) {
     for (const auto& c : kind(a.channels, k)) list.push_back({{"name", c.name}, {"unit", c.unit}});
     channels[kChannelKinds[k]] = std::move(list);
   }
-  json plant = {{"form", a.plant.form},
+  json plant = {{"form", to_string(a.plant.form)},
                 {"states", a.plant.states},
                 {"spectral_radius", a.plant.spectral_radius},
                 {"A", common::matrix_to_json(a.plant.A)},
                 {"B", common::matrix_to_json(a.plant.B)},
                 {"C", common::matrix_to_json(a.plant.C)},
                 {"D", common::matrix_to_json(a.plant.D)}};
-  if (a.plant.form == "modal")
+  if (a.plant.form == PlantForm::kModal)
     plant["modal"] = {{"Lambda_minus_I", common::matrix_to_json(a.plant.modal.Lambda_minus_I)},
                       {"B", common::matrix_to_json(a.plant.modal.B)},
                       {"C", common::matrix_to_json(a.plant.modal.C)},
@@ -131,8 +142,8 @@ json to_json(const LoopArtefact& a) {
     controller["feedthrough_delay"] = c.feedthrough_delay;
     controller["anti_windup"] = to_string(c.anti_windup);
   }
-  json floor = {{"spectrum", a.floor.spectrum}, {"seed", a.floor.seed}};
-  if (a.floor.spectrum == "white")
+  json floor = {{"spectrum", to_string(a.floor.spectrum)}, {"seed", a.floor.seed}};
+  if (a.floor.spectrum == FloorSpectrum::kWhite)
     floor["rms_mps2"] = a.floor.rms_mps2;
   else
     floor["filter"] = {{"A", common::matrix_to_json(a.floor_filter.A)},
@@ -169,7 +180,7 @@ json to_json(const LoopArtefact& a) {
           {"version", kLoopArtefactVersion},
           {"name", a.name},
           {"rate_hz", a.rate_hz},
-          {"method", a.method},
+          {"method", to_string(a.method)},
           {"prewarp_hz", a.prewarp_hz},
           {"channels", channels},
           {"plant", plant},
@@ -200,7 +211,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
   a.name = r.string("name");
   a.rate_hz = r.number("rate_hz");
   require(a.rate_hz > 0, r.place("rate_hz"), "must be > 0");
-  a.method = r.string("method");
+  a.method = parse_named(r, "method", parse_discretisation_method);
   a.prewarp_hz = r.number("prewarp_hz");
 
   const common::JsonReader ch = r.object("channels");
@@ -221,9 +232,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
                     nz = a.channels.performance.size(), ns = a.channels.sensors.size();
 
   const common::JsonReader pl = r.object("plant");
-  a.plant.form = pl.string("form");
-  require(a.plant.form == "dense" || a.plant.form == "modal", pl.place("form"),
-          "is \"" + a.plant.form + "\"; expected \"dense\" or \"modal\"");
+  a.plant.form = parse_named(pl, "form", parse_plant_form);
   a.plant.states = pl.labels("states");
   const std::size_t nx = a.plant.states.size();
   require(nx >= 1, pl.place("states"), "is empty: the plant has no state");
@@ -235,7 +244,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
   a.plant.C = pl.matrix("C", nz + ns, nx, "output (performance, then sensors)", "state");
   a.plant.D = pl.matrix("D", nz + ns, nw + nc, "output (performance, then sensors)",
                         "input (disturbances, then actuators)");
-  if (a.plant.form == "modal") {
+  if (a.plant.form == PlantForm::kModal) {
     const common::JsonReader m = pl.object("modal");
     a.plant.modal.Lambda_minus_I = m.matrix("Lambda_minus_I", nx, nx, "state", "state");
     a.plant.modal.B = m.matrix("B", nx, nw + nc, "state", "input");
@@ -288,11 +297,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
     }
     c.feedthrough = co.matrix("feedthrough", ns, nc, "sensor", "actuator");
     c.feedthrough_delay = static_cast<int>(co.integer("feedthrough_delay", 0, kMaxDelaySamples));
-    try {
-      c.anti_windup = artefact::parse_anti_windup(co.string("anti_windup"));
-    } catch (const std::invalid_argument& e) {
-      throw common::InputError(co.place("anti_windup"), e.what());
-    }
+    c.anti_windup = parse_named(co, "anti_windup", parse_anti_windup);
     c.dt = 1.0 / a.rate_hz;
   } else {
     throw common::InputError(co.place("type"), "is \"" + type +
@@ -301,9 +306,9 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
   }
 
   const common::JsonReader fl = r.object("floor");
-  a.floor.spectrum = fl.string("spectrum");
+  a.floor.spectrum = parse_named(fl, "spectrum", parse_floor_spectrum);
   a.floor.seed = seed_at(fl, "seed");
-  if (a.floor.spectrum == "white") {
+  if (a.floor.spectrum == FloorSpectrum::kWhite) {
     a.floor.rms_mps2 = fl.number("rms_mps2");
     require(a.floor.rms_mps2 >= 0, fl.place("rms_mps2"), "must be >= 0");
   } else {
@@ -351,7 +356,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
       out->actuator_lag = s.boolean("actuator_lag");
       if (s.has("note")) out->note = s.string("note");
       const auto n = static_cast<std::size_t>(start_rows(a, *out));
-      const std::size_t nf = a.floor.spectrum == "white" ? 0 : kFloorFilterOrder;
+      const std::size_t nf = a.floor.spectrum == FloorSpectrum::kWhite ? 0 : kFloorFilterOrder;
       out->floor_gain = s.matrix("floor_gain", n, nf * a.channels.disturbances.size(), "start row",
                                  "floor filter state");
       out->covariance = s.matrix("covariance", n, n, "start row", "start row");
@@ -398,14 +403,12 @@ void validate(const LoopArtefact& a) {
   sized("plant B", a.plant.B, nx, nu);
   sized("plant C", a.plant.C, ny, nx);
   sized("plant D", a.plant.D, ny, nu);
-  if (a.plant.form == "modal") {
+  if (a.plant.form == PlantForm::kModal) {
     sized("plant modal Lambda_minus_I", a.plant.modal.Lambda_minus_I, nx, nx);
     sized("plant modal B", a.plant.modal.B, nx, nu);
     sized("plant modal C", a.plant.modal.C, ny, nx);
     sized("plant modal D", a.plant.modal.D, ny, nu);
     sized("plant modal T", a.plant.modal.T, nx, nx);
-  } else if (a.plant.form != "dense") {
-    fail("plant form \"" + a.plant.form + "\"; expected dense or modal");
   }
   if (!(std::isfinite(a.rate_hz) && a.rate_hz > 0)) fail("rate_hz must be finite and > 0");
   if (a.controller == ControllerKind::kPiForceFeedback && a.sensors() != a.actuators())
@@ -426,7 +429,7 @@ void validate(const LoopArtefact& a) {
     controller_sized("D", c.D, nc, ns);
     controller_sized("feedthrough", c.feedthrough, ns, nc);
   }
-  if (a.floor.spectrum != "white" && a.floor_filter.A.rows() != kFloorFilterOrder)
+  if (a.floor.spectrum != FloorSpectrum::kWhite && a.floor_filter.A.rows() != kFloorFilterOrder)
     fail("floor filter: expected the discrete filter of order " +
          std::to_string(kFloorFilterOrder));
   if (!(std::isfinite(a.duration_s) && a.duration_s > 0)) fail("duration_s must be finite and > 0");
@@ -448,10 +451,10 @@ LoopArtefact read_loop_artefact(const std::filesystem::path& file, const LoopOve
     throw common::InputError(
         path, "key 'rate_hz': the artefact is built for " + std::to_string(a.rate_hz) +
                   " Hz; rebuild it at another rate (flexloop build SCENE --rate HZ)");
-  if (!o.form.empty() && o.form != a.plant.form)
-    throw common::InputError(path, "key 'plant': the artefact holds the " + a.plant.form +
-                                       " form; rebuild it (flexloop build SCENE --form " + o.form +
-                                       ")");
+  if (o.form && *o.form != a.plant.form)
+    throw common::InputError(
+        path, "key 'plant': the artefact holds the " + to_string(a.plant.form) +
+                  " form; rebuild it (flexloop build SCENE --form " + to_string(*o.form) + ")");
   if (o.duration_s > 0) a.duration_s = o.duration_s;
   return a;
 }

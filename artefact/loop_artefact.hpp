@@ -12,10 +12,12 @@
 #include <Eigen/Core>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "artefact/hardware_settings.hpp"
+#include "artefact/loop_schema.hpp"
 #include "artefact/loop_start.hpp"
 #include "artefact/pi_parameters.hpp"
 #include "artefact/state_space_parameters.hpp"
@@ -49,13 +51,13 @@ struct Provenance {
 /// The discrete plant x+ = A x + B [w; u], [z; y] = C x + D [w; u], in the dense form, and the
 /// modal form when the scene asks for it (modal_form.hpp of plant/lti made it).
 struct DiscretePlant {
-  std::string form = "dense";  ///< "dense" or "modal": the form the online side steps
+  PlantForm form = PlantForm::kDense;  ///< the form the online side steps
   Eigen::MatrixXd A, B, C, D;
   std::vector<std::string> states;
   double spectral_radius = 0;
   struct Modal {
     Eigen::MatrixXd Lambda_minus_I, B, C, D, T;
-  } modal;  ///< filled when form == "modal"
+  } modal;  ///< filled for the modal form
 };
 
 /// The floor's shaping filter, discrete at the loop's rate (one per channel, driven by unit white
@@ -70,7 +72,7 @@ struct LoopArtefact {
   std::string source;  ///< where it came from (its file, or the scene it was built from): messages
   Provenance provenance;
   double rate_hz = 0;
-  std::string method;  ///< the discretisation method, e.g. "zoh"
+  DiscretisationMethod method = DiscretisationMethod::kZeroOrderHold;
   double prewarp_hz = 0;
   ChannelMap channels;
   DiscretePlant plant;
@@ -121,9 +123,9 @@ LoopArtefact read_loop_artefact(const std::filesystem::path& file);
 
 /// What a command line may ask of the loop it runs.
 struct LoopOverrides {
-  double rate_hz = 0;     ///< > 0: this rate (a scene is sampled at it; an artefact must have it)
-  std::string form;       ///< "dense" | "modal"; empty: dense (a scene), as built (an artefact)
-  double duration_s = 0;  ///< > 0: instead of the scene's or artefact's duration
+  double rate_hz = 0;  ///< > 0: this rate (a scene is sampled at it; an artefact must have it)
+  std::optional<PlantForm> form;  ///< none: dense (a scene), as built (an artefact)
+  double duration_s = 0;          ///< > 0: instead of the scene's or artefact's duration
 };
 
 /// An artefact file for a command: read, with the duration overridden. An artefact's rate and

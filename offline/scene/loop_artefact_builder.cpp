@@ -6,6 +6,7 @@
 
 #include "common/input_error.hpp"
 #include "offline/scene/pi_parameters.hpp"
+#include "offline/scene/schema_conversion.hpp"
 #include "plant/lti/modal_form.hpp"
 #include "plant/lti/vibration_criterion.hpp"
 
@@ -82,7 +83,7 @@ artefact::StateSpaceParameters state_space_parameters_with_hardware(const SceneP
 }
 
 artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
-                                           const std::string& form,
+                                           artefact::PlantForm form,
                                            const artefact::Provenance& provenance) {
   const Scene& sc = p.scene;
   artefact::LoopArtefact a;
@@ -90,7 +91,7 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
   a.source = sc.file;
   a.provenance = provenance;
   a.rate_hz = sc.discretisation.rate_hz;
-  a.method = plant::lti::to_string(sampled.plant.method);
+  a.method = artefact_method(sampled.plant.method);
   a.prewarp_hz = sampled.plant.prewarp_hz;
   const auto map = [](const std::vector<std::string>& names) {
     std::vector<artefact::Channel> out;
@@ -106,7 +107,7 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
   a.plant.D = d.D;
   a.plant.states = d.states;
   a.plant.spectral_radius = sampled.plant.spectral_radius;
-  if (form == "modal") {
+  if (form == artefact::PlantForm::kModal) {
     try {
       const auto m = plant::lti::to_modal_form(sampled.plant);
       a.plant.modal = {m.Lambda_minus_I, m.B, m.C, m.D, m.T};
@@ -123,9 +124,9 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
     a.pi = pi_parameters_with_hardware(p, a.dt());
   }
   a.floor = sc.floor;
-  if (sc.floor.spectrum != "white") {
-    const auto continuous = plant::lti::design_floor_filter(plant::lti::criterion_band_velocity_rms(
-        plant::lti::parse_vibration_criterion(sc.floor.spectrum)));
+  if (sc.floor.spectrum != artefact::FloorSpectrum::kWhite) {
+    const auto continuous = plant::lti::design_floor_filter(
+        plant::lti::criterion_band_velocity_rms(vibration_criterion(sc.floor.spectrum)));
     const auto filter = plant::lti::discretise_floor_filter(continuous, a.dt());
     a.floor_filter = {filter.sys.A, filter.sys.B, filter.sys.C, filter.sys.D,
                       plant::lti::floor_motion_outputs(continuous)};

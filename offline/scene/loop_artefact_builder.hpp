@@ -24,10 +24,10 @@ artefact::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double d
 artefact::StateSpaceParameters state_space_parameters_with_hardware(const ScenePlant& p,
                                                                     const SampledScene& sampled);
 
-/// form: "dense" or "modal" (the modal form is computed here; a defective plant is refused).
+/// The modal form is computed here (a defective plant is refused).
 /// @throws flexloop::InputError naming the scene when the modal form is refused.
 artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
-                                           const std::string& form,
+                                           artefact::PlantForm form,
                                            const artefact::Provenance& provenance = {});
 
 }  // namespace flexloop::scene

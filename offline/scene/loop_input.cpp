@@ -47,8 +47,9 @@ artefact::LoopArtefact load_loop(const std::string& path, const LoopInputOptions
   if (o.rate_hz > 0) sc.discretisation.rate_hz = o.rate_hz;
   const auto p = build_scene_plant(sc);
   require_stable_loop(p);
-  artefact::LoopArtefact a = build_loop_artefact(
-      p, sample_scene(p), o.form.empty() ? "dense" : o.form, loop_provenance(path, sc.model_path));
+  artefact::LoopArtefact a =
+      build_loop_artefact(p, sample_scene(p), o.form.value_or(artefact::PlantForm::kDense),
+                          loop_provenance(path, sc.model_path));
   if (o.duration_s > 0) a.duration_s = o.duration_s;
   return a;
 }

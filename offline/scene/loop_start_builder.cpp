@@ -10,6 +10,7 @@
 #include "controller/design/pi_force_feedback.hpp"
 #include "controller/design/sampled_loop_stability.hpp"
 #include "numeric/stationary_covariance.hpp"
+#include "offline/scene/schema_conversion.hpp"
 #include "plant/lti/balanced_exponential.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/vibration_criterion.hpp"
@@ -108,13 +109,14 @@ NoisyLoop noisy_loop(const artefact::LoopArtefact& a, bool closed) {
   const auto& p = a.plant;
   const Index nx = p.A.rows(), nw = a.disturbances(), nc = a.actuators(), nz = a.performance(),
               ns = a.sensors();
-  const bool vc = a.floor.spectrum != "white";
+  const bool vc = a.floor.spectrum != artefact::FloorSpectrum::kWhite;
   const Index nf = vc ? artefact::kFloorFilterOrder : 0;
   const auto floor = artefact::floor_states(a);
   if (!floor.empty() && !vc)
     fail("the plant has the floor's position as a state and a white floor has none");
-  if (!floor.empty() && a.method != "zoh")
-    fail("the plant's floor states are other coordinates under method " + a.method);
+  if (!floor.empty() && a.method != artefact::DiscretisationMethod::kZeroOrderHold)
+    fail("the plant's floor states are other coordinates under method " +
+         artefact::to_string(a.method));
   std::vector<bool> is_floor(static_cast<std::size_t>(nx), false);
   for (const auto& f : floor) is_floor[static_cast<std::size_t>(f.state)] = true;
 
@@ -171,12 +173,12 @@ NoisyLoop continuous_floor_loop(const ScenePlant& sp, const artefact::LoopArtefa
                                 bool closed) {
   const auto fail = [](const std::string& why) { throw std::invalid_argument(why); };
   const plant::lti::StateSpace& g = sp.plant;
-  if (a.floor.spectrum == "white")
+  if (a.floor.spectrum == artefact::FloorSpectrum::kWhite)
     fail("a white floor is band-limited by the sampling: it has no continuous counterpart");
   if (g.nx() != a.plant.A.rows())
     fail("the scene's plant is reduced: the continuous machine is another");
-  const auto filter = plant::lti::design_floor_filter(plant::lti::criterion_band_velocity_rms(
-      plant::lti::parse_vibration_criterion(a.floor.spectrum)));
+  const auto filter = plant::lti::design_floor_filter(
+      plant::lti::criterion_band_velocity_rms(vibration_criterion(a.floor.spectrum)));
   if (filter.D.norm() != 0) fail("the floor filter has a feedthrough (infinite variance)");
   const MatrixXd motion = plant::lti::floor_motion_outputs(filter);
   const Index nx = g.nx(), nw = a.disturbances(), nc = a.actuators(), nz = a.performance(),
@@ -294,8 +296,9 @@ Covariance stationary_covariance(const NoisyLoop& m) {
 artefact::StationaryStart conditioned(const artefact::LoopArtefact& a, const NoisyLoop& m,
                                       const Covariance& c, bool closed) {
   const MatrixXd& P = c.P;
-  const Index nx = a.plant.A.rows(),
-              nf = a.floor.spectrum == "white" ? 0 : artefact::kFloorFilterOrder;
+  const Index nx = a.plant.A.rows(), nf = a.floor.spectrum == artefact::FloorSpectrum::kWhite
+                                              ? 0
+                                              : artefact::kFloorFilterOrder;
   const Index n = P.rows(), tail = n - m.augmented, nF = m.floor_rows;
   // Rest: the structure, then everything after the augmented plant.
   std::vector<Index> rest(m.structure.size());

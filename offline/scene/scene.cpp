@@ -5,9 +5,9 @@
 #include <cmath>
 #include <tuple>
 
+#include "artefact/loop_schema.hpp"
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
-#include "plant/lti/vibration_criterion.hpp"
 
 namespace flexloop::scene {
 
@@ -163,14 +163,14 @@ Scene parse_scene(const std::string& text, const std::string& file) {
     common::TomlReader fr(*t, file, "[floor]");
     fr.allow_only({"spectrum", "rms_mps2", "seed"});
     auto& f = s.floor;
-    f.spectrum = fr.string("spectrum", f.spectrum);
+    const std::string spectrum = fr.string("spectrum", artefact::to_string(f.spectrum));
     try {
-      if (f.spectrum != "white") plant::lti::parse_vibration_criterion(f.spectrum);
+      f.spectrum = artefact::parse_floor_spectrum(spectrum);
     } catch (const std::invalid_argument&) {
       fr.fail("'spectrum' must be \"white\" or a vibration criterion VC-A .. VC-E",
               fr.get("spectrum"));
     }
-    if (f.spectrum != "white" && fr.has("rms_mps2"))
+    if (f.spectrum != artefact::FloorSpectrum::kWhite && fr.has("rms_mps2"))
       fr.fail("'rms_mps2' is for the white spectrum; a VC curve sets its own level",
               fr.get("rms_mps2"));
     f.rms_mps2 = non_negative(fr, "rms_mps2", f.rms_mps2);

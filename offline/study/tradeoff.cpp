@@ -88,7 +88,7 @@ MatrixXd floor_samples(const artefact::LoopArtefact& a, long steps) {
   auto fill = [&](auto floor) {
     for (long k = 0; k < steps; ++k) w.col(k) = floor.step();
   };
-  if (a.floor.spectrum == "white")
+  if (a.floor.spectrum == artefact::FloorSpectrum::kWhite)
     fill(fx::WhiteFloor<double, Eigen::Dynamic>::from_parameters(a.floor.rms_mps2, a.floor.seed,
                                                                  nw));
   else
@@ -103,7 +103,7 @@ MatrixXd floor_samples(const artefact::LoopArtefact& a, long steps) {
 template <typename Scalar>
 lti::DiscreteStateSpace stored_plant(const artefact::LoopArtefact& a) {
   const auto& d = a.plant;
-  const bool modal = d.form == "modal";
+  const bool modal = d.form == artefact::PlantForm::kModal;
   const auto round = [](const MatrixXd& m) -> MatrixXd {
     return m.cast<Scalar>().template cast<double>();
   };
@@ -182,7 +182,7 @@ double worst_rms_ratio(const MatrixXd& z, const MatrixXd& ref) {
 template <typename Scalar, class F>
 decltype(auto) with_plant(const artefact::LoopArtefact& a, F&& f) {
   const auto& d = a.plant;
-  if (d.form == "modal")
+  if (d.form == artefact::PlantForm::kModal)
     return f(plant::runtime::GeneralModalPlant<Scalar>::from_modal_form(d.modal, a.actuators()));
   return f(
       plant::runtime::GeneralDensePlant<Scalar>::from_matrices(d.A, d.B, d.C, d.D, a.actuators()));
@@ -284,9 +284,12 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
                                "--methods: unknown method '" + m +
                                    "' (zoh, foh, tustin, tustin-prewarp, backward-euler, euler)");
     }
-  for (const std::string& f : o.forms)
-    if (f != "dense" && f != "modal")
+  std::vector<artefact::PlantForm> forms;
+  for (const std::string& f : o.forms) try {
+      forms.push_back(artefact::parse_plant_form(f));
+    } catch (const std::invalid_argument&) {
       throw common::InputError(file, "--forms: '" + f + "' (dense, modal)");
+    }
   for (const std::string& s : o.scalars)
     if (s != "double" && s != "float")
       throw common::InputError(file, "--scalars: '" + s + "' (double, float)");
@@ -312,7 +315,7 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
   result.cost = o.cost;
   result.default_config = {lti::to_string(sd.method) + (sd.prewarp_hz > 0 ? "-prewarp" : ""),
                            sd.rate_hz,
-                           "dense",
+                           artefact::to_string(artefact::PlantForm::kDense),
                            "double",
                            "full",
                            n};
@@ -378,7 +381,7 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
           "the scene's state-space controller is discrete at " + std::to_string(sd.rate_hz) + " Hz";
     else
       try {
-        exact = scene::build_loop_artefact(q, scene::sample_scene(q), "dense");
+        exact = scene::build_loop_artefact(q, scene::sample_scene(q), artefact::PlantForm::kDense);
       } catch (const std::exception& e) {
         exact_error = e.what();
       }
@@ -405,7 +408,7 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
           } catch (const std::exception& e) {
             why = e.what();
           }
-        for (const std::string& form : o.forms) {
+        for (const artefact::PlantForm form : forms) {
           std::optional<artefact::LoopArtefact> a;
           std::string form_why = why;
           if (form_why.empty()) try {
@@ -415,7 +418,7 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
             }
           for (const std::string& scalar : o.scalars) {
             Measurement m;
-            m.config = {method, rate, form, scalar, v.reduction, v.order};
+            m.config = {method, rate, artefact::to_string(form), scalar, v.reduction, v.order};
             m.reduction_bound = v.bound;
             if (o.progress) o.progress(done, total, m.config);
             ++done;

@@ -13,7 +13,7 @@ void run_plant_general(const artefact::LoopArtefact& loop, const LoopOptions& o,
     sim::with_hardware<kAny, kAny, kAny>(
         loop, plant, [&](auto hw) { run_plant_with(std::move(hw), loop, o, url, r); });
   };
-  if (d.form == "modal")
+  if (d.form == artefact::PlantForm::kModal)
     run(plant::runtime::GeneralModalPlant<double>::from_modal_form(d.modal, loop.actuators()));
   else
     run(plant::runtime::GeneralDensePlant<double>::from_matrices(d.A, d.B, d.C, d.D,

@@ -48,15 +48,14 @@ inline plant::runtime::LoopCounts loop_counts(const artefact::LoopArtefact& a) {
           .actuators = a.actuators(),
           .performance = a.performance(),
           .sensors = a.sensors(),
-          .form = a.plant.form == "modal" ? plant::runtime::PlantForm::kModal
-                                          : plant::runtime::PlantForm::kDense};
+          .form = a.plant.form};
 }
 
 /// The artefact's plant on the fixed-size kernels of a compiled loop (its counts match Loop).
 template <class Loop>
 auto make_compiled_plant(const artefact::LoopArtefact& a) {
   const auto& d = a.plant;
-  if constexpr (Loop::kForm == plant::runtime::PlantForm::kModal)
+  if constexpr (Loop::kForm == artefact::PlantForm::kModal)
     return plant::runtime::ModalPlant<double, Loop::NX, Loop::NU, Loop::NY,
                                       Loop::NH>::from_modal_form(d.modal);
   else
@@ -100,7 +99,7 @@ Plant plant_at_floor_start(Plant plant, const Floor& floor, const artefact::Loop
         "as a random walk); use a VC spectrum");
   // Only the zero-order hold keeps the continuous state as the discrete one; Tustin, FOH and
   // backward Euler use shifted or scaled coordinates (plant/lti/discretise.hpp).
-  if (any && a.method != "zoh")
+  if (any && a.method != artefact::DiscretisationMethod::kZeroOrderHold)
     throw common::InputError(
         a.source,
         "[discretisation]: this plant has the floor's position and velocity as "
@@ -125,7 +124,7 @@ struct EffectSet {
 
 inline EffectSet effect_set(const artefact::LoopArtefact& a) {
   const auto& e = a.effects;
-  return {.vc_floor = a.floor.spectrum != "white",
+  return {.vc_floor = a.floor.spectrum != artefact::FloorSpectrum::kWhite,
           .actuator = !e.actuator.present    ? ActuatorKind::kNone
                       : e.actuator.lag_s > 0 ? ActuatorKind::kLaggedPiezo
                                              : ActuatorKind::kPiezo,
@@ -174,14 +173,14 @@ auto make_floor(const artefact::LoopArtefact& a) {
 /// The floor filters' states at the start of a run (order x channels; empty for a white floor):
 /// what the floor generator of any run of `a` draws, for a process without a floor of its own.
 inline Eigen::MatrixXd floor_start_states(const artefact::LoopArtefact& a) {
-  if (a.floor.spectrum == "white") return {};
+  if (a.floor.spectrum == artefact::FloorSpectrum::kWhite) return {};
   return make_floor<Eigen::Dynamic, true>(a).state().template cast<double>();
 }
 
 /// The artefact's floor alone (white or a VC curve): f(floor).
 template <int NW, class F>
 decltype(auto) with_floor(const artefact::LoopArtefact& a, F&& f) {
-  if (a.floor.spectrum == "white") return f(make_floor<NW, false>(a));
+  if (a.floor.spectrum == artefact::FloorSpectrum::kWhite) return f(make_floor<NW, false>(a));
   return f(make_floor<NW, true>(a));
 }
 

@@ -9,7 +9,7 @@ BothRuns run_general(const artefact::LoopArtefact& a, const RunSettings& s,
                      const SceneRunOptions& o) {
   constexpr int kAny = Eigen::Dynamic;
   const auto& d = a.plant;
-  if (d.form == "modal")
+  if (d.form == artefact::PlantForm::kModal)
     return run_both<kAny, kAny, kAny>(
         plant::runtime::GeneralModalPlant<double>::from_modal_form(d.modal, a.actuators()), a, s,
         o);

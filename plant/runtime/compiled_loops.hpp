@@ -10,9 +10,12 @@
 // plant/runtime/state_output.hpp).
 #include <Eigen/Core>
 
+#include "artefact/loop_schema.hpp"
+
 namespace flexloop::plant::runtime {
 
-enum class PlantForm { kDense, kModal };
+// One enum across the seam: the form as the artefact holds it (artefact/loop_schema.hpp).
+using artefact::PlantForm;
 
 /// One compiled loop: NX states, NW disturbances, NC actuators, NZ performance outputs, NS
 /// sensors, stepped in the given plant form.

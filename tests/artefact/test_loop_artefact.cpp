@@ -45,11 +45,11 @@ std::string error_of(Edit edit) {
 }  // namespace
 
 TEST_CASE("loop artefact: write and read give the same artefact, bit for bit", "[artefact]") {
-  for (const std::string form : {"dense", "modal"}) {
-    CAPTURE(form);
+  for (const auto form : {artefact::PlantForm::kDense, artefact::PlantForm::kModal}) {
+    CAPTURE(artefact::to_string(form));
     const auto a = scene::load_loop("tools/scenes/metrology_frame.toml",
                                     {.rate_hz = 0, .form = form, .duration_s = 0});
-    const auto file = temp_file("metrology_" + form + ".json");
+    const auto file = temp_file("metrology_" + artefact::to_string(form) + ".json");
     artefact::write_loop_artefact(file, a);
     CHECK(artefact::is_loop_artefact_file(file));
     const auto b = artefact::read_loop_artefact(file);

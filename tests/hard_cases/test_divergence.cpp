@@ -19,7 +19,8 @@ using namespace flexloop;
 namespace {
 
 sim::RunResult run_scaled(const std::string& scene, double scale, bool general, long log_every) {
-  auto a = scene::load_loop(scene, {.rate_hz = 0, .form = "dense", .duration_s = 2});
+  auto a =
+      scene::load_loop(scene, {.rate_hz = 0, .form = artefact::PlantForm::kDense, .duration_s = 2});
   a.plant.A *= scale;
   sim::RunSettings s;
   s.dt = a.dt();

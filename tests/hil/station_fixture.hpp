@@ -23,8 +23,8 @@ using HilFloor = plant::runtime::effects::WhiteFloor<double, 6>;
 using HilHardware = plant::runtime::SimulatedHardware<HilPlant, 6, 6, HilFloor>;
 
 inline const artefact::LoopArtefact& hil_scene() {
-  static const artefact::LoopArtefact s =
-      scene::load_loop(metrology_scene_path(), {.rate_hz = 1000, .form = "", .duration_s = 0});
+  static const artefact::LoopArtefact s = scene::load_loop(
+      metrology_scene_path(), {.rate_hz = 1000, .form = std::nullopt, .duration_s = 0});
   return s;
 }
 

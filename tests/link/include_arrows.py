@@ -26,7 +26,7 @@ ALLOWED = {
     "plant/model": {"numeric", "common"},
     "plant/lti": {"numeric", "common", "plant/model"},
     "controller/design": {"numeric", "common", "plant/model", "plant/lti"},
-    "plant/runtime": {"numeric", "common"},
+    "plant/runtime": {"numeric", "common", "artefact"},
     "controller/runtime": {"numeric", "common", "artefact"},
     "online/sim": {"numeric", "common", "artefact", "plant/runtime", "controller/runtime"},
     "online/loop": {"numeric", "common", "msgs", "rt", "artefact", "plant/runtime",

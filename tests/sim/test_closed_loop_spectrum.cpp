@@ -10,6 +10,7 @@
 #include "controller/runtime/pi_controller.hpp"
 #include "offline/scene/loop_artefact_builder.hpp"
 #include "offline/scene/scene_plant.hpp"
+#include "offline/scene/schema_conversion.hpp"
 #include "online/sim/closed_loop_run.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "plant/lti/frequency_response.hpp"
@@ -42,18 +43,18 @@ std::pair<double, double> worst_spectrum_deviation(scene::Scene sc, double f_min
   s.log_every = 1;
   using Plant = plant::runtime::DensePlant<double, NX, 12, 12, 6>;
   const Plant plant = Plant::from_matrices(d.A, d.B, d.C, d.D);
-  const auto loop = scene::build_loop_artefact(p, sampled, "dense");
+  const auto loop = scene::build_loop_artefact(p, sampled, artefact::PlantForm::kDense);
   const auto pi = controller::runtime::PiController<double, 6>::from_parameters(loop.pi);
   const sim::RunResult r = sim::with_bare_hardware<6, 6>(
       loop, plant, [&](auto hw) { return sim::run_closed_loop(hw, pi, s, {}); });
 
   const double fs = 1.0 / s.dt;
   const auto input_psd = [&](const std::vector<double>& f) {
-    if (sc.floor.spectrum == "white")
+    if (sc.floor.spectrum == artefact::FloorSpectrum::kWhite)
       return std::vector<double>(f.size(), 2 * sc.floor.rms_mps2 * sc.floor.rms_mps2 / fs);
     const auto filter = plant::lti::discretise_floor_filter(
-        plant::lti::design_floor_filter(plant::lti::criterion_band_velocity_rms(
-            plant::lti::parse_vibration_criterion(sc.floor.spectrum))),
+        plant::lti::design_floor_filter(
+            plant::lti::criterion_band_velocity_rms(scene::vibration_criterion(sc.floor.spectrum))),
         s.dt);
     std::vector<double> psd;
     for (const auto& g : plant::lti::frequency_response(filter, f))
@@ -92,7 +93,7 @@ TEST_CASE(
   auto sc = scene::load_scene("tools/scenes/metrology_frame.toml");
   // A leak keeps the integrator poles off z = 1 (the test compares a stationary spectrum).
   sc.controller.leak_hz = 0.2;
-  sc.floor = {.spectrum = "white", .rms_mps2 = 1e-3, .seed = 11};
+  sc.floor = {.spectrum = artefact::FloorSpectrum::kWhite, .rms_mps2 = 1e-3, .seed = 11};
   const auto [worst_db, worst_f] = worst_spectrum_deviation<12>(sc, 1.0);
   INFO("worst deviation " << worst_db << " dB at " << worst_f << " Hz");
   WARN("Welch vs |T|^2: worst deviation " << worst_db << " dB at " << worst_f << " Hz");

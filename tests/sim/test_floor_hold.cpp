@@ -32,7 +32,7 @@ struct Machine {
 Machine machine(scene::Scene sc, double rate_hz) {
   sc.discretisation.rate_hz = rate_hz;
   auto p = scene::build_scene_plant(sc);
-  auto a = scene::build_loop_artefact(p, scene::sample_scene(p), "dense");
+  auto a = scene::build_loop_artefact(p, scene::sample_scene(p), artefact::PlantForm::kDense);
   return {std::move(p), std::move(a)};
 }
 

@@ -24,7 +24,8 @@ using namespace flexloop;
 
 namespace {
 
-sim::BothRuns run(const std::string& scene, const std::string& form, bool general, double seconds) {
+sim::BothRuns run(const std::string& scene, artefact::PlantForm form, bool general,
+                  double seconds) {
   const auto a = scene::load_loop(scene, {.rate_hz = 0, .form = form, .duration_s = seconds});
   sim::RunSettings s;
   s.dt = a.dt();
@@ -39,9 +40,9 @@ sim::BothRuns run(const std::string& scene, const std::string& form, bool genera
 TEST_CASE("sim general path: the metrology frame with every effect gives the compiled figures",
           "[sim][general]") {
   const std::string sc = "tools/scenes/metrology_frame.toml";
-  const auto compiled = run(sc, "dense", false, 2.0);
-  const auto general = run(sc, "dense", true, 2.0);
-  const auto modal = run(sc, "modal", true, 2.0);
+  const auto compiled = run(sc, artefact::PlantForm::kDense, false, 2.0);
+  const auto general = run(sc, artefact::PlantForm::kDense, true, 2.0);
+  const auto modal = run(sc, artefact::PlantForm::kModal, true, 2.0);
   // Same hardware, same seeds, the same sample: only the order of summation differs. The ADCs
   // round, so a last-bit difference can flip a code now and then: 1e-9 covers that.
   CHECK(test::worst_relative(general.on.rms_performance, compiled.on.rms_performance) < 1e-9);
@@ -70,7 +71,7 @@ TEST_CASE("sim general path: machines under PI run as their sampled closed loop"
     s.dt = sampled.plant.dt;
     s.steps = std::lround(5 / s.dt);  // 5 s
     // Dense only: the floor's double integrators have no modal form (the frame test runs modal).
-    const auto a = scene::build_loop_artefact(p, sampled, "dense");
+    const auto a = scene::build_loop_artefact(p, sampled, artefact::PlantForm::kDense);
     const auto r = sim::run_artefact(a, s, test::from_rest());
     // The reference: the offline sampled loop w -> z (plant states first), the same floor.
     const auto& cl = sampled.closed_loop.sys;
@@ -100,7 +101,7 @@ TEST_CASE("sim general path: machines without a controller run open loop as thei
     sc.effects = {};
     const auto p = scene::build_scene_plant(sc);
     const auto sampled = scene::sample_scene(p);
-    const auto a = scene::build_loop_artefact(p, sampled, "dense");
+    const auto a = scene::build_loop_artefact(p, sampled, artefact::PlantForm::kDense);
     REQUIRE(a.plant.states.size() == static_cast<std::size_t>(c.states));
     REQUIRE(a.controller == artefact::ControllerKind::kNone);
     REQUIRE(a.disturbances() == c.nw);

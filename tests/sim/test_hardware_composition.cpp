@@ -103,7 +103,7 @@ TEST_CASE("hardware composition: sets no composition lists run chosen, as they w
   }
   SECTION("a white floor, lagging piezos, accelerometers and no force sensor") {
     auto a = base;
-    a.floor.spectrum = "white";
+    a.floor.spectrum = artefact::FloorSpectrum::kWhite;
     a.floor.rms_mps2 = 1e-3;
     a.effects.actuator.lag_s = 2e-4;
     a.effects.force_sensor.present = false;

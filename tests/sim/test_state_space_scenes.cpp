@@ -76,7 +76,7 @@ TEST_CASE("state-space scene: the PI's law from a controller file runs the PI's 
   REQUIRE(p.state_space->continuous);
   scene::require_stable_loop(p);
   const auto sampled = scene::sample_scene(p);
-  const auto a = scene::build_loop_artefact(p, sampled, "dense");
+  const auto a = scene::build_loop_artefact(p, sampled, artefact::PlantForm::kDense);
   REQUIRE(a.controller == artefact::ControllerKind::kStateSpace);
   // The artefact round-trips through its JSON form.
   const auto back = artefact::loop_artefact_from_json(artefact::to_json(a), "memory");
@@ -93,8 +93,8 @@ TEST_CASE("state-space scene: the PI's law from a controller file runs the PI's 
   INFO("sim " << r.on.rms_performance.transpose() << ", model " << model.transpose());
   CHECK(test::worst_relative(r.on.rms_performance, model) < 1e-9);
 
-  const auto pi_artefact =
-      scene::build_loop_artefact(pi_plant, scene::sample_scene(pi_plant), "dense");
+  const auto pi_artefact = scene::build_loop_artefact(pi_plant, scene::sample_scene(pi_plant),
+                                                      artefact::PlantForm::kDense);
   const auto pi_run = sim::run_artefact(pi_artefact, s, test::from_rest());
   CHECK(test::worst_relative(r.on.rms_performance, pi_run.on.rms_performance) < 1e-9);
   CHECK(test::worst_relative(r.on.rms_command, pi_run.on.rms_command) < 1e-9);
@@ -129,7 +129,7 @@ TEST_CASE("state-space scene: fewer sensors than actuators runs as the sampled c
   const auto p = scene::build_scene_plant(sc);
   scene::require_stable_loop(p);
   const auto sampled = scene::sample_scene(p);
-  const auto a = scene::build_loop_artefact(p, sampled, "dense");
+  const auto a = scene::build_loop_artefact(p, sampled, artefact::PlantForm::kDense);
   REQUIRE(a.sensors() == 2);
   REQUIRE(a.actuators() == 3);
   const auto s = settings(a, 3.0);
@@ -145,11 +145,11 @@ TEST_CASE("state-space scene: fewer sensors than actuators runs as the sampled c
 TEST_CASE("state-space scene: the shipped LQG design isolates the metrology frame",
           "[sim][state_space]") {
   const auto a = scene::load_loop("tools/scenes/metrology_frame_lqg.toml",
-                                  {.rate_hz = 0, .form = "", .duration_s = 2.0});
+                                  {.rate_hz = 0, .form = std::nullopt, .duration_s = 2.0});
   REQUIRE(a.controller == artefact::ControllerKind::kStateSpace);
   REQUIRE(a.state_space.A.rows() == 12);
   const auto pi = scene::load_loop("tools/scenes/metrology_frame.toml",
-                                   {.rate_hz = 0, .form = "", .duration_s = 2.0});
+                                   {.rate_hz = 0, .form = std::nullopt, .duration_s = 2.0});
   const auto s = settings(a, 2.0);
   const auto r = sim::run_artefact(a, s, test::from_rest());
   const auto r_pi = sim::run_artefact(pi, s, test::from_rest());

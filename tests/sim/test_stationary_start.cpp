@@ -17,7 +17,7 @@ namespace {
 
 artefact::LoopArtefact artefact_of(scene::Scene sc) {
   const auto p = scene::build_scene_plant(sc);
-  return scene::build_loop_artefact(p, scene::sample_scene(p), "dense");
+  return scene::build_loop_artefact(p, scene::sample_scene(p), artefact::PlantForm::kDense);
 }
 
 sim::BothRuns run(const artefact::LoopArtefact& a, double seconds, sim::StartKind start) {
@@ -41,7 +41,7 @@ scene::Scene metrology_variant(bool white, bool preload, double rate_hz) {
   sc.controller.leak_hz = 1.0;
   sc.gravity_preload = preload;
   sc.discretisation.rate_hz = rate_hz;
-  if (white) sc.floor = {.spectrum = "white", .rms_mps2 = 1e-3, .seed = 7};
+  if (white) sc.floor = {.spectrum = artefact::FloorSpectrum::kWhite, .rms_mps2 = 1e-3, .seed = 7};
   return sc;
 }
 

@@ -100,7 +100,7 @@ void check_against_baselines(const nlohmann::json& r, double rate_hz) {
 // The scene's loop at the options' rate (the artefact `flexloop hil` builds).
 artefact::LoopArtefact loop(const hil::HilOptions& o) {
   return scene::load_loop(o.loop.loop_path,
-                          {.rate_hz = o.loop.rate_hz, .form = "", .duration_s = 0});
+                          {.rate_hz = o.loop.rate_hz, .form = std::nullopt, .duration_s = 0});
 }
 
 }  // namespace

@@ -20,12 +20,13 @@ struct BuildArgs {
 };
 
 void run(const BuildArgs& args) {
-  const artefact::LoopArtefact a =
-      scene::load_loop(args.scene, {.rate_hz = args.rate_hz, .form = args.form, .duration_s = 0});
+  const artefact::LoopArtefact a = scene::load_loop(
+      args.scene,
+      {.rate_hz = args.rate_hz, .form = artefact::parse_plant_form(args.form), .duration_s = 0});
   artefact::write_loop_artefact(args.output, a);
   std::printf("loop %s: %s plant, %zu states, %.6g Hz (%s), controller %s\n", a.name.c_str(),
-              a.plant.form.c_str(), a.plant.states.size(), a.rate_hz, a.method.c_str(),
-              artefact::to_string(a.controller).c_str());
+              artefact::to_string(a.plant.form).c_str(), a.plant.states.size(), a.rate_hz,
+              artefact::to_string(a.method).c_str(), artefact::to_string(a.controller).c_str());
   std::printf("channels: %ld disturbances, %ld actuators, %ld performance outputs, %ld sensors\n",
               static_cast<long>(a.disturbances()), static_cast<long>(a.actuators()),
               static_cast<long>(a.performance()), static_cast<long>(a.sensors()));

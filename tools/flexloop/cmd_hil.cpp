@@ -39,7 +39,7 @@ struct HilArgs : LoopArgs {
 // The offline pipeline runs once per rate, here; the plant and controller start from its artefact.
 artefact::LoopArtefact load_hil_loop(const hil::HilOptions& o) {
   return scene::load_loop(o.loop.loop_path,
-                          {.rate_hz = o.loop.rate_hz, .form = "", .duration_s = 0});
+                          {.rate_hz = o.loop.rate_hz, .form = std::nullopt, .duration_s = 0});
 }
 
 void print_written(const std::vector<std::string>& paths) {

@@ -206,7 +206,10 @@ void require_bounded(const artefact::LoopArtefact& a, const sim::RunResult& r, c
 
 void run(const SimArgs& args) {
   const artefact::LoopArtefact a = scene::load_loop(
-      args.scene, {.rate_hz = 0, .form = args.form, .duration_s = args.duration_s});
+      args.scene, {.rate_hz = 0,
+                   .form = args.form.empty() ? std::nullopt
+                                             : std::optional(artefact::parse_plant_form(args.form)),
+                   .duration_s = args.duration_s});
   const bool controlled = a.controller != artefact::ControllerKind::kNone;
   const bool on = controlled && (args.controller.empty() || args.controller == "on");
   sim::RunSettings s;
@@ -224,12 +227,12 @@ void run(const SimArgs& args) {
   }
   if (plots) common::require_writable(std::filesystem::path(args.plots) / "time_series.png");
   const std::string floor =
-      a.floor.spectrum == "white"
+      a.floor.spectrum == artefact::FloorSpectrum::kWhite
           ? "white " + report::format_number(a.floor.rms_mps2) + " m/s^2 RMS per channel"
-          : a.floor.spectrum + " (IEST-RP-CC012, flat velocity 1-80 Hz)";
+          : artefact::to_string(a.floor.spectrum) + " (IEST-RP-CC012, flat velocity 1-80 Hz)";
   std::printf("scene %s: %s plant, %ld states, %.0f Hz (%s), %.3g s = %ld steps\n", a.name.c_str(),
-              a.plant.form.c_str(), static_cast<long>(a.plant.states.size()), a.rate_hz,
-              a.method.c_str(), a.duration_s, s.steps);
+              artefact::to_string(a.plant.form).c_str(), static_cast<long>(a.plant.states.size()),
+              a.rate_hz, artefact::to_string(a.method).c_str(), a.duration_s, s.steps);
   std::printf(
       "channels: %ld disturbances, %ld actuators, %ld performance outputs, %ld sensors; "
       "controller: %s\n",

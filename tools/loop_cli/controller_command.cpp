@@ -19,7 +19,7 @@ namespace {
 void run(const LoopArgs& a, const LoopSource& source) {
   const loop::LoopOptions o = apply_loop_options(a);
   const loop::ControllerLoopResult r = loop::run_controller_loop(
-      o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
+      o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = std::nullopt, .duration_s = 0}));
   loop::print_summary("compute (ns)", *r.compute);
   loop::print_summary("receive -> send (ns)", *r.response);
   std::printf(

@@ -31,7 +31,7 @@ void run(const PlantArgs& a, const LoopSource& source) {
   if (!a.json.empty()) common::require_writable(a.json);  // before the run, not after it
   if (!o.lcm_log.empty()) common::require_writable(o.lcm_log);
   const loop::PlantLoopResult r = loop::run_plant_loop(
-      o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = "", .duration_s = 0}));
+      o, source.load(o.loop_path, {.rate_hz = o.rate_hz, .form = std::nullopt, .duration_s = 0}));
   const loop::LoopAccounts& acc = r.accounts;
   loop::print_summary("round trip (ns)", *acc.round_trip);
   loop::print_summary("wakeup lateness (ns)", *acc.wakeup_lateness);
