@@ -118,6 +118,11 @@ TEST_CASE("loop artefact: bad artefacts name the file, the key and what is wrong
              Contains("key 'type': is \"lqg\"; this flexloop knows"));
   CHECK_THAT(error_of([](json& j) { j["plant"]["form"] = "sparse"; }),
              Contains("key 'form': is \"sparse\""));
+  CHECK_THAT(error_of([](json& j) { j["method"] = "rk4"; }),
+             Contains("key 'method': is \"rk4\"; expected \"zoh\", \"foh\", \"tustin\", "
+                      "\"euler\" or \"backward-euler\""));
+  CHECK_THAT(error_of([](json& j) { j["floor"]["spectrum"] = "VC-F"; }),
+             Contains("key 'spectrum': is \"VC-F\"; expected \"white\", \"VC-A\""));
   CHECK_THAT(error_of([](json& j) { j["effects"]["transport_delay_samples"] = 40; }),
              Contains("key 'transport_delay_samples': is 40, must be 0 .. 32"));
   CHECK_THAT(error_of([](json& j) { j["rate_hz"] = -10; }), Contains("key 'rate_hz': must be > 0"));
