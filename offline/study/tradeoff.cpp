@@ -10,18 +10,15 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
-#include "controller/runtime/general_pi_controller.hpp"
-#include "controller/runtime/pi_controller.hpp"
-#include "controller/runtime/state_space_controller.hpp"
+#include "controller/runtime/controller_from_artefact.hpp"
 #include "offline/scene/loop_artefact_builder.hpp"
 #include "offline/study/study_loop.hpp"
-#include "online/sim/loop_hardware.hpp"
 #include "plant/lti/discretise.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/model_reduction.hpp"
 #include "plant/runtime/effects/floor_generator.hpp"
 #include "plant/runtime/effects/white_floor.hpp"
-#include "plant/runtime/general_plant.hpp"
+#include "plant/runtime/plant_from_artefact.hpp"
 
 namespace flexloop::study {
 namespace {
@@ -179,24 +176,13 @@ double worst_rms_ratio(const MatrixXd& z, const MatrixXd& ref) {
   return z.allFinite() ? worst : INFINITY;
 }
 
+// f(controller): the artefact's controller (controller/runtime/controller_from_artefact.hpp), a
+// zero command for a loop without one.
 template <typename Scalar, class F>
-decltype(auto) with_plant(const artefact::LoopArtefact& a, F&& f) {
-  const auto& d = a.plant;
-  if (d.form == artefact::PlantForm::kModal)
-    return f(plant::runtime::GeneralModalPlant<Scalar>::from_modal_form(d.modal, a.actuators()));
-  return f(
-      plant::runtime::GeneralDensePlant<Scalar>::from_matrices(d.A, d.B, d.C, d.D, a.actuators()));
-}
-
-template <typename Scalar, class F>
-decltype(auto) with_controller(const artefact::LoopArtefact& a, F&& f) {
-  using artefact::ControllerKind;
-  if (a.controller == ControllerKind::kPiForceFeedback)
-    return f(
-        controller::runtime::GeneralPiController<Scalar>::from_parameters(a.pi, a.actuators()));
-  if (a.controller == ControllerKind::kStateSpace)
-    return f(controller::runtime::StateSpaceController<Scalar>::from_parameters(a.state_space));
-  return f(ZeroCommand<Scalar>{Eigen::Matrix<Scalar, Eigen::Dynamic, 1>::Zero(a.actuators())});
+decltype(auto) with_controller_or_zero(const artefact::LoopArtefact& a, F&& f) {
+  if (a.controller == artefact::ControllerKind::kNone)
+    return f(ZeroCommand<Scalar>{Eigen::Matrix<Scalar, Eigen::Dynamic, 1>::Zero(a.actuators())});
+  return controller::runtime::with_controller<Scalar>(a, f);
 }
 
 // What the runtime kernels of one configuration give: open-loop step, closed-loop z, and a timer
@@ -234,21 +220,23 @@ KernelRuns kernel_runs(const artefact::LoopArtefact& a, const MatrixXd& floor, l
   // The kernels `flexloop sim` would use: a compiled loop where one matches (double, the PI),
   // otherwise the general path.
   if constexpr (std::is_same_v<Scalar, double>)
-    if (a.controller == artefact::ControllerKind::kPiForceFeedback)
+    if (controller::runtime::has_compiled_kernels(a.controller))
       plant::runtime::with_compiled_loop(
-          sim::loop_counts(a),
+          plant::runtime::loop_counts(a),
           [&](auto loop) {
             using Loop = decltype(loop);
-            measure(sim::make_compiled_plant<Loop>(a),
-                    controller::runtime::PiController<double, Loop::NC>::from_parameters(a.pi),
-                    std::integral_constant<int, Loop::NW>{},
-                    std::integral_constant<int, Loop::NS>{});
+            controller::runtime::with_controller<double, Loop::NC, Loop::NS>(
+                a, [&](auto controller) {
+                  measure(plant::runtime::make_compiled_plant<Loop>(a), controller,
+                          std::integral_constant<int, Loop::NW>{},
+                          std::integral_constant<int, Loop::NS>{});
+                });
             r.kernel = "compiled";
           },
           [] {});
   if (r.kernel.empty()) {
-    with_plant<Scalar>(a, [&](auto plant) {
-      with_controller<Scalar>(a, [&](auto controller) {
+    plant::runtime::with_general_plant<Scalar>(a, [&](auto plant) {
+      with_controller_or_zero<Scalar>(a, [&](auto controller) {
         measure(plant, controller, std::integral_constant<int, Eigen::Dynamic>{},
                 std::integral_constant<int, Eigen::Dynamic>{});
       });

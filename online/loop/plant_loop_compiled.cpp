@@ -7,11 +7,11 @@ namespace flexloop::loop::detail {
 bool run_plant_compiled(const artefact::LoopArtefact& loop, const LoopOptions& o,
                         const std::string& url, PlantLoopResult& r) {
   return plant::runtime::with_compiled_loop(
-      sim::loop_counts(loop),
+      plant::runtime::loop_counts(loop),
       [&](auto compiled) {
         using Loop = decltype(compiled);
         sim::with_hardware<Loop::NW, Loop::NC, Loop::NS>(
-            loop, sim::make_compiled_plant<Loop>(loop),
+            loop, plant::runtime::make_compiled_plant<Loop>(loop),
             [&](auto hw) { run_plant_with(std::move(hw), loop, o, url, r); });
         return true;
       },

@@ -20,6 +20,7 @@
 #include "online/loop/stop_signal.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "plant/runtime/divergence.hpp"
+#include "plant/runtime/plant_from_artefact.hpp"
 #include "rt/event_log_recorder.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"

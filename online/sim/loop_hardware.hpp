@@ -23,14 +23,12 @@
 #include "common/input_error.hpp"
 #include "online/sim/loop_start.hpp"
 #include "plant/runtime/compiled_loops.hpp"
-#include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/effect_choice.hpp"
 #include "plant/runtime/effects/floor_generator.hpp"
 #include "plant/runtime/effects/piezo_actuator.hpp"
 #include "plant/runtime/effects/sample_delay.hpp"
 #include "plant/runtime/effects/sensor_chain.hpp"
 #include "plant/runtime/effects/white_floor.hpp"
-#include "plant/runtime/modal_plant.hpp"
 #include "plant/runtime/simulated_hardware.hpp"
 
 namespace flexloop::sim {
@@ -40,28 +38,6 @@ using artefact::has_effects;
 using plant::runtime::NoEffect;
 
 using artefact::kFloorFilterOrder;
-
-/// The artefact's counts and plant form, as the dispatch to a compiled loop compares them.
-inline plant::runtime::LoopCounts loop_counts(const artefact::LoopArtefact& a) {
-  return {.states = a.plant.A.rows(),
-          .disturbances = a.disturbances(),
-          .actuators = a.actuators(),
-          .performance = a.performance(),
-          .sensors = a.sensors(),
-          .form = a.plant.form};
-}
-
-/// The artefact's plant on the fixed-size kernels of a compiled loop (its counts match Loop).
-template <class Loop>
-auto make_compiled_plant(const artefact::LoopArtefact& a) {
-  const auto& d = a.plant;
-  if constexpr (Loop::kForm == artefact::PlantForm::kModal)
-    return plant::runtime::ModalPlant<double, Loop::NX, Loop::NU, Loop::NY,
-                                      Loop::NH>::from_modal_form(d.modal);
-  else
-    return plant::runtime::DensePlant<double, Loop::NX, Loop::NU, Loop::NY,
-                                      Loop::NH>::from_matrices(d.A, d.B, d.C, d.D);
-}
 
 template <int N>
 fx::SensorParameters<N> sensor_parameters(const artefact::SensorEffect& e, Eigen::Index n = N) {

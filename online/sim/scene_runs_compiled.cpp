@@ -7,13 +7,17 @@ namespace flexloop::sim::detail {
 
 std::optional<BothRuns> run_compiled(const artefact::LoopArtefact& a, const RunSettings& s,
                                      const SceneRunOptions& o) {
-  // The state-space controller is start-up-sized: the general path runs it (run_both.hpp).
-  if (a.controller == artefact::ControllerKind::kStateSpace) return std::nullopt;
+  // A controller sized at start-up (the state-space one): the general path runs it
+  // (run_both.hpp).
+  if (a.controller != artefact::ControllerKind::kNone &&
+      !controller::runtime::has_compiled_kernels(a.controller))
+    return std::nullopt;
   return plant::runtime::with_compiled_loop(
-      loop_counts(a),
+      plant::runtime::loop_counts(a),
       [&](auto loop) -> std::optional<BothRuns> {
         using Loop = decltype(loop);
-        return run_both<Loop::NW, Loop::NC, Loop::NS>(make_compiled_plant<Loop>(a), a, s, o);
+        return run_both<Loop::NW, Loop::NC, Loop::NS>(plant::runtime::make_compiled_plant<Loop>(a),
+                                                      a, s, o);
       },
       [] { return std::optional<BothRuns>{}; });
 }

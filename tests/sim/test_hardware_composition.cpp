@@ -6,12 +6,11 @@
 // listed sets on compiled loops and the second otherwise.
 #include <catch2/catch.hpp>
 
-#include "controller/runtime/general_pi_controller.hpp"
-#include "controller/runtime/pi_controller.hpp"
+#include "controller/runtime/controller_from_artefact.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "online/sim/closed_loop_run.hpp"
 #include "online/sim/loop_hardware.hpp"
-#include "plant/runtime/general_plant.hpp"
+#include "plant/runtime/plant_from_artefact.hpp"
 
 using namespace flexloop;
 using sim::ActuatorKind;
@@ -24,13 +23,11 @@ sim::RunSettings settings(const artefact::LoopArtefact& a) {
   return {.steps = kSteps, .dt = a.dt(), .log_every = 1, .chunk_steps = kSteps};
 }
 
-/// The compiled PI (N = 6) or the start-up-sized one (N = Eigen::Dynamic).
-template <int N>
-auto make_pi(const artefact::LoopArtefact& a) {
-  if constexpr (N == Eigen::Dynamic)
-    return controller::runtime::GeneralPiController<double>::from_parameters(a.pi, a.actuators());
-  else
-    return controller::runtime::PiController<double, N>::from_parameters(a.pi);
+/// The loop's PI, compiled (N = 6) or sized at start-up (N = Eigen::Dynamic), run on hw.
+template <int N, class Hardware>
+sim::RunResult run_pi(const Hardware& hw, const artefact::LoopArtefact& a) {
+  return controller::runtime::with_controller<double, N>(
+      a, [&](auto pi) { return sim::run_closed_loop(hw, std::move(pi), settings(a), {}); });
 }
 
 /// The loop with the hardware composed at compile time for the effect set S.
@@ -43,21 +40,19 @@ sim::RunResult composed(const artefact::LoopArtefact& a, const Plant& plant) {
       sim::make_sensor_chain<N, Force>(e.force_sensor, a.sensors()),
       sim::make_sensor_chain<NZ, Acc>(e.accelerometer, a.performance()),
       sim::make_transport_delay<N, NZ, Transport>(a));
-  return sim::run_closed_loop(hw, make_pi<N>(a), settings(a), {});
+  return run_pi<N>(hw, a);
 }
 
 /// The same loop with the slots chosen at start-up.
 template <int N, class Plant>
 sim::RunResult chosen(const artefact::LoopArtefact& a, const Plant& plant) {
-  return sim::with_chosen_hardware<N, N, N>(
-      a, plant, [&](auto hw) { return sim::run_closed_loop(hw, make_pi<N>(a), settings(a), {}); });
+  return sim::with_chosen_hardware<N, N, N>(a, plant, [&](auto hw) { return run_pi<N>(hw, a); });
 }
 
 /// The loop as with_hardware runs it.
 template <int N, class Plant>
 sim::RunResult dispatched(const artefact::LoopArtefact& a, const Plant& plant) {
-  return sim::with_hardware<N, N, N>(
-      a, plant, [&](auto hw) { return sim::run_closed_loop(hw, make_pi<N>(a), settings(a), {}); });
+  return sim::with_hardware<N, N, N>(a, plant, [&](auto hw) { return run_pi<N>(hw, a); });
 }
 
 double largest_difference(const sim::RunResult& x, const sim::RunResult& y) {
