@@ -38,3 +38,9 @@ target_include_directories(flexloop_tomlpp SYSTEM INTERFACE ${TOMLPP_INCLUDE_DIR
 add_library(flexloop_cli11 INTERFACE)
 target_include_directories(flexloop_cli11 SYSTEM INTERFACE ${CLI11_INCLUDE_DIR})
 find_package(OpenSSL REQUIRED)  # SHA-256 of input files for provenance
+# A controller FMU (controller/fmu): its zip archive and its modelDescription.xml.
+# libzip by pkg-config: Debian 12's libzip CMake package refers to the zipcmp, zipmerge and
+# ziptool programs, which libzip-dev does not install, and fails to load without them.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip>=1.7)
+find_package(pugixml 1.13 REQUIRED CONFIG)
