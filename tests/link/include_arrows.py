@@ -28,6 +28,7 @@ ALLOWED = {
     "controller/design": {"numeric", "common", "plant/model", "plant/lti"},
     "plant/runtime": {"numeric", "common", "artefact"},
     "controller/runtime": {"numeric", "common", "artefact"},
+    "controller/fmu": {"numeric", "common", "artefact", "controller/runtime"},
     "online/sim": {"numeric", "common", "artefact", "plant/runtime", "controller/runtime"},
     "online/loop": {"numeric", "common", "msgs", "rt", "artefact", "plant/runtime",
                     "controller/runtime", "online/sim"},
