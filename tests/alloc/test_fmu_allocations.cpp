@@ -1,0 +1,31 @@
+// No allocation inside a step of a controller FMU (issue 33), on flexloop's side or in the
+// project's fixture FMU (tools/fmu/pi_force_feedback): fmi2SetReal, fmi2DoStep and fmi2GetReal
+// over preallocated value references and buffers, 10^4 steps after a warm-up, counted by
+// allocation_counter.cpp. (A user's FMU may allocate in its own code; this counts what we do.)
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "controller/fmu/fmu_controller.hpp"
+#include "tests/fmu/fmu_fixture.hpp"
+#include "tests/support/allocation_counter.hpp"
+#include "tests/support/metrology.hpp"
+
+TEST_CASE("A controller FMU's step allocates nothing", "[fmu][alloc]") {
+  auto c = flexloop::controller::fmu::FmuController::from_settings(flexloop::test::pi_fmu_settings(
+      flexloop::test::metrology_pi_parameters(), flexloop::test::pi_fmu_path()));
+  Eigen::Matrix<double, 6, 1> y = Eigen::Matrix<double, 6, 1>::LinSpaced(-1, 1);
+  double sum = 0;
+  const auto run = [&](long steps) {
+    for (long k = 0; k < steps; ++k) {
+      y(k % 6) = 1e-3 * static_cast<double>(k % 7);
+      sum += c.step(y)(0);
+    }
+  };
+  run(100);  // warm-up
+  const std::uint64_t before = flexloop::test::allocation_count();
+  run(10000);
+  const std::uint64_t during = flexloop::test::allocation_count() - before;
+  CHECK(during == 0);
+  CHECK(std::isfinite(sum));
+  CHECK(c.failure().empty());
+}
