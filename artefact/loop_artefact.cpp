@@ -86,6 +86,8 @@ std::string to_string(ControllerKind kind) {
       return "pi_force_feedback";
     case ControllerKind::kStateSpace:
       return "state_space";
+    case ControllerKind::kFmu:
+      return "fmu";
     case ControllerKind::kNone:
       break;
   }
@@ -141,6 +143,14 @@ json to_json(const LoopArtefact& a) {
     controller["feedthrough"] = common::matrix_to_json(c.feedthrough);
     controller["feedthrough_delay"] = c.feedthrough_delay;
     controller["anti_windup"] = to_string(c.anti_windup);
+  } else if (a.controller == ControllerKind::kFmu) {
+    controller["file"] = a.fmu.file;
+    controller["sha256"] = a.fmu.sha256;
+    json parameters = json::object();
+    for (const auto& [name, value] : a.fmu.parameters) parameters[name] = value;
+    controller["parameters"] = std::move(parameters);
+    controller["inputs"] = a.fmu.inputs;
+    controller["outputs"] = a.fmu.outputs;
   }
   json floor = {{"spectrum", to_string(a.floor.spectrum)}, {"seed", a.floor.seed}};
   if (a.floor.spectrum == FloorSpectrum::kWhite)
@@ -299,10 +309,26 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
     c.feedthrough_delay = static_cast<int>(co.integer("feedthrough_delay", 0, kMaxDelaySamples));
     c.anti_windup = parse_named(co, "anti_windup", parse_anti_windup);
     c.dt = 1.0 / a.rate_hz;
+  } else if (type == "fmu") {
+    a.controller = ControllerKind::kFmu;
+    a.fmu.file = co.string("file");
+    a.fmu.sha256 = co.string("sha256");
+    const JsonReader parameters = co.object("parameters");
+    for (const auto& [name, value] : parameters.value().items())
+      a.fmu.parameters.emplace_back(name, parameters.number(name));
+    a.fmu.inputs = co.labels("inputs");
+    a.fmu.outputs = co.labels("outputs");
+    require(a.fmu.inputs.size() == ns, co.place("inputs"),
+            "has " + std::to_string(a.fmu.inputs.size()) + " names; expected one per sensor (" +
+                std::to_string(ns) + ")");
+    require(a.fmu.outputs.size() == nc, co.place("outputs"),
+            "has " + std::to_string(a.fmu.outputs.size()) + " names; expected one per actuator (" +
+                std::to_string(nc) + ")");
   } else {
-    throw common::InputError(co.place("type"), "is \"" + type +
-                                                   "\"; this flexloop knows \"pi_force_feedback\", "
-                                                   "\"state_space\" and \"none\"");
+    throw common::InputError(
+        co.place("type"),
+        "is \"" + type +
+            "\"; this flexloop knows \"pi_force_feedback\", \"state_space\", \"fmu\" and \"none\"");
   }
 
   const common::JsonReader fl = r.object("floor");
@@ -429,6 +455,10 @@ void validate(const LoopArtefact& a) {
     controller_sized("D", c.D, nc, ns);
     controller_sized("feedthrough", c.feedthrough, ns, nc);
   }
+  if (a.controller == ControllerKind::kFmu &&
+      (a.fmu.file.empty() || a.fmu.inputs.size() != static_cast<std::size_t>(a.sensors()) ||
+       a.fmu.outputs.size() != static_cast<std::size_t>(a.actuators())))
+    fail("controller: an FMU needs its file and one variable per sensor and per actuator");
   if (a.floor.spectrum != FloorSpectrum::kWhite && a.floor_filter.A.rows() != kFloorFilterOrder)
     fail("floor filter: expected the discrete filter of order " +
          std::to_string(kFloorFilterOrder));

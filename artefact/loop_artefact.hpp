@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "artefact/fmu_parameters.hpp"
 #include "artefact/hardware_settings.hpp"
 #include "artefact/loop_schema.hpp"
 #include "artefact/loop_start.hpp"
@@ -38,9 +39,9 @@ struct ChannelMap {
   std::vector<Channel> disturbances, actuators, performance, sensors;
 };
 
-enum class ControllerKind { kNone, kPiForceFeedback, kStateSpace };
+enum class ControllerKind { kNone, kPiForceFeedback, kStateSpace, kFmu };
 
-/// "none", "pi_force_feedback", "state_space".
+/// "none", "pi_force_feedback", "state_space", "fmu".
 std::string to_string(ControllerKind kind);
 
 struct Provenance {
@@ -80,6 +81,7 @@ struct LoopArtefact {
   artefact::PiParameters pi;  ///< kPiForceFeedback: at dt = 1 / rate_hz
   /// kStateSpace: discrete at dt = 1 / rate_hz, sensors in, actuators out (channel map order)
   artefact::StateSpaceParameters state_space;
+  artefact::FmuParameters fmu;  ///< kFmu: the FMU and how the loop connects it
   FloorSettings floor;
   FloorFilter floor_filter;  ///< empty for a white floor
   EffectsSettings effects;

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/input_error.hpp"
+#include "offline/scene/loop_input.hpp"
 #include "offline/scene/pi_parameters.hpp"
 #include "offline/scene/schema_conversion.hpp"
 #include "plant/lti/modal_form.hpp"
@@ -82,6 +83,23 @@ artefact::StateSpaceParameters state_space_parameters_with_hardware(const SceneP
   return c;
 }
 
+artefact::FmuParameters fmu_parameters(const Scene& sc) {
+  const auto& c = sc.controller;
+  artefact::FmuParameters f;
+  f.file = c.file;
+  f.sha256 = file_sha256(c.file);
+  f.parameters = c.fmu_parameters;
+  // Each channel's FMU variable: its own name unless the map says otherwise.
+  const auto variable = [](const auto& map, const std::string& channel) {
+    for (const auto& [from, to] : map)
+      if (from == channel) return to;
+    return channel;
+  };
+  for (const auto& s : sc.sensors) f.inputs.push_back(variable(c.fmu_sensor_map, s));
+  for (const auto& u : sc.actuators) f.outputs.push_back(variable(c.fmu_actuator_map, u));
+  return f;
+}
+
 artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
                                            artefact::PlantForm form,
                                            const artefact::Provenance& provenance) {
@@ -122,6 +140,9 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
   } else if (has_controller(p)) {
     a.controller = artefact::ControllerKind::kPiForceFeedback;
     a.pi = pi_parameters_with_hardware(p, a.dt());
+  } else if (has_fmu_controller(p)) {
+    a.controller = artefact::ControllerKind::kFmu;
+    a.fmu = fmu_parameters(sc);
   }
   a.floor = sc.floor;
   if (sc.floor.spectrum != artefact::FloorSpectrum::kWhite) {

@@ -19,6 +19,10 @@ std::string channel_unit(const std::string& channel);
 /// The PI parameters of a scene at sample time dt with what its hardware effects imply.
 artefact::PiParameters pi_parameters_with_hardware(const ScenePlant& p, double dt);
 
+/// A controller FMU scene's FMU (absolute path and SHA-256), parameters and the FMU variable of
+/// each sensor and actuator. @throws flexloop::InputError when the file cannot be read.
+artefact::FmuParameters fmu_parameters(const Scene& sc);
+
 /// A state-space scene's controller (p.state_space) with what its hardware effects imply, and
 /// the sampled plant's own actuator -> sensor feedthrough D22, which the runtime removes.
 artefact::StateSpaceParameters state_space_parameters_with_hardware(const ScenePlant& p,

@@ -359,7 +359,9 @@ artefact::StationaryStart start_of(const artefact::LoopArtefact& a, bool closed)
 artefact::LoopStart stationary_loop_start(const artefact::LoopArtefact& a) {
   artefact::LoopStart s;
   s.open_loop = start_of(a, false);
-  if (a.controller != artefact::ControllerKind::kNone)
+  if (a.controller == artefact::ControllerKind::kFmu)
+    s.closed_loop.unavailable = "an FMU controller cannot be seen into (its state is its own)";
+  else if (a.controller != artefact::ControllerKind::kNone)
     s.closed_loop = start_of(a, true);
   else
     s.closed_loop.unavailable = "the loop has no controller";

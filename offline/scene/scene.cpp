@@ -8,6 +8,7 @@
 #include "artefact/loop_schema.hpp"
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
+#include "offline/scene/scene_fmu.hpp"
 
 namespace flexloop::scene {
 
@@ -122,10 +123,13 @@ Scene parse_scene(const std::string& text, const std::string& file) {
             "\"none\"",
             cr.get("anti_windup"));
       c.place = cr.place(cr.get("file"));
+    } else if (c.type == "fmu") {
+      read_fmu_controller(cr, *t, base, s);
     } else if (c.type == "none") {
       cr.allow_only({"enabled", "type"});
     } else {
-      cr.fail("'type' must be \"pi_force_feedback\", \"state_space\" or \"none\"", cr.get("type"));
+      cr.fail("'type' must be \"pi_force_feedback\", \"state_space\", \"fmu\" or \"none\"",
+              cr.get("type"));
     }
     c.enabled = cr.boolean("enabled", c.enabled);
     if (cr.has("force_limit_n")) c.force_limit_n = positive(cr, "force_limit_n", 1.0);

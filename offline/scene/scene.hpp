@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "artefact/hardware_settings.hpp"
@@ -15,7 +16,8 @@
 namespace flexloop::scene {
 
 struct ControllerSettings {
-  /// "pi_force_feedback"; "state_space": the user's own design from `file`; or "none": the plant
+  /// "pi_force_feedback"; "state_space": the user's own design from `file`; "fmu": the user's
+  /// controller as an FMI 2.0 Co-Simulation FMU (`file`); or "none": the plant
   /// runs alone (an external controller process, or an open-loop study) and nothing of the PI
   /// applies. enabled = false makes any type "none".
   std::string type = "pi_force_feedback";
@@ -28,6 +30,10 @@ struct ControllerSettings {
   double leak_hz = 0.0;              ///< 0: pure integrator
   double force_limit_n = std::numeric_limits<double>::infinity();  ///< actuator saturation
   std::string place;  ///< "file:line" of leak_hz (or of the table), for messages about the loop
+  /// fmu (offline/scene/scene_fmu.hpp): `file` is the .fmu (absolute), these its parameters and
+  /// the sensors and actuators whose FMU variable has another name (scene channel, FMU variable).
+  std::vector<std::pair<std::string, double>> fmu_parameters;
+  std::vector<std::pair<std::string, std::string>> fmu_sensor_map, fmu_actuator_map;
 };
 
 /// The highest loop rate a scene (or `build --rate`) may ask for, Hz: the loop commands' --rate

@@ -43,10 +43,17 @@ struct ScenePlant {
   controller::design::LoopStability loop;
 };
 
+/// True for a controller FMU ([controller] type = "fmu"): the loop runs it (controller/fmu), the
+/// offline side cannot see into it.
+inline bool has_fmu_controller(const ScenePlant& p) {
+  return p.scene.controller.type == "fmu";
+}
+
 /// False for a scene with [controller] type = "none": no design, no closed loop; the sampled
-/// scene then has the plant alone.
+/// scene then has the plant alone. False for a controller FMU too: the offline side cannot see
+/// into it (no matrices, no poles), so its analyses are the plant's alone and say so.
 inline bool has_controller(const ScenePlant& p) {
-  return p.scene.controller.type != "none";
+  return p.scene.controller.type != "none" && !has_fmu_controller(p);
 }
 
 /// True for the PI force feedback (type "pi_force_feedback"), whose design, leak and remedies
