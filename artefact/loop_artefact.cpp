@@ -313,7 +313,7 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
     a.controller = ControllerKind::kFmu;
     a.fmu.file = co.string("file");
     a.fmu.sha256 = co.string("sha256");
-    const JsonReader parameters = co.object("parameters");
+    const common::JsonReader parameters = co.object("parameters");
     for (const auto& [name, value] : parameters.value().items())
       a.fmu.parameters.emplace_back(name, parameters.number(name));
     a.fmu.inputs = co.labels("inputs");

@@ -28,10 +28,10 @@ void extract(zip_t* z, const fs::path& dir, const std::string& fmu) {
   std::vector<char> buffer(1 << 16);
   for (zip_int64_t i = 0; i < n; ++i) {
     const char* name = zip_get_name(z, static_cast<zip_uint64_t>(i), 0);
-    if (!name) throw InputError(fmu, "an entry of the archive has no name");
+    if (!name) throw common::InputError(fmu, "an entry of the archive has no name");
     const fs::path target = inside(dir, name);
     if (target.empty())
-      throw InputError(fmu, std::string("entry '") + name + "' leaves the archive");
+      throw common::InputError(fmu, std::string("entry '") + name + "' leaves the archive");
     if (std::string(name).ends_with('/')) {
       fs::create_directories(target);
       continue;
@@ -40,10 +40,10 @@ void extract(zip_t* z, const fs::path& dir, const std::string& fmu) {
     std::unique_ptr<zip_file_t, decltype(&zip_fclose)> in(
         zip_fopen_index(z, static_cast<zip_uint64_t>(i), 0), &zip_fclose);
     std::ofstream out(target, std::ios::binary);
-    if (!in || !out) throw InputError(fmu, std::string("cannot extract '") + name + "'");
+    if (!in || !out) throw common::InputError(fmu, std::string("cannot extract '") + name + "'");
     for (zip_int64_t got; (got = zip_fread(in.get(), buffer.data(), buffer.size())) > 0;)
       out.write(buffer.data(), got);
-    if (!out) throw InputError(fmu, std::string("cannot extract '") + name + "'");
+    if (!out) throw common::InputError(fmu, std::string("cannot extract '") + name + "'");
   }
 }
 
@@ -57,12 +57,12 @@ FmuDirectory::FmuDirectory(const std::string& fmu) {
     zip_error_init_with_code(&e, code);
     const std::string why = zip_error_strerror(&e);
     zip_error_fini(&e);
-    throw InputError(fmu, "not an FMU: cannot open it as a zip archive (" + why + ")");
+    throw common::InputError(fmu, "not an FMU: cannot open it as a zip archive (" + why + ")");
   }
   std::unique_ptr<zip_t, decltype(&zip_discard)> archive(z, &zip_discard);
   std::string pattern = (fs::temp_directory_path() / "flexloop-fmu-XXXXXX").string();
   if (!mkdtemp(pattern.data()))
-    throw InputError(fmu, "cannot create a temporary directory to unpack it into");
+    throw common::InputError(fmu, "cannot create a temporary directory to unpack it into");
   dir_ = pattern;
   try {
     extract(archive.get(), dir_, fmu);

@@ -70,23 +70,26 @@ struct FmuController::Session {
     }
   }
 
-  void require(fmi2Status status, const char* call) const {
-    if (failed(status))
-      throw InputError(file, std::string(call) + " returned " + status_name(status));
-  }
-
   // Parameters, experiment, initialisation: after fmi2Instantiate and after fmi2Reset alike.
-  void initialise() {
+  // Returns the first call that failed ({} when none did); throws nothing, as reset() runs it in
+  // the loop's start.
+  FmuFailure initialise() noexcept {
     const Fmi2Calls& f = library.calls();
-    if (!parameter.empty())
-      require(f.set_real(instance, parameter.data(), parameter.size(), parameter_value.data()),
-              "fmi2SetReal (parameters)");
-    require(f.setup_experiment(instance, fmi2False, 0.0, 0.0, fmi2False, 0.0),
-            "fmi2SetupExperiment");
-    require(f.enter_initialization_mode(instance), "fmi2EnterInitializationMode");
-    require(f.exit_initialization_mode(instance), "fmi2ExitInitializationMode");
     steps = 0;
     failure = {};
+    const auto first = [&](fmi2Status status, const char* call) {
+      if (failed(status)) failure = {call, status, 0};
+      return failed(status);
+    };
+    (!parameter.empty() &&
+     first(f.set_real(instance, parameter.data(), parameter.size(), parameter_value.data()),
+           "fmi2SetReal (parameters)")) ||
+        first(f.setup_experiment(instance, fmi2False, 0.0, 0.0, fmi2False, 0.0),
+              "fmi2SetupExperiment") ||
+        first(f.enter_initialization_mode(instance), "fmi2EnterInitializationMode") ||
+        first(f.exit_initialization_mode(instance), "fmi2ExitInitializationMode");
+    if (failure.call && sink) *sink = failure;
+    return failure;
   }
 };
 
@@ -94,9 +97,10 @@ FmuController FmuController::from_settings(const FmuControllerSettings& s) {
   if (s.inputs.empty() || s.outputs.empty() ||
       s.inputs.size() > static_cast<std::size_t>(numeric::kMaxChannels) ||
       s.outputs.size() > static_cast<std::size_t>(numeric::kMaxChannels))
-    throw InputError(s.file, "an FMU controller needs 1 .. " +
-                                 std::to_string(numeric::kMaxChannels) + " inputs and outputs");
-  if (!(s.period > 0)) throw InputError(s.file, "the loop's period must be positive");
+    throw common::InputError(s.file, "an FMU controller needs 1 .. " +
+                                         std::to_string(numeric::kMaxChannels) +
+                                         " inputs and outputs");
+  if (!(s.period > 0)) throw common::InputError(s.file, "the loop's period must be positive");
   auto session = std::make_unique<Session>(s);
   Session& x = *session;
   const FmuDescription& d = x.description;
@@ -106,7 +110,7 @@ FmuController FmuController::from_settings(const FmuControllerSettings& s) {
                   "its fixed step is %.9g s (no canHandleVariableCommunicationStepSize) and the "
                   "loop's period is %.9g s",
                   *d.step_size, s.period);
-    throw InputError(s.file, text);
+    throw common::InputError(s.file, text);
   }
   for (const auto& name : s.inputs) x.in.push_back(d.real(name, "input", s.file).value_reference);
   for (const auto& name : s.outputs)
@@ -118,8 +122,10 @@ FmuController FmuController::from_settings(const FmuControllerSettings& s) {
   const std::string resources = "file://" + (x.dir.path() / "resources").string();
   x.instance = x.library.calls().instantiate("flexloop", fmi2CoSimulation, d.guid.c_str(),
                                              resources.c_str(), &kCallbacks, fmi2False, fmi2False);
-  if (!x.instance) throw InputError(s.file, "fmi2Instantiate failed (returned no instance)");
-  x.initialise();
+  if (!x.instance)
+    throw common::InputError(s.file, "fmi2Instantiate failed (returned no instance)");
+  if (const FmuFailure f = x.initialise(); f.call)
+    throw common::InputError(s.file, std::string(f.call) + " returned " + status_name(f.status));
   FmuController c(std::move(session));
   c.n_in_ = static_cast<Eigen::Index>(s.inputs.size());
   c.u_ = Vector::Zero(static_cast<Eigen::Index>(s.outputs.size()));
@@ -150,16 +156,20 @@ void FmuController::step_buffers() noexcept {
   ++x.steps;
 }
 
-void FmuController::start(const Vector&, const Vector&) {
+void FmuController::start(const Vector&, const Vector&) noexcept {
   reset();
 }
 
-void FmuController::reset() {
+void FmuController::reset() noexcept {
   Session& x = *session_;
-  x.require(x.library.calls().reset(x.instance), "fmi2Reset");
-  x.initialise();
   u_.setZero();
   held_commands_ = 0;
+  if (const fmi2Status status = x.library.calls().reset(x.instance); failed(status)) {
+    x.failure = {"fmi2Reset", status, x.steps};
+    if (x.sink) *x.sink = x.failure;
+    return;
+  }
+  x.initialise();
 }
 
 std::string describe(const FmuFailure& f, double period) {
@@ -184,7 +194,7 @@ void FmuController::set_earlier_command(int, const Vector&) const {
 
 void FmuController::check() const {
   const std::string what = failure();
-  if (!what.empty()) throw InputError(session_->file, what);
+  if (!what.empty()) throw common::InputError(session_->file, what);
 }
 
 }  // namespace flexloop::controller::fmu

@@ -69,10 +69,11 @@ class FmuController {
     return u_;
   }
 
-  /// Resets the FMU (a start from rest; see the header comment). @throws as from_settings.
-  void start(const Vector& y_now, const Vector& u_now);
-  /// @throws as from_settings.
-  void reset();
+  /// Resets the FMU (a start from rest; see the header comment). A call that fails is recorded
+  /// as a failure in the loop (failure(), check()), with the safe command held from then on.
+  void start(const Vector& y_now, const Vector& u_now) noexcept;
+  /// fmi2Reset, then the parameters and initialisation again; failures as start().
+  void reset() noexcept;
   /// Counted only: an FMU's memory of its last command cannot be set from outside.
   void set_previous_command(const Vector&) noexcept { ++held_commands_; }
   /// A drawn (stationary) start cannot be given to an FMU: loop starts leave it at rest

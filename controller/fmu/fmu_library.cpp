@@ -14,8 +14,8 @@ void resolve(void* handle, const char* name, F*& f, const std::string& fmu) {
   f = reinterpret_cast<F*>(dlsym(handle, name));
   if (!f) {
     const char* why = dlerror();
-    throw InputError(fmu, std::string("its library does not export ") + name +
-                              (why ? std::string(" (") + why + ")" : ""));
+    throw common::InputError(fmu, std::string("its library does not export ") + name +
+                                      (why ? std::string(" (") + why + ")" : ""));
   }
 }
 
@@ -25,15 +25,16 @@ FmuLibrary::FmuLibrary(const std::filesystem::path& dir, const std::string& mode
                        const std::string& fmu) {
   const auto so = dir / "binaries" / "linux64" / (model_identifier + ".so");
   if (!std::filesystem::is_regular_file(so))
-    throw InputError(fmu, "no binaries/linux64/" + model_identifier +
-                              ".so in the archive (flexloop runs the FMU's linux64 binary)");
+    throw common::InputError(fmu,
+                             "no binaries/linux64/" + model_identifier +
+                                 ".so in the archive (flexloop runs the FMU's linux64 binary)");
   // RTLD_LOCAL: two FMUs may export the same fmi2 names. RTLD_NOW: a missing symbol is an error
   // here, at start-up, not in the loop.
   handle_ = dlopen(so.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (!handle_) {
     const char* why = dlerror();
-    throw InputError(fmu, "cannot load binaries/linux64/" + model_identifier +
-                              ".so: " + (why ? why : "dlopen failed"));
+    throw common::InputError(fmu, "cannot load binaries/linux64/" + model_identifier +
+                                      ".so: " + (why ? why : "dlopen failed"));
   }
   try {
     resolve(handle_, "fmi2Instantiate", calls_.instantiate, fmu);

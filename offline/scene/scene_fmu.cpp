@@ -14,7 +14,7 @@ bool among(const std::vector<std::string>& names, const std::string& n) {
 
 }  // namespace
 
-void read_fmu_controller(const TomlReader& cr, const toml::table& t,
+void read_fmu_controller(const common::TomlReader& cr, const toml::table& t,
                          const std::filesystem::path& base, Scene& s) {
   auto& c = s.controller;
   cr.allow_only({"enabled", "type", "file", "parameters", "map"});

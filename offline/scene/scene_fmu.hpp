@@ -26,7 +26,7 @@ namespace flexloop::scene {
 /// channels against s.sensors and s.actuators (read before). @throws flexloop::InputError
 /// "file:line: [controller]: ..." for a missing file, a non-number parameter, a map entry whose
 /// key is not a sensor or actuator or whose value is not a name.
-void read_fmu_controller(const TomlReader& cr, const toml::table& t,
+void read_fmu_controller(const common::TomlReader& cr, const toml::table& t,
                          const std::filesystem::path& base, Scene& s);
 
 }  // namespace flexloop::scene

@@ -11,7 +11,7 @@
 #include "tests/support/metrology.hpp"
 
 namespace fs = std::filesystem;
-using flexloop::InputError;
+using flexloop::common::InputError;
 using flexloop::controller::fmu::FmuController;
 using flexloop::controller::fmu::FmuDirectory;
 

@@ -63,7 +63,7 @@ flexloop::sim::RunResult run_on(const flexloop::artefact::LoopArtefact& a) {
 TEST_CASE("sim with the PI as the fixture FMU equals sim with the built-in PI to 1e-12", "[fmu]") {
   using flexloop::artefact::ControllerKind;
   const auto builtin = flexloop::scene::load_loop(
-      "tools/scenes/metrology_frame.toml", {.rate_hz = 0, .form = "", .duration_s = kDuration});
+      "tools/scenes/metrology_frame.toml", {.rate_hz = 0, .form = {}, .duration_s = kDuration});
   REQUIRE(builtin.controller == ControllerKind::kPiForceFeedback);
   // What the fixture implements: force sensors in series (D22 = I), no extra delay, one limit.
   REQUIRE(builtin.pi.feedthrough.size() == 0);
@@ -75,7 +75,7 @@ TEST_CASE("sim with the PI as the fixture FMU equals sim with the built-in PI to
   const fs::path dir = pattern;
   const std::string scene = write_fmu_scene(dir, builtin.pi);
   const auto fmu =
-      flexloop::scene::load_loop(scene, {.rate_hz = 0, .form = "", .duration_s = kDuration});
+      flexloop::scene::load_loop(scene, {.rate_hz = 0, .form = {}, .duration_s = kDuration});
   REQUIRE(fmu.controller == ControllerKind::kFmu);
   CHECK(fmu.fmu.file == (dir / "pi_force_feedback.fmu").string());
   CHECK(fmu.fmu.sha256 == flexloop::scene::file_sha256(flexloop::test::pi_fmu_path()));
