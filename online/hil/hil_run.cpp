@@ -198,6 +198,10 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
       loop::add_failure(verdict, std::string("the controller process failed: ") + e.what());
     }
     controller_json["kind"] = artefact::to_string(loop.controller);
+    if (const auto f = controller_json.find("controller_failure");
+        f != controller_json.end() && f->is_string())
+      loop::add_failure(verdict, "the controller FMU failed: " + f->get<std::string>() +
+                                     "; its process answered with zero force from then on");
   }
 
   report["baseline"] = baselines.totals_json();

@@ -32,7 +32,7 @@ void answer_sample(ControllerStation<Controller>& station, const flexloop_msgs::
 }
 
 template <class Controller>
-ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o,
+ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
                               const artefact::LoopArtefact& loop,
                               const std::function<void()>& ready) {
   const std::string url = loop_lcm_url(o.url, o.link);
@@ -48,8 +48,8 @@ ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o
   if (o.start == sim::StartKind::kStationary && stationary.exists()) {
     start = sim::draw_start(loop, stationary, sim::floor_start_states(loop));
   }
-  auto station =
-      std::make_unique<ControllerStation<Controller>>(controller, o.safe_after, std::move(start));
+  auto station = std::make_unique<ControllerStation<Controller>>(std::move(controller),
+                                                                 o.safe_after, std::move(start));
   rt::LcmTransport lcm(url, o.receive_path);
   lcm.subscribe(o.channels.sensor, station->samples());
   rt::LcmPublisher<flexloop_msgs::actuator_command_t> command(lcm, o.channels.command);
@@ -62,8 +62,9 @@ ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o
         "controller: %s, %s, %ld sensors -> %ld actuators at %.6g Hz, wait %s, safe after %d "
         "misses, LCM %s\n%s",
         loop.name.c_str(), artefact::to_string(loop.controller).c_str(),
-        static_cast<long>(controller.sensors()), static_cast<long>(controller.actuators()),
-        loop.rate_hz, rt::to_string(o.wait), o.safe_after, url.c_str(), r.setup.c_str());
+        static_cast<long>(station->controller().sensors()),
+        static_cast<long>(station->controller().actuators()), loop.rate_hz, rt::to_string(o.wait),
+        o.safe_after, url.c_str(), r.setup.c_str());
   std::fflush(stdout);
   if (ready) ready();
 
@@ -90,6 +91,9 @@ ControllerLoopResult run_with(const Controller& controller, const LoopOptions& o
   r.followed = station->followed();
   r.drops = station->samples().drops();
   r.publish_failures = command.failures();
+  // Foreign code (a controller FMU) that failed in the loop: its first failing call and sample.
+  if constexpr (requires { station->controller().failure(); })
+    r.controller_failure = station->controller().failure();
   return r;
 }
 
@@ -99,22 +103,25 @@ ControllerLoopResult run_controller_loop(const LoopOptions& o, const artefact::L
                                          const std::function<void()>& ready) {
   require_private_network("flexloop controller", o.link);
   return with_loop_controller(
-      loop, [&](const auto& controller) { return run_with(controller, o, loop, ready); });
+      loop, [&](auto controller) { return run_with(std::move(controller), o, loop, ready); });
 }
 
 nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopOptions& o) {
-  return {{"answered", r.answered},
-          {"superseded", r.superseded},
-          {"resyncs", r.resyncs},
-          {"resumes", r.resumes},
-          {"followed_held_commands", r.followed},
-          {"publish_failures", r.publish_failures},
-          {"dropped_messages", drops_json(r.drops)},
-          {"compute_ns", summary_json(*r.compute)},
-          {"response_ns", summary_json(*r.response)},
-          {"cpu", o.realtime.cpu},
-          {"fifo", r.fifo},
-          {"controller_setup", r.setup}};
+  return {
+      {"answered", r.answered},
+      {"superseded", r.superseded},
+      {"resyncs", r.resyncs},
+      {"resumes", r.resumes},
+      {"followed_held_commands", r.followed},
+      {"publish_failures", r.publish_failures},
+      {"controller_failure", r.controller_failure.empty() ? nlohmann::json(nullptr)
+                                                          : nlohmann::json(r.controller_failure)},
+      {"dropped_messages", drops_json(r.drops)},
+      {"compute_ns", summary_json(*r.compute)},
+      {"response_ns", summary_json(*r.response)},
+      {"cpu", o.realtime.cpu},
+      {"fifo", r.fifo},
+      {"controller_setup", r.setup}};
 }
 
 }  // namespace flexloop::loop

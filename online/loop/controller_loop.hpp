@@ -30,6 +30,9 @@ struct ControllerLoopResult {
   std::int64_t resumes = 0;     ///< bumpless restarts after the plant went safe
   std::int64_t followed = 0;    ///< samples whose held command was not the last answer
   std::int64_t publish_failures = 0;
+  /// A controller FMU's first call that returned fmi2Error or fmi2Fatal, with its sample; empty
+  /// while none has (from then on the process answered with the safe command, zero force).
+  std::string controller_failure;
   rt::DropCounts drops;
   std::string setup;
   bool fifo = false;

@@ -46,16 +46,16 @@ class ControllerStation {
   /// each new epoch starts there. Empty: at rest (reset()).
   using Start = sim::DrawnStart;
 
-  ControllerStation(const Controller& controller, int safe_after, Start start = {})
-      : controller_(controller),
+  ControllerStation(Controller controller, int safe_after, Start start = {})
+      : controller_(std::move(controller)),
         start_(std::move(start)),
         safe_after_(safe_after < 1 ? 1 : safe_after),
-        samples_(rt::OrderGate{}, {static_cast<int>(controller.sensors()), 0}),
-        sent_(kRemembered, Vector::Zero(controller.actuators())),
+        samples_(rt::OrderGate{}, {static_cast<int>(controller_.sensors()), 0}),
+        sent_(kRemembered, Vector::Zero(controller_.actuators())),
         sent_seq_(kRemembered, -1),
-        held_(Vector::Zero(controller.actuators())),
-        applied_(Vector::Zero(controller.actuators())) {
-    cmd_.n_commands = static_cast<std::int16_t>(controller.actuators());
+        held_(Vector::Zero(controller_.actuators())),
+        applied_(Vector::Zero(controller_.actuators())) {
+    cmd_.n_commands = static_cast<std::int16_t>(controller_.actuators());
     cmd_.commands.assign(static_cast<std::size_t>(cmd_.n_commands), 0.0);
   }
 

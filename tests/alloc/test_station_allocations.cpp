@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -53,7 +54,7 @@ TEST_CASE("allocation: the controller process's answers from a stationary start 
         sim::draw_start(a, a.start.closed_loop, sim::floor_start_states(a));
     const auto messages = samples(a);
     loop::with_loop_controller(a, [&](auto controller) {
-      loop::ControllerStation station(controller, 5, drawn);
+      loop::ControllerStation station(std::move(controller), 5, drawn);
       double sum = 0;
       const std::uint64_t before = test::allocation_count();
       for (const auto& s : messages) sum += station.answer(s).commands[0];

@@ -4,6 +4,7 @@
 // encoding and the receiving inbox, as over the wire -- no sockets, no real time.
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "offline/scene/loop_input.hpp"
@@ -59,20 +60,22 @@ auto deliver(rt::MessageInbox<Msg>& inbox, const Msg& m, std::int64_t received_n
   return inbox.offer(buf.data(), static_cast<int>(buf.size()), received_ns);
 }
 
-struct StationPair {
+/// The metrology plant's station and a controller's (the compiled PI unless given).
+template <class Controller = HilController>
+struct BasicStationPair {
   loop::PlantStation<HilHardware> plant;
-  loop::ControllerStation<HilController> controller;
+  loop::ControllerStation<Controller> controller;
   std::int64_t k = 0;  // next cycle
 
   /// safe_ramp_periods 0: the safe command is zero at once.
-  explicit StationPair(int safe_after = 5, std::int64_t epoch = 7,
-                       std::int64_t safe_ramp_periods = 0)
+  explicit BasicStationPair(int safe_after = 5, std::int64_t epoch = 7,
+                            std::int64_t safe_ramp_periods = 0, Controller c = hil_controller())
       : plant(hil_hardware(), {.safe_after = safe_after,
                                .epoch = epoch,
                                .period_ns = kPeriod,
                                .command_limit = std::numeric_limits<double>::infinity(),
                                .safe_ramp_periods = safe_ramp_periods}),
-        controller(hil_controller(), safe_after) {}
+        controller(std::move(c), safe_after) {}
 
   /// One cycle; the controller answers when `answer` (returns where the settled command came from);
   /// a `late` answer reaches the plant after the next deadline (it is never applied).
@@ -90,5 +93,6 @@ struct StationPair {
     return source;
   }
 };
+using StationPair = BasicStationPair<>;
 
 }  // namespace flexloop::test

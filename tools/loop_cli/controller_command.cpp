@@ -8,6 +8,7 @@
 
 #include "online/loop/controller_loop.hpp"
 #include "online/loop/latency_json.hpp"
+#include "online/loop/run_verdict.hpp"
 #include "tools/loop_cli/loop_commands.hpp"
 #include "tools/loop_cli/loop_options_cli.hpp"
 #include "tools/loop_cli/number_checks.hpp"
@@ -28,6 +29,10 @@ void run(const LoopArgs& a, const LoopSource& source) {
       static_cast<long long>(r.answered), static_cast<long long>(r.superseded),
       static_cast<long long>(r.resyncs), static_cast<long long>(r.resumes),
       loop::drops_json(r.drops).dump().c_str());
+  if (!r.controller_failure.empty())
+    throw loop::VerdictFailure{3,
+                               "verdict fail: the controller FMU failed: " + r.controller_failure +
+                                   "; answered with zero force from then on"};
 }
 
 }  // namespace

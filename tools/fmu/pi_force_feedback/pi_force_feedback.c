@@ -1,7 +1,9 @@
 /* The metrology frame's PI force feedback (controller/runtime/pi_controller.hpp has the law) as an
  * FMI 2.0 Co-Simulation FMU: the project's own fixture for the FMU loop (issue 33). Six channels,
  * force sensors in series with the actuators (D22 = I, no extra delay). Parameters: the full
- * gains K_P_i_j, K_I_i_j (i, j = 1..6), the leak leak_rad_s and the limits u_min, u_max. Inputs
+ * gains K_P_i_j, K_I_i_j (i, j = 1..6), the leak leak_rad_s, the limits u_min, u_max and the
+ * sensors' range y_max (a measured force beyond it is an overload: fmi2DoStep refuses to act on
+ * it and returns fmi2Error, as a deployed controller would stop). Inputs
  * y1..y6 (measured forces), outputs u1..u6 (commands). fmi2DoStep(t, h) takes the inputs set at
  * t and gives the command held from t on (a sampled controller with direct feedthrough):
  *
@@ -9,7 +11,7 @@
  *   G_f = -E K_P,  G_x = -E K_I,  E = (I + K_P)^-1,  a = exp(-w_l h),  b = (1 - a) / w_l or h
  *
  * Value references: 0..5 y, 6..11 u, 12..47 K_P (row major), 48..83 K_I, 84 leak_rad_s,
- * 85 u_min, 86 u_max (modelDescription.xml lists them). */
+ * 85 u_min, 86 u_max, 87 y_max (modelDescription.xml lists them). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -24,7 +26,8 @@
 #define VR_LEAK (VR_KI + N * N)
 #define VR_UMIN (VR_LEAK + 1)
 #define VR_UMAX (VR_UMIN + 1)
-#define VR_COUNT (VR_UMAX + 1)
+#define VR_YMAX (VR_UMAX + 1)
+#define VR_COUNT (VR_YMAX + 1)
 
 #define EXPORT __attribute__((visibility("default")))
 
@@ -84,6 +87,7 @@ static void reset_state(Instance* in) {
   memset(in->s, 0, sizeof in->s);
   in->values[VR_UMIN] = -INFINITY;
   in->values[VR_UMAX] = INFINITY;
+  in->values[VR_YMAX] = INFINITY;
   in->h_gains = 0;
   in->initialised = 0;
 }
@@ -192,6 +196,11 @@ EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolea
   double* u = &in->values[VR_U];
   const double lo = in->values[VR_UMIN], hi = in->values[VR_UMAX];
   double f[N], v[N];
+  for (int i = 0; i < N; ++i)
+    if (!(fabs(y[i]) <= in->values[VR_YMAX])) {
+      log_error(in, "a measured force is beyond the sensors' range y_max");
+      return fmi2Error;
+    }
   for (int i = 0; i < N; ++i) f[i] = y[i] - u[i]; /* u: the command held until now */
   for (int i = 0; i < N; ++i) {
     double p = 0;
