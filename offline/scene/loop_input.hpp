@@ -3,6 +3,7 @@
 // artefact file, or built from a scene file by the offline pipeline (the scene's loop must be
 // stable) exactly as `flexloop build` writes it.
 #include <string>
+#include <string_view>
 
 #include "artefact/loop_artefact.hpp"
 
@@ -16,6 +17,8 @@ artefact::LoopArtefact load_loop(const std::string& path, const LoopInputOptions
 
 /// SHA-256 of a file as lowercase hex (OpenSSL EVP). @throws flexloop::InputError if unreadable.
 std::string file_sha256(const std::string& path);
+/// SHA-256 of a text as lowercase hex.
+std::string text_sha256(std::string_view text);
 
 /// Provenance of an artefact built from `scene_path` (its model, both SHA-256, this build).
 artefact::Provenance loop_provenance(const std::string& scene_path, const std::string& model_path);

@@ -34,12 +34,15 @@ ALLOWED = {
                     "controller/runtime", "controller/fmu", "online/sim"},
     "online/hil": {"numeric", "common", "msgs", "rt", "artefact", "plant/runtime",
                    "controller/runtime", "controller/fmu", "online/sim", "online/loop"},
+    # The plant FMU's library: the artefact's plant and hardware behind the FMI calls.
+    "online/plant_fmu": {"numeric", "common", "artefact", "plant/runtime", "controller/runtime",
+                         "controller/fmu", "online/sim"},
     "offline/report": {"numeric", "common", "msgs", "rt", "plant/model", "plant/lti"},
     "offline/scene": {"numeric", "common", "artefact", "plant/model", "plant/lti",
                       "controller/design", "controller/runtime", "generated"},
     "offline/pipeline": {"numeric", "common", "artefact", "plant/model", "plant/lti",
                          "controller/design", "plant/runtime", "controller/runtime",
-                         "offline/scene", "offline/report", "generated"},
+                         "offline/scene", "offline/report", "online/plant_fmu", "generated"},
     # The study times the online kernels (it uses them; they never use it).
     "offline/study": {"numeric", "common", "artefact", "plant/model", "plant/lti",
                       "controller/design", "plant/runtime", "controller/runtime", "online/sim",

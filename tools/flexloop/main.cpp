@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   flexloop::cli::register_analyse(app);
   flexloop::cli::register_discretise(app);
   flexloop::cli::register_reduce(app);
+  flexloop::cli::register_export_fmu(app);
   flexloop::cli::register_build(app);
   flexloop::cli::register_baseline(app);
   flexloop::cli::register_fit_metrology(app);

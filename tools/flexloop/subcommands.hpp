@@ -20,5 +20,6 @@ void register_hil(CLI::App& app);
 void register_log(CLI::App& app);
 void register_tradeoff(CLI::App& app);
 void register_reduce(CLI::App& app);
+void register_export_fmu(CLI::App& app);
 
 }  // namespace flexloop::cli

@@ -1,0 +1,66 @@
+#include "online/plant_fmu/plant_fmu_model.hpp"
+
+#include <utility>
+
+#include "online/sim/loop_hardware.hpp"
+#include "online/sim/loop_start.hpp"
+#include "plant/runtime/general_plant.hpp"
+
+namespace flexloop::plant_fmu {
+
+namespace {
+
+template <class Hardware>
+class HardwareModel final : public PlantFmuModel {
+ public:
+  explicit HardwareModel(Hardware hw)
+      : hw_(std::move(hw)), u_(Hardware::Command::Zero(hw_.actuators())) {}
+
+  void sample(double* readings) noexcept override {
+    const auto& r = hw_.sample();
+    const Eigen::Index ns = r.sensors.size(), nz = r.performance.size();
+    Eigen::Map<Eigen::VectorXd>(readings, ns) = r.sensors.template cast<double>();
+    Eigen::Map<Eigen::VectorXd>(readings + ns, nz) = r.performance.template cast<double>();
+  }
+
+  void apply(const double* command) noexcept override {
+    u_ = Eigen::Map<const Eigen::VectorXd>(command, u_.size())
+             .template cast<typename Hardware::Scalar>();
+    hw_.apply(u_);
+  }
+
+ private:
+  Hardware hw_;
+  typename Hardware::Command u_;
+};
+
+template <class Plant>
+std::unique_ptr<PlantFmuModel> model_of(const artefact::LoopArtefact& a, const Plant& plant,
+                                        bool at_rest) {
+  constexpr int kAny = Eigen::Dynamic;
+  return sim::with_hardware<kAny, kAny, kAny>(
+      a, plant, [&](auto hw) -> std::unique_ptr<PlantFmuModel> {
+        plant::runtime::NoEffect no_controller;
+        sim::start_loop(a, a.start.open_loop,
+                        at_rest ? sim::StartKind::kRest : sim::StartKind::kStationary, hw,
+                        no_controller);
+        return std::make_unique<HardwareModel<decltype(hw)>>(std::move(hw));
+      });
+}
+
+}  // namespace
+
+std::unique_ptr<PlantFmuModel> PlantFmuModel::from_artefact(const artefact::LoopArtefact& a,
+                                                            bool at_rest) {
+  const auto& d = a.plant;
+  if (d.form == artefact::PlantForm::kModal)
+    return model_of(
+        a, plant::runtime::GeneralModalPlant<double>::from_modal_form(d.modal, a.actuators()),
+        at_rest);
+  return model_of(
+      a,
+      plant::runtime::GeneralDensePlant<double>::from_matrices(d.A, d.B, d.C, d.D, a.actuators()),
+      at_rest);
+}
+
+}  // namespace flexloop::plant_fmu
