@@ -61,7 +61,12 @@ StateSpaceController<Scalar> StateSpaceController<Scalar>::from_parameters(
   out << loop.solve(p.C), loop.solve(p.D);
   M next(nx, nx + ns);
   next << p.A, p.B;
-  const Eigen::CompleteOrthogonalDecomposition<M> c_pinv(p.C);
+  // The bumpless start's least squares in the controller's state; none for a static gain (Eigen
+  // cannot decompose a matrix without columns).
+  const auto least_squares = [&](const M& rhs) -> Matrix {
+    if (nx == 0) return Matrix(0, rhs.cols());
+    return M(Eigen::CompleteOrthogonalDecomposition<M>(p.C).solve(rhs)).cast<Scalar>();
+  };
 
   StateSpaceController c;
   c.nx_ = nx;
@@ -70,8 +75,8 @@ StateSpaceController<Scalar> StateSpaceController<Scalar>::from_parameters(
   c.next_ = numeric::padded_matrix<Scalar>(next);
   c.next_u_ = numeric::padded_matrix<Scalar>(p.B * D22);
   c.F_ = numeric::padded_matrix<Scalar>(D22);
-  c.start_u_ = nx > 0 ? M(c_pinv.solve(I - p.D * D22)).cast<Scalar>() : Matrix(0, nc);
-  c.start_f_ = nx > 0 ? M(c_pinv.solve(p.D)).cast<Scalar>() : Matrix(0, ns);
+  c.start_u_ = least_squares(I - p.D * D22);
+  c.start_f_ = least_squares(p.D);
   c.feedthrough_ = feedthrough;
   c.anti_windup_ = p.anti_windup;
   c.delay_ = p.feedthrough_delay;

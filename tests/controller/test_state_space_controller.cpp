@@ -224,6 +224,23 @@ TEST_CASE("the state-space controller starts bumplessly and follows its force th
   CHECK(worst <= 1e-12 * largest);
 }
 
+TEST_CASE("a static gain (no states) commands u = D y and starts bumplessly where it can",
+          "[controller][state_space]") {
+  StateSpaceParameters p;
+  p.A = Eigen::MatrixXd::Zero(0, 0);
+  p.B = Eigen::MatrixXd::Zero(0, 2);
+  p.C = Eigen::MatrixXd::Zero(3, 0);
+  p.D = Eigen::MatrixXd::Random(3, 2);
+  p.dt = 1e-3;
+  auto c = StateSpaceController<double>::from_parameters(p);  // once a crash in Eigen (COD of 3x0)
+  using V = StateSpaceController<double>::Vector;
+  const V y = Eigen::VectorXd::Random(2);
+  const Eigen::VectorXd u = c.step(y);
+  CHECK((u - p.D * Eigen::VectorXd(y)).cwiseAbs().maxCoeff() <= 1e-15);
+  c.start(y, V(Eigen::VectorXd::Ones(3)));  // no state to give another command: the law's own
+  CHECK((Eigen::VectorXd(c.step(y)) - p.D * Eigen::VectorXd(y)).cwiseAbs().maxCoeff() <= 1e-15);
+}
+
 TEST_CASE("the state-space controller refuses what it cannot run, naming it",
           "[controller][state_space]") {
   const Loop l = random_loop(1, 2, 1, 2, 5);
