@@ -7,6 +7,8 @@
 //   kPiForceFeedback  the PI force feedback: PiController<Scalar, NC> on the fixed-size kernels
 //                     of NC channels, or GeneralPiController<Scalar>, sized at start-up
 //   kStateSpace       the user's StateSpaceController<Scalar>, sized at start-up
+//   kFmu              the user's compiled controller, controller::fmu::FmuController (double
+//                     only: the FMI's fmi2Real), sized at start-up
 //
 // Which channel counts run on fixed-size kernels is the caller's to say (the compiled loops of
 // plant/runtime/compiled_loops.hpp, which the controller does not see): it asks with compiled
@@ -15,9 +17,11 @@
 #include <Eigen/Core>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "artefact/loop_artefact.hpp"
 #include "common/input_error.hpp"
+#include "controller/fmu/fmu_artefact_settings.hpp"
 #include "controller/runtime/general_pi_controller.hpp"
 #include "controller/runtime/pi_controller.hpp"
 #include "controller/runtime/state_space_controller.hpp"
@@ -38,9 +42,14 @@ constexpr bool has_compiled_kernels(artefact::ControllerKind kind) {
 /// its PI force feedback does not have one sensor per actuator.
 /// @throws std::invalid_argument as the controller's from_parameters, for parameters it refuses.
 /// @throws std::logic_error for compiled counts with a kind sized at start-up (the caller's
-/// dispatch is wrong).
-template <typename Scalar, int NC = Eigen::Dynamic, int NS = NC, class F>
-decltype(auto) with_controller(const artefact::LoopArtefact& a, F&& f) {
+/// dispatch is wrong), or a controller FMU in float.
+/// fmu_failure: where a controller FMU records a call that fails in the loop (the run consumes
+/// the controller; the caller asks afterwards). Optional.
+/// kForeignCode false: a caller that runs only flexloop's own kernels (the trade-off study);
+/// a controller FMU is then refused (flexloop::InputError) and f is never instantiated for it.
+template <typename Scalar, int NC = Eigen::Dynamic, int NS = NC, bool kForeignCode = true, class F>
+decltype(auto) with_controller(const artefact::LoopArtefact& a, F&& f,
+                               fmu::FmuFailure* fmu_failure = nullptr) {
   using artefact::ControllerKind;
   constexpr bool kSizedAtStartUp = NC == Eigen::Dynamic && NS == Eigen::Dynamic;
   switch (a.controller) {
@@ -66,6 +75,14 @@ decltype(auto) with_controller(const artefact::LoopArtefact& a, F&& f) {
     case ControllerKind::kStateSpace:
       if constexpr (kSizedAtStartUp)
         return f(StateSpaceController<Scalar>::from_parameters(a.state_space));
+      break;
+    case ControllerKind::kFmu:
+      if constexpr (!kForeignCode)
+        throw common::InputError(a.source,
+                                 "[controller]: a controller FMU is foreign code; this command "
+                                 "compares flexloop's own kernels (run the FMU with flexloop sim)");
+      else if constexpr (kSizedAtStartUp && std::is_same_v<Scalar, double>)
+        return f(fmu::FmuController::from_settings(fmu::fmu_settings(a, fmu_failure)));
       break;
   }
   throw std::logic_error("with_controller: the controller \"" + artefact::to_string(a.controller) +

@@ -4,7 +4,7 @@
 
 #include "online/sim/loop_hardware.hpp"
 #include "online/sim/loop_start.hpp"
-#include "plant/runtime/general_plant.hpp"
+#include "plant/runtime/plant_from_artefact.hpp"
 
 namespace flexloop::plant_fmu {
 
@@ -34,33 +34,21 @@ class HardwareModel final : public PlantFmuModel {
   typename Hardware::Command u_;
 };
 
-template <class Plant>
-std::unique_ptr<PlantFmuModel> model_of(const artefact::LoopArtefact& a, const Plant& plant,
-                                        bool at_rest) {
-  constexpr int kAny = Eigen::Dynamic;
-  return sim::with_hardware<kAny, kAny, kAny>(
-      a, plant, [&](auto hw) -> std::unique_ptr<PlantFmuModel> {
-        plant::runtime::NoEffect no_controller;
-        sim::start_loop(a, a.start.open_loop,
-                        at_rest ? sim::StartKind::kRest : sim::StartKind::kStationary, hw,
-                        no_controller);
-        return std::make_unique<HardwareModel<decltype(hw)>>(std::move(hw));
-      });
-}
-
 }  // namespace
 
 std::unique_ptr<PlantFmuModel> PlantFmuModel::from_artefact(const artefact::LoopArtefact& a,
                                                             bool at_rest) {
-  const auto& d = a.plant;
-  if (d.form == artefact::PlantForm::kModal)
-    return model_of(
-        a, plant::runtime::GeneralModalPlant<double>::from_modal_form(d.modal, a.actuators()),
-        at_rest);
-  return model_of(
-      a,
-      plant::runtime::GeneralDensePlant<double>::from_matrices(d.A, d.B, d.C, d.D, a.actuators()),
-      at_rest);
+  constexpr int kAny = Eigen::Dynamic;
+  return plant::runtime::with_general_plant<double>(a, [&](auto plant) {
+    return sim::with_hardware<kAny, kAny, kAny>(
+        a, plant, [&](auto hw) -> std::unique_ptr<PlantFmuModel> {
+          plant::runtime::NoEffect no_controller;
+          sim::start_loop(a, a.start.open_loop,
+                          at_rest ? sim::StartKind::kRest : sim::StartKind::kStationary, hw,
+                          no_controller);
+          return std::make_unique<HardwareModel<decltype(hw)>>(std::move(hw));
+        });
+  });
 }
 
 }  // namespace flexloop::plant_fmu

@@ -2,8 +2,8 @@
 // The body shared by the scene_runs_*.cpp translation units: controller off, then on, over the
 // artefact's hardware with every effect it carries. The controller is the artefact's
 // (controller/runtime/controller_from_artefact.hpp): the PI runs on compiled and general paths;
-// the state-space controller, sized at start-up, on the general path only (one more
-// instantiation of every hardware composition per compiled loop, for a step that the
+// the state-space controller and a controller FMU, sized at start-up, on the general path only (one
+// more instantiation of every hardware composition per compiled loop, for a step that the
 // controller's own products dominate).
 #include "controller/runtime/controller_from_artefact.hpp"
 #include "online/sim/loop_hardware.hpp"
@@ -41,9 +41,17 @@ BothRuns run_both(const Plant& plant, const artefact::LoopArtefact& a, const Run
     // sized at start-up to run_general).
     const auto run_on = [&] {
       if (!r.controlled) return;
-      controller::runtime::with_controller<double, NC, NS>(a, [&](auto controller) {
-        r.on = run_started(std::move(controller), a.start.closed_loop, on, "controller on");
-      });
+      controller::fmu::FmuFailure fmu_failed;  // a controller FMU's call that failed in the run
+      controller::runtime::with_controller<double, NC, NS>(
+          a,
+          [&](auto controller) {
+            r.on = run_started(std::move(controller), a.start.closed_loop, on, "controller on");
+          },
+          &fmu_failed);
+      if (fmu_failed.call)
+        throw common::InputError(a.fmu.file,
+                                 controller::fmu::describe(fmu_failed, a.dt()) +
+                                     "; the controller-on run stopped commanding there");
     };
     const bool on_first = o.on_first && r.controlled;
     if (on_first) {
