@@ -58,7 +58,8 @@ StateSpaceController<Scalar> StateSpaceController<Scalar>::from_parameters(
   require(loop.isInvertible(),
           "I - D D22 is singular: the loop through the sensors' feedthrough is ill-posed");
   M out(nc, nx + ns);
-  out << loop.solve(p.C), loop.solve(p.D);
+  if (nx > 0) out.leftCols(nx) = loop.solve(p.C);  // Eigen solves for no columns on a null pointer
+  out.rightCols(ns) = loop.solve(p.D);
   M next(nx, nx + ns);
   next << p.A, p.B;
   // The bumpless start's least squares in the controller's state; none for a static gain (Eigen

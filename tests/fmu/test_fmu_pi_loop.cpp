@@ -86,7 +86,10 @@ TEST_CASE("The PI as the fixture FMU equals the built-in PI in a hard-driven met
         "clamped samples x channels = %ld\n",
         saturated ? "saturated" : "unsaturated", du, u_peak, dz, clamped);
     CAPTURE(saturated, du, dz, u_peak);
-    CHECK(du <= 1e-12 * u_peak);
+    // Saturated, the anti-windup's s += u - v cancels two large terms: the two summation orders
+    // (the FMU's C loops, the built-in PI's Eigen products) differ there by 3.3e-13 of the peak at
+    // -O2 and 1.8e-12 at -O1 (the sanitizer build, compiled without FMA).
+    CHECK(du <= (saturated ? 1e-11 : 1e-12) * u_peak);
     CHECK(dz <= 1e-12);  // the frame's accelerations [m/s^2]
     if (saturated) CHECK(clamped > 0);
   }
