@@ -8,20 +8,16 @@
 #include <stdexcept>
 #include <string>
 
+#include "numeric/discretisation_method.hpp"
+
 namespace flexloop::artefact {
 
 /// The form the online side steps the plant in.
 enum class PlantForm { kDense, kModal };
 
-/// How the continuous plant was sampled (the offline side's plant::lti::DiscretisationMethod,
-/// which offline/scene/schema_conversion.hpp maps to and from).
-enum class DiscretisationMethod {
-  kZeroOrderHold,
-  kFirstOrderHold,
-  kTustin,
-  kForwardEuler,
-  kBackwardEuler
-};
+/// How the continuous plant was sampled: the enum the offline discretisation computes with
+/// (numeric/discretisation_method.hpp; plant/lti/discretise.hpp), with the schema's names below.
+using numeric::DiscretisationMethod;
 
 /// The floor's excitation: white (band-limited by the sample rate) or a vibration-criterion curve.
 enum class FloorSpectrum { kWhite, kVcA, kVcB, kVcC, kVcD, kVcE };

@@ -32,12 +32,13 @@ HealthCheck exponential(const scene::ScenePlant& p, const plant::lti::DiscreteSt
   f.precision(3);
   if (!is_hold(d.method)) {
     f << "|A T|_1 = " << plant::lti::induced_norm_1(p.plant.A * d.dt);
-    return {"exponential", text(f), to_string(d.method) + ": no exponential (LU solves)", true};
+    return {"exponential", text(f),
+            plant::lti::to_string(d.method) + ": no exponential (LU solves)", true};
   }
   // The matrix the hold exponentiates, as discretise builds it, before and after balancing.
   const Eigen::MatrixXd hold = plant::lti::hold_matrix(p.plant, d.method, d.dt);
   const double raw = plant::lti::induced_norm_1(hold);
-  f << "|" << to_string(d.method) << " matrix|_1 = " << raw << ", balanced "
+  f << "|" << plant::lti::to_string(d.method) << " matrix|_1 = " << raw << ", balanced "
     << plant::lti::induced_norm_1(plant::lti::balance(hold).balanced);
   HealthCheck c{"exponential", text(f),
                 "Eigen's Pade exponential of the matrix balanced by powers of two",
@@ -62,7 +63,7 @@ HealthCheck above_nyquist(const scene::ScenePlant& p, const plant::lti::Discrete
   const bool holds = is_hold(d.method);
   std::string verdict = count == 0 ? "none"
                         : holds    ? "sampled exactly (aliased, as hardware sees them)"
-                                   : "warped into the band by " + to_string(d.method);
+                                   : "warped into the band by " + plant::lti::to_string(d.method);
   return {"modes above Nyquist", text(f), verdict, true};
 }
 

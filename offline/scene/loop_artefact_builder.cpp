@@ -109,7 +109,7 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
   a.source = sc.file;
   a.provenance = provenance;
   a.rate_hz = sc.discretisation.rate_hz;
-  a.method = artefact_method(sampled.plant.method);
+  a.method = sampled.plant.method;
   a.prewarp_hz = sampled.plant.prewarp_hz;
   const auto map = [](const std::vector<std::string>& names) {
     std::vector<artefact::Channel> out;

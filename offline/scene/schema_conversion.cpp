@@ -4,24 +4,6 @@
 
 namespace flexloop::scene {
 
-artefact::DiscretisationMethod artefact_method(plant::lti::DiscretisationMethod method) {
-  using From = plant::lti::DiscretisationMethod;
-  using To = artefact::DiscretisationMethod;
-  switch (method) {
-    case From::kZeroOrderHold:
-      return To::kZeroOrderHold;
-    case From::kFirstOrderHold:
-      return To::kFirstOrderHold;
-    case From::kTustin:
-      return To::kTustin;
-    case From::kForwardEuler:
-      return To::kForwardEuler;
-    case From::kBackwardEuler:
-      return To::kBackwardEuler;
-  }
-  throw std::invalid_argument("artefact_method: not a discretisation method");
-}
-
 plant::lti::VibrationCriterion vibration_criterion(artefact::FloorSpectrum spectrum) {
   using From = artefact::FloorSpectrum;
   using To = plant::lti::VibrationCriterion;

@@ -44,17 +44,13 @@
 #include <complex>
 #include <string>
 
+#include "numeric/discretisation_method.hpp"
 #include "plant/lti/state_space.hpp"
 
 namespace flexloop::plant::lti {
 
-enum class DiscretisationMethod {
-  kZeroOrderHold,
-  kFirstOrderHold,
-  kTustin,
-  kForwardEuler,
-  kBackwardEuler
-};
+/// The methods' one enum (numeric/discretisation_method.hpp), which the loop artefact records.
+using numeric::DiscretisationMethod;
 
 /// "zoh", "foh", "tustin", "euler", "backward-euler"; throws std::invalid_argument listing them.
 DiscretisationMethod parse_discretisation_method(const std::string& name);
