@@ -78,6 +78,19 @@ lti::DiscretisationMethod method_of(const std::string& m) {
   return lti::parse_discretisation_method(m == "tustin-prewarp" ? "tustin" : m);
 }
 
+constexpr std::pair<Reduction, const char*> kReductionNames[] = {
+    {Reduction::kFull, "full"},
+    {Reduction::kModal, "modal"},
+    {Reduction::kModalDc, "modal-dc"},
+    {Reduction::kBalanced, "balanced"}};
+
+// The reduction a --reductions name (or "full") stands for; the names were checked.
+Reduction reduction_of(const std::string& name) {
+  for (const auto& [r, text] : kReductionNames)
+    if (name == text) return r;
+  throw std::invalid_argument("unknown reduction '" + name + "'");
+}
+
 // The floor the scene's loop sees at the artefact's rate, from rest, `steps` samples.
 MatrixXd floor_samples(const artefact::LoopArtefact& a, long steps) {
   const Index nw = a.disturbances();
@@ -257,10 +270,24 @@ struct Reference {
 
 }  // namespace
 
+std::string to_string(Scalar s) {
+  return s == Scalar::kFloat ? "float" : "double";
+}
+
+std::string to_string(Reduction r) {
+  for (const auto& [value, text] : kReductionNames)
+    if (value == r) return text;
+  return "?";
+}
+
+std::string Configuration::method_name() const {
+  return lti::to_string(method) + (prewarp ? "-prewarp" : "");
+}
+
 std::string Configuration::label() const {
   std::ostringstream s;
-  s << method << " " << rate_hz << " Hz " << form << " " << scalar << " " << reduction << " "
-    << order;
+  s << method_name() << " " << rate_hz << " Hz " << artefact::to_string(form) << " "
+    << to_string(scalar) << " " << to_string(reduction) << " " << order;
   return s.str();
 }
 
@@ -302,12 +329,13 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
   TradeoffResult result;
   result.full_order = n;
   result.cost = o.cost;
-  result.default_config = {lti::to_string(sd.method) + (sd.prewarp_hz > 0 ? "-prewarp" : ""),
-                           sd.rate_hz,
-                           artefact::to_string(artefact::PlantForm::kDense),
-                           "double",
-                           "full",
-                           n};
+  result.default_config = {.method = sd.method,
+                           .prewarp = sd.prewarp_hz > 0,
+                           .rate_hz = sd.rate_hz,
+                           .form = artefact::PlantForm::kDense,
+                           .scalar = Scalar::kDouble,
+                           .reduction = Reduction::kFull,
+                           .order = n};
   const Eigen::VectorXd& fn = p.natural_frequencies_hz;
   double f_min = INFINITY, f_max = 0;
   for (Index k = 0; k < fn.size(); ++k)
@@ -407,7 +435,13 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
             }
           for (const std::string& scalar : o.scalars) {
             Measurement m;
-            m.config = {method, rate, artefact::to_string(form), scalar, v.reduction, v.order};
+            m.config = {.method = method_of(method),
+                        .prewarp = method == "tustin-prewarp",
+                        .rate_hz = rate,
+                        .form = form,
+                        .scalar = scalar == "float" ? Scalar::kFloat : Scalar::kDouble,
+                        .reduction = reduction_of(v.reduction),
+                        .order = v.order};
             m.reduction_bound = v.bound;
             if (o.progress) o.progress(done, total, m.config);
             ++done;
@@ -416,7 +450,7 @@ TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o
               result.rows.push_back(m);
               continue;
             }
-            const bool single = scalar == "float";
+            const bool single = m.config.scalar == Scalar::kFloat;
             const lti::DiscreteStateSpace stored =
                 single ? stored_plant<float>(*a) : stored_plant<double>(*a);
             try {

@@ -42,18 +42,33 @@
 #include <string>
 #include <vector>
 
+#include "artefact/loop_schema.hpp"
 #include "offline/scene/scene_plant.hpp"
+#include "plant/lti/discretise.hpp"
 
 namespace flexloop::study {
 
-struct Configuration {
-  std::string method;  ///< "zoh", "foh", "tustin", "tustin-prewarp", "backward-euler", "euler"
-  double rate_hz = 0;
-  std::string form;       ///< "dense", "modal"
-  std::string scalar;     ///< "double", "float"
-  std::string reduction;  ///< "full", "modal", "modal-dc", "balanced"
-  int order = 0;          ///< states of the plant
+/// The scalar the runtime kernels step in.
+enum class Scalar { kDouble, kFloat };
+/// The plant a row discretises: the full model, or a reduced one.
+enum class Reduction { kFull, kModal, kModalDc, kBalanced };
 
+/// "double", "float".
+std::string to_string(Scalar s);
+/// "full", "modal", "modal-dc", "balanced".
+std::string to_string(Reduction r);
+
+struct Configuration {
+  plant::lti::DiscretisationMethod method = plant::lti::DiscretisationMethod::kZeroOrderHold;
+  bool prewarp = false;  ///< Tustin pre-warped at the lowest natural frequency
+  double rate_hz = 0;
+  artefact::PlantForm form = artefact::PlantForm::kDense;
+  Scalar scalar = Scalar::kDouble;
+  Reduction reduction = Reduction::kFull;
+  int order = 0;  ///< states of the plant
+
+  /// "zoh", "foh", "tustin", "tustin-prewarp", "backward-euler", "euler" (the --methods names).
+  std::string method_name() const;
   std::string label() const;  ///< e.g. "zoh 10000 Hz dense double full 12"
 };
 

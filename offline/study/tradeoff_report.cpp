@@ -44,8 +44,9 @@ long default_row(const TradeoffResult& r) {
   const Configuration& d = r.default_config;
   for (std::size_t k = 0; k < r.rows.size(); ++k) {
     const Configuration& c = r.rows[k].config;
-    if (r.rows[k].skipped.empty() && c.method == d.method && c.rate_hz == d.rate_hz &&
-        c.form == d.form && c.scalar == d.scalar && c.reduction == d.reduction)
+    if (r.rows[k].skipped.empty() && c.method == d.method && c.prewarp == d.prewarp &&
+        c.rate_hz == d.rate_hz && c.form == d.form && c.scalar == d.scalar &&
+        c.reduction == d.reduction)
       return static_cast<long>(k);
   }
   return -1;
@@ -67,13 +68,15 @@ void print_table(std::ostream& out, const TradeoffResult& r) {
     const Measurement& m = r.rows[k];
     const Configuration& c = m.config;
     const bool on_front = std::find(front.begin(), front.end(), k) != front.end();
-    std::snprintf(
-        line, sizeof line, "%c %-15s %8g %-6s %-6s %-9s %5d %9s %9s %9s %9s%c %9s %9s %7s%% %-8s\n",
-        on_front ? '*' : ' ', c.method.c_str(), c.rate_hz, c.form.c_str(), c.scalar.c_str(),
-        c.reduction.c_str(), c.order, number(m.hinf_error).c_str(), number(m.dc_error).c_str(),
-        number(m.step_error).c_str(), number(m.closed_loop_error).c_str(), unstable(m) ? '!' : ' ',
-        number(m.closed_loop_rms_error).c_str(), number(m.ns_per_step, "%.1f").c_str(),
-        number(100 * m.period_share, "%.2f").c_str(), m.kernel.c_str());
+    std::snprintf(line, sizeof line,
+                  "%c %-15s %8g %-6s %-6s %-9s %5d %9s %9s %9s %9s%c %9s %9s %7s%% %-8s\n",
+                  on_front ? '*' : ' ', c.method_name().c_str(), c.rate_hz,
+                  artefact::to_string(c.form).c_str(), to_string(c.scalar).c_str(),
+                  to_string(c.reduction).c_str(), c.order, number(m.hinf_error).c_str(),
+                  number(m.dc_error).c_str(), number(m.step_error).c_str(),
+                  number(m.closed_loop_error).c_str(), unstable(m) ? '!' : ' ',
+                  number(m.closed_loop_rms_error).c_str(), number(m.ns_per_step, "%.1f").c_str(),
+                  number(100 * m.period_share, "%.2f").c_str(), m.kernel.c_str());
     out << line;
   }
   out << "* on the Pareto front of (" << cost_name(r.cost)
@@ -101,11 +104,12 @@ void write_csv(const std::string& path, const TradeoffResult& r) {
     std::string why = m.skipped;
     std::replace(why.begin(), why.end(), '"', '\'');
     std::replace(why.begin(), why.end(), '\n', ' ');
-    s << c.method << "," << c.rate_hz << "," << c.form << "," << c.scalar << "," << c.reduction
-      << "," << c.order << "," << m.hinf_error << "," << m.dc_error << "," << m.step_error << ","
-      << m.closed_loop_error << "," << m.closed_loop_rms_error << "," << m.ns_per_step << ","
-      << m.ns_min << "," << m.ns_max << "," << m.period_share << "," << m.reduction_bound << ","
-      << m.kernel << "," << m.closed_loop_radius << ","
+    s << c.method_name() << "," << c.rate_hz << "," << artefact::to_string(c.form) << ","
+      << to_string(c.scalar) << "," << to_string(c.reduction) << "," << c.order << ","
+      << m.hinf_error << "," << m.dc_error << "," << m.step_error << "," << m.closed_loop_error
+      << "," << m.closed_loop_rms_error << "," << m.ns_per_step << "," << m.ns_min << ","
+      << m.ns_max << "," << m.period_share << "," << m.reduction_bound << "," << m.kernel << ","
+      << m.closed_loop_radius << ","
       << (std::find(front.begin(), front.end(), k) != front.end() ? 1 : 0) << ",\"" << why
       << "\"\n";
   }
@@ -118,8 +122,9 @@ nlohmann::json to_json(const TradeoffResult& r) {
     return nullptr;
   };
   const auto config = [](const Configuration& c) {
-    return nlohmann::json{{"method", c.method}, {"rate_hz", c.rate_hz},     {"form", c.form},
-                          {"scalar", c.scalar}, {"reduction", c.reduction}, {"order", c.order}};
+    return nlohmann::json{{"method", c.method_name()},           {"rate_hz", c.rate_hz},
+                          {"form", artefact::to_string(c.form)}, {"scalar", to_string(c.scalar)},
+                          {"reduction", to_string(c.reduction)}, {"order", c.order}};
   };
   nlohmann::json j{{"full_order", r.full_order},
                    {"band_hz", {r.band_low_hz, r.band_hz}},

@@ -58,8 +58,8 @@ const study::Measurement& row(const std::string& method, double rate, const std:
                               const std::string& scalar, const std::string& reduction, int order) {
   for (const auto& m : sweep().rows) {
     const auto& c = m.config;
-    if (c.method == method && c.rate_hz == rate && c.form == form && c.scalar == scalar &&
-        c.reduction == reduction && c.order == order)
+    if (c.method_name() == method && c.rate_hz == rate && artefact::to_string(c.form) == form &&
+        to_string(c.scalar) == scalar && to_string(c.reduction) == reduction && c.order == order)
       return m;
   }
   FAIL("no row " << method << " " << rate << " " << form << " " << scalar << " " << reduction << " "
