@@ -8,8 +8,8 @@
 
 #include <cmath>
 #include <cstdint>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "offline/scene/loop_input.hpp"

@@ -1,7 +1,8 @@
-// A controller FMU against the built-in PI (issue 33), in one run: the metrology frame's closed-loop
-// step with the compiled PI and with the same law as the fixture FMU (tools/fmu/pi_force_feedback:
-// fmi2SetReal, fmi2DoStep, fmi2GetReal per sample), and the FMU's step split into its three calls
-// and fmi2DoStep alone, so that the FMI calls' own cost shows beside the FMU's computation.
+// A controller FMU against the built-in PI (issue 33), in one run: the metrology frame's
+// closed-loop step with the compiled PI and with the same law as the fixture FMU
+// (tools/fmu/pi_force_feedback: fmi2SetReal, fmi2DoStep, fmi2GetReal per sample), and the FMU's
+// step split into its three calls and fmi2DoStep alone, so that the FMI calls' own cost shows
+// beside the FMU's computation.
 //   taskset -c 0 build/bench/tests/bench/bench_fmu --benchmark_repetitions=5
 #include <benchmark/benchmark.h>
 
@@ -56,7 +57,9 @@ void BM_ClosedLoopStepBuiltinPi(benchmark::State& state) {
 }
 BENCHMARK(BM_ClosedLoopStepBuiltinPi);
 
-void BM_ClosedLoopStepFmuPi(benchmark::State& state) { closed_loop(state, pi_fmu()); }
+void BM_ClosedLoopStepFmuPi(benchmark::State& state) {
+  closed_loop(state, pi_fmu());
+}
 BENCHMARK(BM_ClosedLoopStepFmuPi);
 
 // The FMU's calls alone, on sensor values from a table: all three, and fmi2DoStep alone.
