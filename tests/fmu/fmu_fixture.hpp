@@ -3,6 +3,7 @@
 // settings that run it as a given PI, and archives made from its parts (bad fixtures).
 #include <zip.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -15,6 +16,20 @@
 #include "controller/fmu/fmu_controller.hpp"
 
 namespace flexloop::test {
+
+/// A private temporary directory (mkdtemp), removed with everything in it at the end of scope.
+struct TemporaryDirectory {
+  std::filesystem::path path;
+  TemporaryDirectory() {
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "flexloop-test-fmu-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) throw std::runtime_error("mkdtemp: " + pattern);
+    path = pattern;
+  }
+  ~TemporaryDirectory() { std::filesystem::remove_all(path); }
+  TemporaryDirectory(const TemporaryDirectory&) = delete;
+  TemporaryDirectory& operator=(const TemporaryDirectory&) = delete;
+};
 
 inline std::string pi_fmu_path() {
   return FLEXLOOP_PI_FMU;

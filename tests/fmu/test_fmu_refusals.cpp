@@ -18,13 +18,8 @@ using flexloop::controller::fmu::FmuDirectory;
 namespace {
 
 struct BadFmus {
-  fs::path dir;
-  BadFmus() {
-    std::string pattern = (fs::temp_directory_path() / "flexloop-test-fmu-XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()));
-    dir = pattern;
-  }
-  ~BadFmus() { fs::remove_all(dir); }
+  flexloop::test::TemporaryDirectory temporary;
+  const fs::path& dir = temporary.path;
   // The fixture with `from` replaced by `to` in its modelDescription.xml.
   std::string edited(const std::string& name, const std::string& from, const std::string& to) {
     auto entries = flexloop::test::pi_fmu_entries();

@@ -70,9 +70,8 @@ TEST_CASE("sim with the PI as the fixture FMU equals sim with the built-in PI to
   REQUIRE(builtin.pi.feedthrough_delay == 0);
   REQUIRE(builtin.pi.u_min.size() == 1);
 
-  std::string pattern = (fs::temp_directory_path() / "flexloop-test-fmu-XXXXXX").string();
-  REQUIRE(mkdtemp(pattern.data()));
-  const fs::path dir = pattern;
+  const flexloop::test::TemporaryDirectory temporary;
+  const fs::path& dir = temporary.path;
   const std::string scene = write_fmu_scene(dir, builtin.pi);
   const auto fmu =
       flexloop::scene::load_loop(scene, {.rate_hz = 0, .form = {}, .duration_s = kDuration});
@@ -91,7 +90,6 @@ TEST_CASE("sim with the PI as the fixture FMU equals sim with the built-in PI to
   CHECK(back.fmu.parameters.size() == fmu.fmu.parameters.size());
 
   const auto a = run_on(builtin), b = run_on(fmu);
-  fs::remove_all(dir);
   REQUIRE(a.log.rows() == 10000);
   REQUIRE(b.log.rows() == a.log.rows());
   REQUIRE_FALSE(b.divergence.happened());

@@ -18,21 +18,12 @@
 #include "offline/pipeline/plant_fmu_export.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "online/sim/scene_runs.hpp"
+#include "tests/fmu/fmu_fixture.hpp"
 
 namespace fs = std::filesystem;
 using namespace flexloop;
 
 namespace {
-
-struct TemporaryDirectory {
-  fs::path path;
-  TemporaryDirectory() {
-    std::string pattern = (fs::temp_directory_path() / "flexloop-test-plant-fmu-XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()));
-    path = pattern;
-  }
-  ~TemporaryDirectory() { fs::remove_all(path); }
-};
 
 // The harness: the FMU unpacked, loaded and instantiated through its FMI calls.
 class PlantFmuHarness {
@@ -143,7 +134,7 @@ struct Agreement {
 void check_open_loop(const std::string& scene, std::optional<artefact::PlantForm> form,
                      long steps) {
   const auto a = scene::load_loop(scene, {.rate_hz = 0, .form = form, .duration_s = 0});
-  TemporaryDirectory dir;
+  test::TemporaryDirectory dir;
   PlantFmuHarness fmu(exported(a, dir.path), false);
   const Channels c = channels_of(a, fmu);
   sim::SceneRunOptions o;
@@ -178,7 +169,7 @@ TEST_CASE("The exported plant FMU closed by the built-in PI from rest equals sim
           "[fmu]") {
   const auto a = scene::load_loop("tools/scenes/metrology_frame_all_effects.toml");
   REQUIRE(a.controller == artefact::ControllerKind::kPiForceFeedback);
-  TemporaryDirectory dir;
+  test::TemporaryDirectory dir;
   PlantFmuHarness fmu(exported(a, dir.path), true);
   const Channels c = channels_of(a, fmu);
   constexpr long kSteps = 10000;
@@ -213,7 +204,7 @@ TEST_CASE("The exported plant FMU closed by the built-in PI from rest equals sim
 
 TEST_CASE("The plant FMU refuses a step other than its period and a wrong GUID", "[fmu]") {
   const auto a = scene::load_loop("tools/scenes/two_mass_chain.toml");
-  TemporaryDirectory dir;
+  test::TemporaryDirectory dir;
   const std::string file = exported(a, dir.path);
   {
     PlantFmuHarness fmu(file, false);
@@ -236,7 +227,7 @@ TEST_CASE("The plant FMU refuses a step other than its period and a wrong GUID",
 
 TEST_CASE("export-fmu leaves nothing behind when it cannot write", "[fmu]") {
   const auto a = scene::load_loop("tools/scenes/two_mass_chain.toml");
-  TemporaryDirectory dir;
+  test::TemporaryDirectory dir;
   CHECK_THROWS_AS(pipeline::export_plant_fmu(a, dir.path / "missing.so", dir.path / "p.fmu"),
                   common::InputError);
   CHECK_THROWS_AS(
