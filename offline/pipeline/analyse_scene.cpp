@@ -4,17 +4,22 @@
 #include <complex>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <stdexcept>
 
+#include <unistd.h>
+
 #include "common/input_error.hpp"
 #include "controller/design/disk_margins.hpp"
 #include "numeric/constants.hpp"
+#include "offline/pipeline/closed_loop_by_simulation.hpp"
 #include "offline/pipeline/numerical_health.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "offline/report/csv_writer.hpp"
 #include "offline/report/plot.hpp"
+#include "offline/scene/loop_artefact_builder.hpp"
 #include "offline/scene/scene_plant.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/lti/modal_analysis.hpp"
@@ -277,6 +282,77 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
 
 }  // namespace
 
+namespace {
+
+// A controller FMU's sampled closed loop at `frequencies_hz`, by simulation
+// (closed_loop_by_simulation.hpp): printed and put into j["closed_loop_by_simulation"]. Empty when
+// the loop diverged (it is then said to be unstable).
+// @throws flexloop::InputError naming the FMU when it fails during the runs.
+std::vector<Eigen::MatrixXcd> closed_loop_of_fmu(const scene::ScenePlant& p,
+                                                 const std::vector<double>& frequencies_hz,
+                                                 nlohmann::json& j) {
+  const std::string& file = p.scene.controller.file;
+  std::printf(
+      "controller: FMU %s: compiled code, no matrices to see into: disk margins are skipped; "
+      "the sampled closed loop by simulation (an impulse per disturbance channel, from rest, "
+      "without the hardware's effects)\n",
+      file.c_str());
+  const artefact::LoopArtefact a =
+      scene::build_loop_artefact(p, scene::sample_scene(p), artefact::PlantForm::kDense);
+  const ImpulseSettings settings;
+  // Progress on a terminal only (a lightly damped loop runs up to max_samples per channel).
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  const auto r =
+      closed_loop_by_simulation(a, frequencies_hz, settings, [&](Eigen::Index c, long n) {
+        if (tty)
+          std::fprintf(stderr, "\r  closed loop by simulation: channel %ld of %ld, %ld samples  ",
+                       static_cast<long>(c + 1), static_cast<long>(a.disturbances()), n);
+      });
+  if (tty) std::fprintf(stderr, "\r%70s\r", "");
+  if (!r.controller_failure.empty())
+    throw common::InputError(
+        file, "the controller FMU failed in the analysis's run: " + r.controller_failure);
+  const double seconds = static_cast<double>(r.samples) * a.dt();
+  j["closed_loop_by_simulation"] = {{"impulse", settings.amplitude},
+                                    {"samples_per_channel", r.samples},
+                                    {"decayed", r.decayed},
+                                    {"diverged", r.diverged},
+                                    {"tail_over_peak", r.tail},
+                                    {"constant_tail_over_peak", r.constant_tail},
+                                    {"decay_per_sample", r.decay_per_sample},
+                                    {"truncation_bound_over_peak", r.truncation_bound}};
+  if (r.diverged) {
+    std::printf(
+        "sampled loop by simulation: UNSTABLE: a response grew past 1e12 of its first peak "
+        "within %ld samples (%.4g s); no closed loop drawn\n",
+        r.samples, seconds);
+    return {};
+  }
+  const double tau = r.decay_per_sample > 0 && r.decay_per_sample < 1
+                         ? -a.dt() / std::log(r.decay_per_sample)
+                         : std::numeric_limits<double>::infinity();
+  if (r.decayed) {
+    std::printf(
+        "sampled loop by simulation: the responses settled to %.0e of their peak in %ld samples "
+        "(%.4g s); slowest decay %.6f per sample (time constant %.4g s); what is left out is at "
+        "most %.1e of the peak\n",
+        settings.decay_tolerance, r.samples, seconds, r.decay_per_sample, tau, r.truncation_bound);
+    if (r.constant_tail > settings.decay_tolerance)
+      std::printf(
+          "  the frame's response settles to a constant (%.2e of its peak), not to zero: a "
+          "closed-loop pole at z = 1 (an integrator the loop leaves undamped), infinite at DC\n",
+          r.constant_tail);
+  } else
+    std::printf(
+        "sampled loop by simulation: NOT DECAYED after %ld samples (%.4g s): the last block is "
+        "%.1e of the peak (decay %.6f per sample): a lightly damped or marginally stable loop; "
+        "the responses below are truncated there\n",
+        r.samples, seconds, r.tail, r.decay_per_sample);
+  return r.response;
+}
+
+}  // namespace
+
 void analyse_scene(const std::string& scene_path, const std::string& out_dir,
                    const FrequencyGrid& grid) {
   const scene::Scene sc = scene::load_scene(scene_path);
@@ -324,18 +400,11 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   }
   std::printf("passive plant: %s\n", plant::lti::to_string(p.statics).c_str());
 
-  const bool controlled = scene::has_controller(p);
+  const bool controlled = scene::has_controller(p), fmu = scene::has_fmu_controller(p);
   std::optional<SampledLoopStability> sampled_loop;
   if (controlled)
     sampled_loop = analyse_loop(p, j);
-  else if (scene::has_fmu_controller(p))
-    // Issue 33 asks for the sampled loop by simulation (an impulse per channel); not built yet.
-    std::printf(
-        "controller: FMU %s: cannot be seen into (no matrices): disk margins, the "
-        "sampled loop's stability and the closed loop are skipped; the passive plant "
-        "alone below (flexloop sim runs the FMU's loop)\n",
-        p.scene.controller.file.c_str());
-  else
+  else if (!fmu)
     std::printf("controller: none (the passive plant alone: no design, no closed loop)\n");
   j["open_loop"] = lti::to_json(p.plant);
   // A controller given in discrete time has the sampled closed loop only (z = e^{j w T}).
@@ -353,9 +422,10 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
     j["controller"] = lti::to_json(p.state_space->discrete);
     j["closed_loop"] = lti::to_json(*sampled_closed);
   }
-  const std::string controller_name = scene::has_pi_controller(p)
-                                          ? "PI force feedback"
-                                          : (continuous ? "state space" : "state space, sampled");
+  const std::string controller_name =
+      fmu ? "controller FMU, by simulation"
+          : (scene::has_pi_controller(p) ? "PI force feedback"
+                                         : (continuous ? "state space" : "state space, sampled"));
   try {
     const auto health = numerical_health(p, scene::sample_scene(p).plant, sampled_loop);
     print_health(health);
@@ -376,10 +446,26 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   g11.outputs.resize(static_cast<std::size_t>(p.partition.performance));
   const auto G = lti::frequency_response(g11, f);
   // The closed loop's responses only when there is one (a scene without a controller: the
-  // passive machine alone).
-  const auto T = controlled ? closed_response(f) : decltype(G)();
+  // passive machine alone): on the grid f and at each passive resonance fr. A controller FMU's
+  // by simulation, at both at once.
+  const std::vector<double> fr(p.natural_frequencies_hz.data(),
+                               p.natural_frequencies_hz.data() + p.natural_frequencies_hz.size());
+  std::vector<Eigen::MatrixXcd> T, T_at_resonances;
+  if (controlled) {
+    T = closed_response(f);
+    T_at_resonances = closed_response(fr);
+  } else if (fmu) {
+    std::vector<double> both = f;
+    both.insert(both.end(), fr.begin(), fr.end());
+    T = closed_loop_of_fmu(p, both, j);
+    if (!T.empty()) {
+      T_at_resonances.assign(T.begin() + static_cast<std::ptrdiff_t>(f.size()), T.end());
+      T.resize(f.size());
+    }
+  }
+  const bool closed = !T.empty();
   const Eigen::MatrixXd sv_open = lti::singular_values(G);
-  const Eigen::MatrixXd sv_closed = controlled ? lti::singular_values(T) : Eigen::MatrixXd();
+  const Eigen::MatrixXd sv_closed = closed ? lti::singular_values(T) : Eigen::MatrixXd();
 
   std::vector<std::string> header{"frequency_hz"};
   std::vector<std::vector<double>> cols{f};
@@ -392,7 +478,7 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
     }
   report::write_csv_columns(dir + "singular_values.csv", header, cols);
   std::vector<report::SigmaSeries> systems{{"open loop (passive)", f, sv_open, "lines lw 2 dt 1"}};
-  if (controlled)
+  if (closed)
     systems.push_back({"closed loop (" + controller_name + ")", f, sv_closed, "lines lw 2 dt 2"});
   report::plot_singular_values(
       {sc.name + ": floor acceleration -> frame acceleration, singular values", "", "", true,
@@ -413,30 +499,28 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
     th.push_back(name + " open [dB]");
     tc.push_back(open);
     series.push_back({name + " open", f, open, "lines lw 2 dt 1" + colour});
-    if (!controlled) continue;
-    std::vector<double> closed;
-    for (std::size_t k = 0; k < f.size(); ++k) closed.push_back(db(std::abs(T[k](i, i))));
+    if (!closed) continue;
+    std::vector<double> closed_db;
+    for (std::size_t k = 0; k < f.size(); ++k) closed_db.push_back(db(std::abs(T[k](i, i))));
     th.push_back(name + " closed [dB]");
-    tc.push_back(closed);
-    series.push_back({name + " closed", f, closed, "lines lw 2 dt 2" + colour});
+    tc.push_back(closed_db);
+    series.push_back({name + " closed", f, closed_db, "lines lw 2 dt 2" + colour});
   }
   report::write_csv_columns(dir + "transmissibility.csv", th, tc);
-  report::plot_lines({sc.name + (controlled ? ": per-channel floor -> frame transmissibility "
-                                              "(solid open, dashed closed)"
-                                            : ": per-channel floor -> frame transmissibility"),
+  report::plot_lines({sc.name + (closed ? ": per-channel floor -> frame transmissibility "
+                                          "(solid open, dashed closed)"
+                                        : ": per-channel floor -> frame transmissibility"),
                       "frequency [Hz]", "|T_ii| [dB]", true, false, 1200, 700},
                      series, dir + "transmissibility.png");
 
   const auto [open_peak, open_f] = peak(sv_open, f);
-  if (!controlled) {
+  if (!closed) {
     std::printf("largest singular value: peak %.1f dB at %.2f Hz\n", db(open_peak), open_f);
     j["sigma_max_peak"] = {{"open_db", db(open_peak)}, {"open_hz", open_f}};
   } else {
     // What the controller does at each passive resonance (responses evaluated exactly there).
-    std::vector<double> fr(p.natural_frequencies_hz.data(),
-                           p.natural_frequencies_hz.data() + p.natural_frequencies_hz.size());
     const Eigen::MatrixXd at_open = lti::singular_values(lti::frequency_response(g11, fr));
-    const Eigen::MatrixXd at_closed = lti::singular_values(closed_response(fr));
+    const Eigen::MatrixXd at_closed = lti::singular_values(T_at_resonances);
     std::printf("at the passive resonances: largest singular value open -> closed loop\n");
     nlohmann::json at = nlohmann::json::array();
     for (std::size_t i = 0; i < fr.size(); ++i) {

@@ -100,8 +100,11 @@ HealthCheck mass_matrix(const scene::ScenePlant& p) {
   return {"mass matrix", text(f), verdict, ok};
 }
 
-HealthCheck sampled_loop(bool controlled, const std::optional<SampledLoopStability>& loop) {
-  if (!controlled) return {"sampled loop", "no controller", "plant alone", true};
+HealthCheck sampled_loop(const scene::ScenePlant& p,
+                         const std::optional<SampledLoopStability>& loop) {
+  if (scene::has_fmu_controller(p))
+    return {"sampled loop", "controller FMU, no matrices", "by simulation below", true};
+  if (!scene::has_controller(p)) return {"sampled loop", "no controller", "plant alone", true};
   if (!loop) return {"sampled loop", "not formed", "see the sampled loop's line above", false};
   std::ostringstream f;
   f.precision(6);
@@ -151,12 +154,8 @@ HealthCheck float_headroom(const plant::lti::DiscreteStateSpace& d) {
 std::vector<HealthCheck> numerical_health(const scene::ScenePlant& p,
                                           const plant::lti::DiscreteStateSpace& sampled_plant,
                                           const std::optional<SampledLoopStability>& loop) {
-  return {statics(p),
-          exponential(p, sampled_plant),
-          above_nyquist(p, sampled_plant),
-          mass_matrix(p),
-          sampled_loop(scene::has_controller(p), loop),
-          float_headroom(sampled_plant)};
+  return {statics(p),     exponential(p, sampled_plant), above_nyquist(p, sampled_plant),
+          mass_matrix(p), sampled_loop(p, loop),         float_headroom(sampled_plant)};
 }
 
 void print_health(const std::vector<HealthCheck>& checks) {
