@@ -1,6 +1,7 @@
 #pragma once
-// The fixture FMU the build zips (tools/fmu/pi_force_feedback) as the tests use it: its path, the
-// settings that run it as a given PI, and archives made from its parts (bad fixtures).
+// The fixture FMUs the build zips (tools/fmu) as the tests use them: their paths, the settings
+// that run them as a given PI or state-space controller, and archives made from the PI fixture's
+// parts (bad fixtures).
 #include <zip.h>
 
 #include <cstdlib>
@@ -10,8 +11,10 @@
 #include <map>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "artefact/pi_parameters.hpp"
+#include "artefact/state_space_parameters.hpp"
 #include "controller/fmu/fmu_archive.hpp"
 #include "controller/fmu/fmu_controller.hpp"
 
@@ -34,6 +37,14 @@ struct TemporaryDirectory {
 inline std::string pi_fmu_path() {
   return FLEXLOOP_PI_FMU;
 }
+/// The state-space fixture sized for the shipped LQG (12 states, 6 sensors, 6 actuators) and one
+/// of 1 state, 1 sensor, 1 actuator (tools/fmu/state_space_controller).
+inline std::string state_space_fmu_path() {
+  return FLEXLOOP_STATE_SPACE_FMU;
+}
+inline std::string state_space_1x1x1_fmu_path() {
+  return FLEXLOOP_STATE_SPACE_1X1X1_FMU;
+}
 
 /// Settings running the fixture as the PI `p` (6 channels, D22 = I, no delay): its gains, leak
 /// and (one value each) limits as parameters, inputs y1..y6, outputs u1..u6.
@@ -54,6 +65,39 @@ inline controller::fmu::FmuControllerSettings pi_fmu_settings(const artefact::Pi
   s.parameters.emplace_back("leak_rad_s", p.leak_rad_s);
   if (p.u_min.size() > 0) s.parameters.emplace_back("u_min", p.u_min(0));
   if (p.u_max.size() > 0) s.parameters.emplace_back("u_max", p.u_max(0));
+  return s;
+}
+
+/// Settings running a state-space fixture as `p` (no extra feedthrough delay: the fixture removes
+/// D22 times the command it answered last): A, B, C, D, D22 (zero when `p` has none), the limits
+/// per channel and anti_windup (0 none, 1 hold) as parameters, inputs y1.., outputs u1...
+inline controller::fmu::FmuControllerSettings state_space_fmu_settings(
+    const artefact::StateSpaceParameters& p, const std::string& file) {
+  if (p.feedthrough_delay != 0)
+    throw std::invalid_argument("the state-space fixture FMU has no feedthrough delay");
+  const Eigen::Index ns = p.B.cols(), nc = p.C.rows();
+  controller::fmu::FmuControllerSettings s;
+  s.file = file;
+  s.period = p.dt;
+  for (Eigen::Index i = 0; i < ns; ++i) s.inputs.push_back("y" + std::to_string(i + 1));
+  for (Eigen::Index i = 0; i < nc; ++i) s.outputs.push_back("u" + std::to_string(i + 1));
+  const auto matrix = [&](const std::string& name, const Eigen::MatrixXd& m) {
+    for (Eigen::Index i = 0; i < m.rows(); ++i)
+      for (Eigen::Index j = 0; j < m.cols(); ++j)
+        s.parameters.emplace_back(name + "_" + std::to_string(i + 1) + "_" + std::to_string(j + 1),
+                                  m(i, j));
+  };
+  matrix("A", p.A);
+  matrix("B", p.B);
+  matrix("C", p.C);
+  matrix("D", p.D);
+  matrix("D22", p.feedthrough.size() > 0 ? p.feedthrough : Eigen::MatrixXd::Zero(ns, nc));
+  for (const auto& [name, limit] : {std::pair{"u_min_", &p.u_min}, std::pair{"u_max_", &p.u_max}})
+    if (limit->size() > 0)  // one value for every channel, or one per channel
+      for (Eigen::Index i = 0; i < nc; ++i)
+        s.parameters.emplace_back(name + std::to_string(i + 1),
+                                  (*limit)(limit->size() == 1 ? 0 : i));
+  s.parameters.emplace_back("anti_windup", p.anti_windup == artefact::AntiWindup::kHold ? 1 : 0);
   return s;
 }
 

@@ -1,6 +1,7 @@
 // Bad controller FMUs are refused at start-up with an error naming the FMU file and what is wrong
 // (issue 33): each made here from the good fixture's parts, in a temporary directory.
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -134,4 +135,34 @@ TEST_CASE("An fmi2Error at initialisation is refused naming the call", "[fmu]") 
                               if (name.starts_with("K_P_")) value = name[4] == name[6] ? -1.0 : 0.0;
                           }),
                     f + ": fmi2ExitInitializationMode returned fmi2Error");
+}
+
+TEST_CASE("The state-space fixture refuses bad parameters at initialisation", "[fmu]") {
+  // A 12-state, 6-channel design with D22 = I; D = I makes I - D D22 singular (the loop through
+  // the sensors' feedthrough is ill-posed: the built-in controller refuses it too).
+  const auto f = flexloop::test::state_space_fmu_path();
+  flexloop::artefact::StateSpaceParameters p;
+  p.A = 0.5 * Eigen::MatrixXd::Identity(12, 12);
+  p.B = Eigen::MatrixXd::Ones(12, 6);
+  p.C = Eigen::MatrixXd::Ones(6, 12);
+  p.D = 0.5 * Eigen::MatrixXd::Identity(6, 6);
+  p.feedthrough = Eigen::MatrixXd::Identity(6, 6);
+  p.dt = 1e-4;
+  p.u_min = Eigen::VectorXd::Constant(1, -1.0);
+  p.u_max = Eigen::VectorXd::Constant(1, 1.0);
+  const auto start_with = [&](const flexloop::artefact::StateSpaceParameters& q,
+                              const std::string& name = "", double value = 0) {
+    auto s = flexloop::test::state_space_fmu_settings(q, f);
+    for (auto& [n, v] : s.parameters)
+      if (n == name) v = value;
+    (void)FmuController::from_settings(s);
+  };
+  const std::string refused = f + ": fmi2ExitInitializationMode returned fmi2Error";
+  CHECK_NOTHROW(start_with(p));
+  auto singular = p;
+  singular.D.setIdentity();
+  CHECK_THROWS_WITH(start_with(singular), refused);
+  CHECK_THROWS_WITH(start_with(p, "u_min_3", 2.0), refused);  // u_min > u_max
+  CHECK_THROWS_WITH(start_with(p, "A_2_5", std::nan("")), refused);
+  CHECK_THROWS_WITH(start_with(p, "anti_windup", 2.0), refused);
 }

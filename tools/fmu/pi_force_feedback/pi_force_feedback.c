@@ -13,10 +13,12 @@
  * Value references: 0..5 y, 6..11 u, 12..47 K_P (row major), 48..83 K_I, 84 leak_rad_s,
  * 85 u_min, 86 u_max, 87 y_max (modelDescription.xml lists them). */
 #include <math.h>
-#include <stdlib.h>
 #include <string.h>
 
 #include "controller/fmu/fmi2.h"
+
+#define FMU_NAME "pi_force_feedback"
+#define FMU_GUID "{5f1d8c2e-33a0-4b6e-9d1c-pi-force-feedback-1}"
 
 #define N 6
 #define VR_Y 0
@@ -28,8 +30,8 @@
 #define VR_UMAX (VR_UMIN + 1)
 #define VR_YMAX (VR_UMAX + 1)
 #define VR_COUNT (VR_YMAX + 1)
-
-#define EXPORT __attribute__((visibility("default")))
+#define VR_OUTPUTS VR_U
+#define VR_PARAMETERS VR_KP
 
 typedef struct {
   double values[VR_COUNT]; /* every variable by value reference */
@@ -41,45 +43,17 @@ typedef struct {
   const fmi2CallbackFunctions* callbacks;
 } Instance;
 
-static void log_error(Instance* in, const char* message) {
-  if (in->callbacks && in->callbacks->logger)
-    in->callbacks->logger(in->callbacks->componentEnvironment, "pi_force_feedback", fmi2Error,
-                          "logStatusError", "%s", message);
-}
+#include "tools/fmu/fixture_fmu.h"
 
-/* X = -(I + K_P)^-1 M by Gauss-Jordan elimination with partial pivoting. 0 when singular. */
+/* X = -(I + K_P)^-1 M. 0 when singular. */
 static int solve_gains(const double* K_P, const double* M, double X[N][N]) {
-  double A[N][N], B[N][N];
+  double A[N][N];
   for (int i = 0; i < N; ++i)
     for (int j = 0; j < N; ++j) {
       A[i][j] = K_P[i * N + j] + (i == j ? 1.0 : 0.0);
-      B[i][j] = -M[i * N + j];
+      X[i][j] = -M[i * N + j];
     }
-  for (int k = 0; k < N; ++k) {
-    int p = k;
-    for (int i = k + 1; i < N; ++i)
-      if (fabs(A[i][k]) > fabs(A[p][k])) p = i;
-    if (A[p][k] == 0.0) return 0;
-    for (int j = 0; j < N; ++j) {
-      double t = A[k][j];
-      A[k][j] = A[p][j];
-      A[p][j] = t;
-      t = B[k][j];
-      B[k][j] = B[p][j];
-      B[p][j] = t;
-    }
-    for (int i = 0; i < N; ++i) {
-      if (i == k) continue;
-      const double m = A[i][k] / A[k][k];
-      for (int j = 0; j < N; ++j) {
-        A[i][j] -= m * A[k][j];
-        B[i][j] -= m * B[k][j];
-      }
-    }
-  }
-  for (int i = 0; i < N; ++i)
-    for (int j = 0; j < N; ++j) X[i][j] = B[i][j] / A[i][i];
-  return 1;
+  return gauss_jordan(N, N, &A[0][0], &X[0][0]);
 }
 
 static void reset_state(Instance* in) {
@@ -92,100 +66,20 @@ static void reset_state(Instance* in) {
   in->initialised = 0;
 }
 
-EXPORT const char* fmi2GetTypesPlatform(void) {
-  return "default";
-}
-EXPORT const char* fmi2GetVersion(void) {
-  return "2.0";
-}
-
-EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n,
-                                      const fmi2String categories[]) {
-  (void)c, (void)on, (void)n, (void)categories;
-  return fmi2OK;
-}
-
-EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
-                                     fmi2String resources, const fmi2CallbackFunctions* callbacks,
-                                     fmi2Boolean visible, fmi2Boolean logging) {
-  (void)name, (void)resources, (void)visible, (void)logging;
-  if (type != fmi2CoSimulation || !guid ||
-      strcmp(guid, "{5f1d8c2e-33a0-4b6e-9d1c-pi-force-feedback-1}") != 0)
-    return NULL;
-  Instance* in = calloc(1, sizeof *in);
-  if (!in) return NULL;
-  in->callbacks = callbacks;
-  reset_state(in);
-  return in;
-}
-
-EXPORT void fmi2FreeInstance(fmi2Component c) {
-  free(c);
-}
-
-EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_defined, fmi2Real tol,
-                                      fmi2Real start, fmi2Boolean stop_defined, fmi2Real stop) {
-  (void)c, (void)tol_defined, (void)tol, (void)start, (void)stop_defined, (void)stop;
-  return fmi2OK;
-}
-
-EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
-  (void)c;
-  return fmi2OK;
-}
-
-EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
-  Instance* in = c;
+static int initialise(Instance* in) {
   if (!solve_gains(&in->values[VR_KP], &in->values[VR_KP], in->G_f) ||
       !solve_gains(&in->values[VR_KP], &in->values[VR_KI], in->G_x)) {
     log_error(in, "I + K_P is singular");
-    return fmi2Error;
+    return 0;
   }
   if (!(in->values[VR_LEAK] >= 0) || !(in->values[VR_UMIN] <= in->values[VR_UMAX])) {
     log_error(in, "leak_rad_s < 0 or u_min > u_max");
-    return fmi2Error;
+    return 0;
   }
-  in->initialised = 1;
-  return fmi2OK;
+  return 1;
 }
 
-EXPORT fmi2Status fmi2Terminate(fmi2Component c) {
-  (void)c;
-  return fmi2OK;
-}
-
-EXPORT fmi2Status fmi2Reset(fmi2Component c) {
-  reset_state(c);
-  return fmi2OK;
-}
-
-EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                              fmi2Real value[]) {
-  Instance* in = c;
-  for (size_t i = 0; i < n; ++i) {
-    if (vr[i] >= VR_COUNT) return fmi2Error;
-    value[i] = in->values[vr[i]];
-  }
-  return fmi2OK;
-}
-
-EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
-                              const fmi2Real value[]) {
-  Instance* in = c;
-  for (size_t i = 0; i < n; ++i) {
-    /* Parameters are fixed once initialised; the commands are outputs. */
-    if (vr[i] >= VR_COUNT || (vr[i] >= VR_U && vr[i] < VR_KP) ||
-        (in->initialised && vr[i] >= VR_KP))
-      return fmi2Error;
-    in->values[vr[i]] = value[i];
-  }
-  return fmi2OK;
-}
-
-EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_set_prior) {
-  (void)t, (void)no_set_prior;
-  Instance* in = c;
-  if (!in->initialised || !(h > 0)) return fmi2Error;
+static fmi2Status step(Instance* in, double h) {
   if (h != in->h_gains) { /* the leak's discrete form for this step size */
     const double w = in->values[VR_LEAK];
     in->a = exp(-w * h);

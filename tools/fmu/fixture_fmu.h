@@ -1,0 +1,147 @@
+#ifndef FLEXLOOP_TOOLS_FMU_FIXTURE_FMU_H
+#define FLEXLOOP_TOOLS_FMU_FIXTURE_FMU_H
+/* What the project's fixture FMUs (tools/fmu) share: the FMI 2.0 entry points that only store
+ * values (every variable a real, kept in `values` by value reference), the error logger and a
+ * small linear solve. Included once by each fixture's C file, after it has defined FMU_NAME,
+ * FMU_GUID, VR_OUTPUTS (the first output's value reference; inputs come before it), VR_PARAMETERS
+ * (the first parameter's; outputs before it), VR_COUNT and the type Instance (at least
+ * `double values[VR_COUNT]`, `int initialised`, `const fmi2CallbackFunctions* callbacks`). The
+ * fixture defines its law: reset_state (at instantiation and fmi2Reset), initialise (at
+ * fmi2ExitInitializationMode: 0 refuses the parameters, after log_error) and step (fmi2DoStep,
+ * once initialised, h > 0). Nothing here allocates but fmi2Instantiate. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "controller/fmu/fmi2.h"
+
+#define EXPORT __attribute__((visibility("default")))
+
+static void reset_state(Instance* in);
+static int initialise(Instance* in);
+static fmi2Status step(Instance* in, double h);
+
+static void log_error(Instance* in, const char* message) {
+  if (in->callbacks && in->callbacks->logger)
+    in->callbacks->logger(in->callbacks->componentEnvironment, FMU_NAME, fmi2Error,
+                          "logStatusError", "%s", message);
+}
+
+/* Solves M X = R by Gauss-Jordan elimination with partial pivoting, both row major: M (n x n) is
+ * overwritten, R (n x m) becomes X. 0 when M is singular (a zero pivot). */
+static int gauss_jordan(int n, int m, double* M, double* R) {
+  for (int k = 0; k < n; ++k) {
+    int p = k;
+    for (int i = k + 1; i < n; ++i)
+      if (fabs(M[i * n + k]) > fabs(M[p * n + k])) p = i;
+    if (M[p * n + k] == 0.0) return 0;
+    for (int j = 0; j < n; ++j) {
+      const double t = M[k * n + j];
+      M[k * n + j] = M[p * n + j];
+      M[p * n + j] = t;
+    }
+    for (int j = 0; j < m; ++j) {
+      const double t = R[k * m + j];
+      R[k * m + j] = R[p * m + j];
+      R[p * m + j] = t;
+    }
+    for (int i = 0; i < n; ++i) {
+      if (i == k) continue;
+      const double f = M[i * n + k] / M[k * n + k];
+      for (int j = 0; j < n; ++j) M[i * n + j] -= f * M[k * n + j];
+      for (int j = 0; j < m; ++j) R[i * m + j] -= f * R[k * m + j];
+    }
+  }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < m; ++j) R[i * m + j] /= M[i * n + i];
+  return 1;
+}
+
+EXPORT const char* fmi2GetTypesPlatform(void) {
+  return "default";
+}
+EXPORT const char* fmi2GetVersion(void) {
+  return "2.0";
+}
+
+EXPORT fmi2Status fmi2SetDebugLogging(fmi2Component c, fmi2Boolean on, size_t n,
+                                      const fmi2String categories[]) {
+  (void)c, (void)on, (void)n, (void)categories;
+  return fmi2OK;
+}
+
+EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String guid,
+                                     fmi2String resources, const fmi2CallbackFunctions* callbacks,
+                                     fmi2Boolean visible, fmi2Boolean logging) {
+  (void)name, (void)resources, (void)visible, (void)logging;
+  if (type != fmi2CoSimulation || !guid || strcmp(guid, FMU_GUID) != 0) return NULL;
+  Instance* in = calloc(1, sizeof *in);
+  if (!in) return NULL;
+  in->callbacks = callbacks;
+  reset_state(in);
+  return in;
+}
+
+EXPORT void fmi2FreeInstance(fmi2Component c) {
+  free(c);
+}
+
+EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_defined, fmi2Real tol,
+                                      fmi2Real start, fmi2Boolean stop_defined, fmi2Real stop) {
+  (void)c, (void)tol_defined, (void)tol, (void)start, (void)stop_defined, (void)stop;
+  return fmi2OK;
+}
+
+EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
+  (void)c;
+  return fmi2OK;
+}
+
+EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
+  Instance* in = c;
+  if (!initialise(in)) return fmi2Error;
+  in->initialised = 1;
+  return fmi2OK;
+}
+
+EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_set_prior) {
+  (void)t, (void)no_set_prior;
+  Instance* in = c;
+  if (!in->initialised || !(h > 0)) return fmi2Error;
+  return step(in, h);
+}
+
+EXPORT fmi2Status fmi2Terminate(fmi2Component c) {
+  (void)c;
+  return fmi2OK;
+}
+
+EXPORT fmi2Status fmi2Reset(fmi2Component c) {
+  reset_state(c);
+  return fmi2OK;
+}
+
+EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
+                              fmi2Real value[]) {
+  Instance* in = c;
+  for (size_t i = 0; i < n; ++i) {
+    if (vr[i] >= VR_COUNT) return fmi2Error;
+    value[i] = in->values[vr[i]];
+  }
+  return fmi2OK;
+}
+
+EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
+                              const fmi2Real value[]) {
+  Instance* in = c;
+  for (size_t i = 0; i < n; ++i) {
+    /* Parameters are fixed once initialised; the outputs are the FMU's own. */
+    if (vr[i] >= VR_COUNT || (vr[i] >= VR_OUTPUTS && vr[i] < VR_PARAMETERS) ||
+        (in->initialised && vr[i] >= VR_PARAMETERS))
+      return fmi2Error;
+    in->values[vr[i]] = value[i];
+  }
+  return fmi2OK;
+}
+
+#endif
