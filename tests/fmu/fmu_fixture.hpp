@@ -68,13 +68,11 @@ inline controller::fmu::FmuControllerSettings pi_fmu_settings(const artefact::Pi
   return s;
 }
 
-/// Settings running a state-space fixture as `p` (no extra feedthrough delay: the fixture removes
-/// D22 times the command it answered last): A, B, C, D, D22 (zero when `p` has none), the limits
-/// per channel and anti_windup (0 none, 1 hold) as parameters, inputs y1.., outputs u1...
+/// Settings running a state-space fixture as `p`: A, B, C, D, D22 (zero when `p` has none), the
+/// limits per channel, anti_windup (0 none, 1 hold) and feedthrough_delay as parameters, inputs
+/// y1.., outputs u1...
 inline controller::fmu::FmuControllerSettings state_space_fmu_settings(
     const artefact::StateSpaceParameters& p, const std::string& file) {
-  if (p.feedthrough_delay != 0)
-    throw std::invalid_argument("the state-space fixture FMU has no feedthrough delay");
   const Eigen::Index ns = p.B.cols(), nc = p.C.rows();
   controller::fmu::FmuControllerSettings s;
   s.file = file;
@@ -98,6 +96,7 @@ inline controller::fmu::FmuControllerSettings state_space_fmu_settings(
         s.parameters.emplace_back(name + std::to_string(i + 1),
                                   (*limit)(limit->size() == 1 ? 0 : i));
   s.parameters.emplace_back("anti_windup", p.anti_windup == artefact::AntiWindup::kHold ? 1 : 0);
+  s.parameters.emplace_back("feedthrough_delay", p.feedthrough_delay);
   return s;
 }
 

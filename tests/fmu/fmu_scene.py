@@ -8,8 +8,8 @@ beside it, the model path absolute, and the built-in controller's numbers as the
   of tools/fmu/pi_force_feedback.
 - state_space (e.g. `flexloop build tools/scenes/metrology_frame_lqg.toml`): the artefact's own
   scene (its provenance, from SOURCE_DIR) with its [controller] table replaced by the FMU, the
-  channels mapped to y1.., u1.., the discrete A, B, C, D, the feedthrough D22, the limits and the
-  anti-windup as the parameters of tools/fmu/state_space_controller (of the design's size).
+  channels mapped to y1.., u1.., the discrete A, B, C, D, the feedthrough D22 and its delay, the
+  limits and the anti-windup as the parameters of tools/fmu/state_space_controller (of the design's size).
 
   tests/fmu/fmu_scene.py SOURCE_DIR FMU LOOP.json DIR     # prints the scene's path
 """
@@ -45,7 +45,6 @@ if c["type"] == "pi_force_feedback":
     scene = out / "metrology_frame_fmu.toml"
 else:
     assert c["type"] == "state_space", c["type"]
-    assert c["feedthrough_delay"] == 0, "the state-space fixture FMU has no feedthrough delay"
     source = root / artefact["provenance"]["scene"]
     text = source.read_text()
     model = re.search(r'^model = "(.*)"', text, re.M)
@@ -68,6 +67,7 @@ else:
             lines += [f"{limit}_{i + 1} = {c[limit][i if len(c[limit]) > 1 else 0]!r}"
                       for i in range(len(actuators))]
     lines.append(f"anti_windup = {1 if c['anti_windup'] == 'hold' else 0}")
+    lines.append(f"feedthrough_delay = {c['feedthrough_delay']}")
     scene = out / (source.stem + "_fmu.toml")
 scene.write_text(text + "\n".join(lines) + "\n")
 print(scene)

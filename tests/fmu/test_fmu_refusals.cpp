@@ -165,4 +165,6 @@ TEST_CASE("The state-space fixture refuses bad parameters at initialisation", "[
   CHECK_THROWS_WITH(start_with(p, "u_min_3", 2.0), refused);  // u_min > u_max
   CHECK_THROWS_WITH(start_with(p, "A_2_5", std::nan("")), refused);
   CHECK_THROWS_WITH(start_with(p, "anti_windup", 2.0), refused);
+  CHECK_THROWS_WITH(start_with(p, "feedthrough_delay", 1.5), refused);
+  CHECK_THROWS_WITH(start_with(p, "feedthrough_delay", 33.0), refused);
 }

@@ -90,10 +90,10 @@ void check_same_log(const char* what, const flexloop::sim::RunResult& a,
 }
 
 // The scene `path` (run from the repository root) written into `dir` as `name` with its model
-// path absolute and its [controller] table (to the next table not under it) replaced by
-// `controller`.
+// path absolute, its [controller] table (to the next table not under it) replaced by
+// `controller` and `appended` at its end.
 std::string with_controller(const std::string& path, const fs::path& dir, const std::string& name,
-                            const std::string& controller) {
+                            const std::string& controller, const std::string& appended = "") {
   std::string text = flexloop::test::read_bytes(path);
   const std::string key = "model = \"../models/";
   const auto model = text.find(key);
@@ -106,7 +106,7 @@ std::string with_controller(const std::string& path, const fs::path& dir, const 
   while (to != std::string::npos && text.compare(to, 12, "\n[controller") == 0);
   text.replace(from + 1, to == std::string::npos ? std::string::npos : to - from - 1, controller);
   const fs::path scene = dir / name;
-  std::ofstream(scene) << text;
+  std::ofstream(scene) << text << appended;
   return scene.string();
 }
 
@@ -195,8 +195,8 @@ TEST_CASE("sim with the shipped LQG as the state-space fixture FMU equals sim wi
       flexloop::scene::load_loop(scene, {.rate_hz = 0, .form = {}, .duration_s = kDuration});
   REQUIRE(fmu.controller == ControllerKind::kFmu);
   CHECK(fmu.fmu.sha256 == flexloop::scene::file_sha256(flexloop::test::state_space_fmu_path()));
-  // A, B, C, D, D22, six limits each side and the anti-windup.
-  CHECK(fmu.fmu.parameters.size() == 144 + 72 + 72 + 36 + 36 + 6 + 6 + 1);
+  // A, B, C, D, D22, six limits each side, the anti-windup and the feedthrough delay.
+  CHECK(fmu.fmu.parameters.size() == 144 + 72 + 72 + 36 + 36 + 6 + 6 + 1 + 1);
   CHECK(fmu.fmu.inputs.front() == "y1");
   CHECK(fmu.fmu.outputs.back() == "u6");
 
@@ -209,7 +209,8 @@ TEST_CASE("sim with the cart's PI as the one-state fixture FMU equals sim with i
   using flexloop::artefact::ControllerKind;
   // The cart's PI (one channel, D22 = 1, D = -K_P: E = 1 / (1 + K_P)) as a continuous controller
   // file; flexloop discretises it at the scene's 1 kHz, so 10 000 samples are 10 s. Unlimited
-  // with no anti-windup, then limited to 0.03 N (the unlimited run peaks near 0.07 N) with "hold".
+  // with no anti-windup; limited to 0.03 N (the unlimited run peaks near 0.07 N) with "hold"; a
+  // transport delay of 2 samples (the FMU removes D22 u_{k-3}).
   const flexloop::test::TemporaryDirectory temporary;
   const fs::path& dir = temporary.path;
   const std::string cart = "tools/scenes/cart.toml";
@@ -219,12 +220,27 @@ TEST_CASE("sim with the cart's PI as the one-state fixture FMU equals sim with i
       file, flexloop::controller::design::pi_state_space(
                 flexloop::scene::build_scene_plant(sc).gains, sc.sensors, sc.actuators));
   const double seconds = 10.0, limit = 0.03;
-  for (const bool limited : {false, true}) {
+  struct Case {
+    const char* what;
+    const char* controller;  // the [controller] keys beyond type and file
+    const char* appended;    // tables appended to the scene
+    bool limited;
+    int delay;
+  };
+  for (const Case& c :
+       {Case{"sim cart PI as a 1-state controller, unlimited: state-space FMU vs built-in",
+             "anti_windup = \"none\"\n", "", false, 0},
+        Case{"sim cart PI as a 1-state controller, limit 0.03 N, anti-windup hold: state-space FMU "
+             "vs built-in",
+             "anti_windup = \"hold\"\nforce_limit_n = 0.03\n", "", true, 0},
+        Case{"sim cart PI as a 1-state controller, transport delay 2 samples: state-space FMU vs "
+             "built-in",
+             "anti_windup = \"none\"\n", "\n[effects.transport_delay]\nsamples = 2\n", false, 2}}) {
     const std::string state_space =
         with_controller(cart, dir, "cart_state_space.toml",
                         "[controller]\ntype = \"state_space\"\nfile = \"" + file.string() + "\"\n" +
-                            (limited ? "anti_windup = \"hold\"\nforce_limit_n = 0.03\n\n"
-                                     : "anti_windup = \"none\"\n\n"));
+                            c.controller + "\n",
+                        c.appended);
     const auto builtin =
         flexloop::scene::load_loop(state_space, {.rate_hz = 0, .form = {}, .duration_s = seconds});
     REQUIRE(builtin.controller == ControllerKind::kStateSpace);
@@ -233,25 +249,23 @@ TEST_CASE("sim with the cart's PI as the one-state fixture FMU equals sim with i
     REQUIRE(p.feedthrough.size() == 1);
     REQUIRE(p.feedthrough(0, 0) != 0);
     REQUIRE(p.D(0, 0) != 0);
-    REQUIRE(p.u_max.size() == (limited ? 1 : 0));
+    REQUIRE(p.u_max.size() == (c.limited ? 1 : 0));
+    REQUIRE(p.feedthrough_delay == c.delay);
 
     fs::remove(dir / "state_space_controller_1x1x1.fmu");
     const std::string scene =
         with_controller(cart, dir, "cart_fmu.toml",
                         state_space_fmu_controller(p, flexloop::test::state_space_1x1x1_fmu_path(),
-                                                   dir, sc.sensors, sc.actuators));
+                                                   dir, sc.sensors, sc.actuators),
+                        c.appended);
     const auto fmu =
         flexloop::scene::load_loop(scene, {.rate_hz = 0, .form = {}, .duration_s = seconds});
     REQUIRE(fmu.controller == ControllerKind::kFmu);
-    // A, B, C, D, D22, the limits if any and the anti-windup.
-    CHECK(fmu.fmu.parameters.size() == (limited ? 8u : 6u));
+    // A, B, C, D, D22, the limits if any, the anti-windup and the feedthrough delay.
+    CHECK(fmu.fmu.parameters.size() == (c.limited ? 9u : 7u));
 
     const auto a = run_on(builtin);
-    check_same_log(limited ? "sim cart PI as a 1-state controller, limit 0.03 N, anti-windup hold: "
-                             "state-space FMU vs built-in"
-                           : "sim cart PI as a 1-state controller, unlimited: state-space FMU vs "
-                             "built-in",
-                   a, run_on(fmu), 1);
-    if (limited) CHECK(a.log.matrix().rightCols(1).cwiseAbs().maxCoeff() == limit);  // it binds
+    check_same_log(c.what, a, run_on(fmu), 1);
+    if (c.limited) CHECK(a.log.matrix().rightCols(1).cwiseAbs().maxCoeff() == limit);  // binds
   }
 }

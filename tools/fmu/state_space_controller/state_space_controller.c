@@ -2,21 +2,21 @@
  * (controller/runtime/state_space_controller.hpp) for a fixture FMU (issue 33), sized at compile
  * time (NX states, NS sensors, NC actuators; tools/fmu/CMakeLists.txt builds one FMU per size and
  * writes its modelDescription.xml). An FMU reads the sensors as they are, so this one removes the
- * held command's feedthrough itself, from the command it answered at the previous step (no extra
- * delay):
+ * held command's feedthrough itself, from the commands it answered (d: the feedthrough delay,
+ * samples between a command and the measurement that first contains it beyond the loop's one):
  *
- *   f_k = y_k - D22 u_{k-1}
+ *   f_k = y_k - D22 u_{k-1-d}
  *   v_k = E (C x_k + D f_k),   E = (I - D D22)^-1
  *   u_k = clamp(v_k, u_min, u_max)               per channel
  *   x_{k+1} = A x_k + B f_k + (B D22) u_k         (anti_windup = 1: x holds while a channel clamps)
  *
- * Parameters (row major, i, j from 1): A_i_j, B_i_j, C_i_j, D_i_j, D22_i_j, u_min_i, u_max_i and
- * anti_windup (0: none, 1: hold). Inputs y1..yNS, outputs u1..uNC. fmi2ExitInitializationMode
- * refuses (fmi2Error) I - D D22 singular, a non-finite matrix entry, u_min > u_max or another
- * anti_windup. Value references in the order above: y, u, A, B, C, D, D22, u_min, u_max,
- * anti_windup. The matrices are the design at the loop's period; fmi2DoStep does not check h
- * against it. Nothing is allocated after fmi2Instantiate (the entry points that only store values
- * are tools/fmu/fixture_fmu.h's). */
+ * Parameters (row major, i, j from 1): A_i_j, B_i_j, C_i_j, D_i_j, D22_i_j, u_min_i, u_max_i,
+ * anti_windup (0: none, 1: hold) and feedthrough_delay (d, 0 .. MAX_DELAY). Inputs y1..yNS,
+ * outputs u1..uNC. fmi2ExitInitializationMode refuses (fmi2Error) I - D D22 singular, a non-finite
+ * matrix entry, u_min > u_max, another anti_windup or feedthrough_delay. Value references in the
+ * order above: y, u, A, B, C, D, D22, u_min, u_max, anti_windup, feedthrough_delay. The matrices
+ * are the design at the loop's period; fmi2DoStep does not check h against it. Nothing is allocated
+ * after fmi2Instantiate (the entry points that only store values are tools/fmu/fixture_fmu.h's). */
 #include <math.h>
 #include <string.h>
 
@@ -42,7 +42,10 @@
 #define VR_UMIN (VR_D22 + NS * NC)
 #define VR_UMAX (VR_UMIN + NC)
 #define VR_AW (VR_UMAX + NC)
-#define VR_COUNT (VR_AW + 1)
+#define VR_DELAY (VR_AW + 1)
+#define VR_COUNT (VR_DELAY + 1)
+/* The longest feedthrough delay (flexloop's own, artefact/pi_parameters.hpp). */
+#define MAX_DELAY 32
 #define VR_OUTPUTS VR_U
 #define VR_PARAMETERS VR_A
 
@@ -50,7 +53,8 @@ typedef struct {
   double values[VR_COUNT]; /* every variable by value reference; u: the command held */
   double EC[NC][NX1], ED[NC][NS], BD22[NX1][NC];
   double x[NX1];
-  int hold;
+  double sent[MAX_DELAY + 1][NC]; /* the commands answered, a ring: sent[head] the last */
+  int head, delay, hold;
   int initialised;
   const fmi2CallbackFunctions* callbacks;
 } Instance;
@@ -82,6 +86,8 @@ static int solve_output(Instance* in) {
 static void reset_state(Instance* in) {
   memset(in->values, 0, sizeof in->values);
   memset(in->x, 0, sizeof in->x);
+  memset(in->sent, 0, sizeof in->sent);
+  in->head = 0;
   for (int i = 0; i < NC; ++i) {
     in->values[VR_UMIN + i] = -INFINITY;
     in->values[VR_UMAX + i] = INFINITY;
@@ -115,19 +121,26 @@ static int initialise(Instance* in) {
       for (int k = 0; k < NS; ++k) s += AT(VR_B, NS, i, k) * AT(VR_D22, NC, k, j);
       in->BD22[i][j] = s;
     }
+  const double d = in->values[VR_DELAY];
+  if (!(d >= 0 && d <= MAX_DELAY && d == floor(d))) {
+    log_error(in, "feedthrough_delay must be a whole number of samples, 0 .. 32");
+    return 0;
+  }
   in->hold = aw == 1.0;
+  in->delay = (int)d;
   return 1;
 }
 
 static fmi2Status step(Instance* in, double h) {
   (void)h;
   const double* y = &in->values[VR_Y];
-  double* u = &in->values[VR_U]; /* the command held until now, then the new one */
+  double* u = &in->values[VR_U];
+  const double* held = in->sent[(in->head - in->delay + MAX_DELAY + 1) % (MAX_DELAY + 1)];
   const double *lo = &in->values[VR_UMIN], *hi = &in->values[VR_UMAX];
   double f[NS], v[NC], x_next[NX1];
   for (int i = 0; i < NS; ++i) {
     double s = 0;
-    for (int j = 0; j < NC; ++j) s += AT(VR_D22, NC, i, j) * u[j];
+    for (int j = 0; j < NC; ++j) s += AT(VR_D22, NC, i, j) * held[j];
     f[i] = y[i] - s;
   }
   for (int i = 0; i < NC; ++i) {
@@ -152,5 +165,7 @@ static fmi2Status step(Instance* in, double h) {
     }
     memcpy(in->x, x_next, sizeof(double) * NX);
   }
+  in->head = (in->head + 1) % (MAX_DELAY + 1);
+  memcpy(in->sent[in->head], u, sizeof(double) * NC);
   return fmi2OK;
 }
