@@ -196,6 +196,10 @@ void print_hil_summary(const nlohmann::json& r) {
   print_line("plant compute (TET)", r["plant_compute_ns"]);
   if (!open_loop) {
     print_line("controller compute", r["controller_compute_ns"]);
+    // What the controller process watched of the controller (online/loop/real_time_promises.hpp).
+    if (const auto p = controller.find("real_time_promises");
+        p != controller.end() && p->contains("summary"))
+      std::printf("  controller's %s\n", (*p)["summary"].get<std::string>().c_str());
     std::printf("  baseline ping-pong: %lld of %lld pings unanswered within the period (%.3f %%)\n",
                 pp.value("unanswered", 0LL), pp.value("sent", 0LL),
                 percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)));

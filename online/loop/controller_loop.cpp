@@ -10,20 +10,27 @@
 #include "online/sim/loop_hardware.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/monotonic_time.hpp"
+#include "rt/thread_allocations.hpp"
 
 namespace flexloop::loop {
 
 namespace {
 
-// The cycle: one sample's answer, timed, published, accounted. No allocation, lock or exception
-// (ControllerStation::answer, LcmPublisher::publish, LatencyHistogram::record).
+// The cycle: one sample's answer, timed, its allocations counted, published, accounted. No
+// allocation, lock or exception (ControllerStation::answer, LcmPublisher::publish,
+// LatencyHistogram::record); a controller that allocates is counted, not stopped.
 template <class Controller>
 void answer_sample(ControllerStation<Controller>& station, const flexloop_msgs::sensor_sample_t& s,
                    rt::LcmPublisher<flexloop_msgs::actuator_command_t>& command,
                    ControllerLoopResult& r) noexcept {
+  const std::uint64_t a0 = rt::thread_allocations();
   const std::int64_t t0 = rt::monotonic_now_ns();
   flexloop_msgs::actuator_command_t& cmd = station.answer(s);
   const std::int64_t t1 = rt::monotonic_now_ns();
+  if (const std::uint64_t made = rt::thread_allocations() - a0; made > 0) {
+    r.allocations += static_cast<std::int64_t>(made);
+    ++r.answers_allocating;
+  }
   cmd.controller_compute_ns = t1 - t0;
   cmd.t_ns = t1;
   command.publish(cmd);
@@ -42,6 +49,8 @@ ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
   install_stop_handlers();
 
   ControllerLoopResult r;
+  r.period_ns = period_ns;
+  r.allocations_counted = rt::allocations_counted();
   // The start the plant process draws: the same artefact, the same seeds, the same numbers.
   typename ControllerStation<Controller>::Start start;
   const auto& stationary = sim::run_start(loop);
@@ -121,7 +130,13 @@ nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopO
       {"response_ns", summary_json(*r.response)},
       {"cpu", o.realtime.cpu},
       {"fifo", r.fifo},
-      {"controller_setup", r.setup}};
+      {"controller_setup", r.setup},
+      {"real_time_promises", real_time_promises_json(answer_watch(r))}};
+}
+
+AnswerWatch answer_watch(const ControllerLoopResult& r) {
+  return {r.allocations_counted, r.allocations, r.answers_allocating, r.answered,
+          r.compute->summary(),  r.period_ns,   r.controller_failure};
 }
 
 }  // namespace flexloop::loop

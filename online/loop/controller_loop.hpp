@@ -15,6 +15,7 @@
 
 #include "artefact/loop_artefact.hpp"
 #include "online/loop/loop_options.hpp"
+#include "online/loop/real_time_promises.hpp"
 #include "rt/latency_histogram.hpp"
 #include "rt/message_validation.hpp"
 
@@ -33,6 +34,12 @@ struct ControllerLoopResult {
   /// A controller FMU's first call that returned fmi2Error or fmi2Fatal, with its sample; empty
   /// while none has (from then on the process answered with the safe command, zero force).
   std::string controller_failure;
+  /// Allocations made while answering (rt/thread_allocations.hpp), in all answers and the
+  /// answers that made any; 0 where the program does not count (allocations_counted false).
+  std::int64_t allocations = 0;
+  std::int64_t answers_allocating = 0;
+  bool allocations_counted = false;
+  std::int64_t period_ns = 0;
   rt::DropCounts drops;
   std::string setup;
   bool fifo = false;
@@ -46,6 +53,11 @@ ControllerLoopResult run_controller_loop(const LoopOptions& options,
                                          const artefact::LoopArtefact& loop,
                                          const std::function<void()>& ready = {});
 
+/// The process's counts, times, and which real-time promises the controller kept
+/// ("real_time_promises", online/loop/real_time_promises.hpp).
 nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopOptions& o);
+
+/// What the process watched of the controller (real_time_promises.hpp).
+AnswerWatch answer_watch(const ControllerLoopResult& r);
 
 }  // namespace flexloop::loop

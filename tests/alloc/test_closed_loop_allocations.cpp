@@ -1,6 +1,6 @@
 // No allocation inside a step (doc/design.md §6): 10^6 closed-loop steps of the metrology plant
 // with the PI controller, after a warm-up, in every plant form and scalar, with the allocation
-// functions of this executable replaced by counting ones (allocation_counter.cpp). First the
+// functions of this executable replaced by counting ones (rt/counting_malloc). First the
 // counter is shown to see operator new, malloc and an Eigen dynamic-size temporary.
 #include <catch2/catch.hpp>
 

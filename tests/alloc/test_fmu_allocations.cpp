@@ -1,7 +1,7 @@
 // No allocation inside a step of a controller FMU (issue 33), on flexloop's side or in the
 // project's fixture FMUs (tools/fmu/pi_force_feedback, tools/fmu/state_space_controller):
 // fmi2SetReal, fmi2DoStep and fmi2GetReal over preallocated value references and buffers, 10^4
-// steps after a warm-up, counted by allocation_counter.cpp. (A user's FMU may allocate in its own
+// steps after a warm-up, counted by rt/counting_malloc. (A user's FMU may allocate in its own
 // code; this counts what we do.)
 #include <catch2/catch.hpp>
 #include <cmath>

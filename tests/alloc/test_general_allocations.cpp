@@ -2,7 +2,7 @@
 // (dense and modal) with every simulated-hardware effect at start-up-sized channel counts (VC
 // floor, lagged piezo, sensor chains on both output kinds, transport delay) and the general PI,
 // 10^4 .. 10^5 closed-loop steps after a warm-up, at several sizes from 4 to 200 states and from
-// 1 to 64 channels of a kind, counted by allocation_counter.cpp.
+// 1 to 64 channels of a kind, counted by rt/counting_malloc.
 #include <catch2/catch.hpp>
 
 #include "controller/runtime/general_pi_controller.hpp"

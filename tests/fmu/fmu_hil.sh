@@ -7,7 +7,9 @@
 #      reports beside it (a run outside is repeated once: this VM's stalls come in bursts);
 #   2. an FMU whose fmi2DoStep returns fmi2Error (a sensor overload: y_max below the forces the
 #      floor drives) stops hil before its loop (exit 2: sim's prediction meets it first), and
-#      fails the controller process's verdict (exit 3), each naming the call and the sample.
+#      fails the controller process's verdict (exit 3), each naming the call and the sample;
+#   3. an FMU that allocates in its step is counted by the controller process (2 per answer),
+#      which says the promise of no allocation is broken; the fixture as shipped keeps it (1.).
 #   tests/fmu/fmu_hil.sh FLEXLOOP FMU SOURCE_DIR
 set -uo pipefail
 flexloop=$1 fmu=$2 root=$3
@@ -29,18 +31,33 @@ out=$("$flexloop" hil "$tmp/overload.json" --netns --duration 0.5 --cpu -1 --pri
 [[ ! -e "$tmp/overload_report.json" ]] || fail "hil wrote a report for a run it did not make"
 [[ $rc -eq 2 && "$out" == *"pi_force_feedback.fmu: fmi2DoStep returned fmi2Error at sample 0"* ]] ||
   fail "hil with a failing FMU: exit $rc ($out)"
+# The controller process of LOOP.json against half a second of its plant, in a private network:
+# its print-out in $tmp/controller.txt, its exit status in $tmp/controller.rc.
+controller_against_plant() {
+  "$root/tools/netns-run" -- bash -c "
+    '$flexloop' controller '$1' --cpu -1 --priority 0 --duration 3 > '$tmp/controller.txt' 2>&1 &
+    sleep 0.5
+    '$flexloop' plant '$1' --cpu -1 --priority 0 --duration 0.5 --start rest \
+      --max-miss-share 100 > '$tmp/plant.txt' 2>&1
+    kill -TERM %1; wait %1; echo \$? > '$tmp/controller.rc'"
+}
 # The controller process alone: its verdict fails (exit 3) naming the call and the sample.
-"$root/tools/netns-run" -- bash -c "
-  '$flexloop' controller '$tmp/overload.json' --cpu -1 --priority 0 --duration 3 \
-    > '$tmp/controller.txt' 2>&1 &
-  sleep 0.5
-  '$flexloop' plant '$tmp/overload.json' --cpu -1 --priority 0 --duration 0.5 --start rest \
-    --max-miss-share 100 > '$tmp/plant.txt' 2>&1
-  kill -TERM %1; wait %1; echo \$? > '$tmp/controller.rc'"
+controller_against_plant "$tmp/overload.json"
 out=$(cat "$tmp/controller.txt")
 [[ $(cat "$tmp/controller.rc") -eq 3 &&
    "$out" == *"verdict fail: the controller FMU failed: fmi2DoStep returned fmi2Error at sample "* ]] ||
   fail "controller process with a failing FMU: exit $(cat "$tmp/controller.rc") ($out)"
+
+# 3. A controller FMU that allocates in its step (the fixture's allocations_per_step): the
+# controller process counts it and says the promise is broken, the run goes on.
+sed 's/^u_max = .*/&\nallocations_per_step = 2/' "$scene" > "$tmp/allocating.toml"
+"$flexloop" build "$tmp/allocating.toml" -o "$tmp/allocating.json" >/dev/null ||
+  fail "build (allocating)"
+controller_against_plant "$tmp/allocating.json"
+out=$(cat "$tmp/controller.txt")
+[[ "$out" =~ "no allocation BROKEN ("([0-9]+)" allocations in "([0-9]+)" of "([0-9]+)" answers" &&
+   ${BASH_REMATCH[1]} -eq $((2 * ${BASH_REMATCH[2]})) && ${BASH_REMATCH[2]} -eq ${BASH_REMATCH[3]} &&
+   ${BASH_REMATCH[3]} -gt 1000 ]] || fail "allocating FMU not counted: $out"
 
 # 1. The loop at 10 kHz.
 for attempt in 1 2; do
@@ -50,6 +67,10 @@ for attempt in 1 2; do
 import json, sys
 r = json.load(open(sys.argv[1]))
 assert r["controller"]["kind"] == "fmu" and r["controller"]["controller_failure"] is None
+# The fixture keeps the promises the controller process watches (counted: not a sanitizer build).
+promises = r["controller"]["real_time_promises"]
+assert promises["no_allocation"]["counted"] and promises["no_allocation"]["kept"], promises
+assert promises["no_failed_call"]["kept"], promises
 assert r["rate_hz"] == 10000 and r["cycles"] >= 0.9 * 3 * 10000, r["cycles"]
 sim = r["physical"]["sim"]["controller_on"]["performance_rms"]
 run = [c["rms"] for c in r["physical"]["performance"]]

@@ -1,14 +1,17 @@
 #pragma once
-// Counts every heap allocation of the process: the test executable that includes
-// allocation_counter.cpp replaces malloc, calloc, realloc, the aligned allocators (forwarding to
-// glibc's __libc_* entry points; glibc 2.36 has no malloc hooks) and every global operator new.
-// Include it in one executable only (tests/alloc), and not under the sanitizers, which interpose
-// the same functions.
+// Counts the heap allocations of the test thread with the programs' own counting allocator
+// (rt/counting_malloc, rt/thread_allocations.hpp): glibc's malloc family, and operator new
+// through it. Linked into tests/alloc's executable only where it is linked into the programs:
+// not under the sanitizers, which interpose the same functions.
 #include <cstdint>
+
+#include "rt/thread_allocations.hpp"
 
 namespace flexloop::test {
 
-/// Allocations (malloc family and operator new) since the program started.
-std::uint64_t allocation_count() noexcept;
+/// Allocations (malloc family and operator new) made by the calling thread so far.
+inline std::uint64_t allocation_count() noexcept {
+  return rt::thread_allocations();
+}
 
 }  // namespace flexloop::test

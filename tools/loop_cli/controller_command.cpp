@@ -29,6 +29,9 @@ void run(const LoopArgs& a, const LoopSource& source) {
       static_cast<long long>(r.answered), static_cast<long long>(r.superseded),
       static_cast<long long>(r.resyncs), static_cast<long long>(r.resumes),
       loop::drops_json(r.drops).dump().c_str());
+  std::printf(
+      "%s\n",
+      loop::real_time_promises_json(loop::answer_watch(r))["summary"].get<std::string>().c_str());
   if (!r.controller_failure.empty())
     throw loop::VerdictFailure{3,
                                "verdict fail: the controller FMU failed: " + r.controller_failure +

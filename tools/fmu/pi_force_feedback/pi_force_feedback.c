@@ -3,7 +3,9 @@
  * force sensors in series with the actuators (D22 = I, no extra delay). Parameters: the full
  * gains K_P_i_j, K_I_i_j (i, j = 1..6), the leak leak_rad_s, the limits u_min, u_max and the
  * sensors' range y_max (a measured force beyond it is an overload: fmi2DoStep refuses to act on
- * it and returns fmi2Error, as a deployed controller would stop). Inputs
+ * it and returns fmi2Error, as a deployed controller would stop) and allocations_per_step (that
+ * many malloc/free pairs in each fmi2DoStep: a controller that breaks the promise of no
+ * allocation in a step, for the tests of the controller process's count). Inputs
  * y1..y6 (measured forces), outputs u1..u6 (commands). fmi2DoStep(t, h) takes the inputs set at
  * t and gives the command held from t on (a sampled controller with direct feedthrough):
  *
@@ -11,8 +13,9 @@
  *   G_f = -E K_P,  G_x = -E K_I,  E = (I + K_P)^-1,  a = exp(-w_l h),  b = (1 - a) / w_l or h
  *
  * Value references: 0..5 y, 6..11 u, 12..47 K_P (row major), 48..83 K_I, 84 leak_rad_s,
- * 85 u_min, 86 u_max, 87 y_max (modelDescription.xml lists them). */
+ * 85 u_min, 86 u_max, 87 y_max, 88 allocations_per_step (modelDescription.xml lists them). */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "controller/fmu/fmi2.h"
@@ -29,7 +32,8 @@
 #define VR_UMIN (VR_LEAK + 1)
 #define VR_UMAX (VR_UMIN + 1)
 #define VR_YMAX (VR_UMAX + 1)
-#define VR_COUNT (VR_YMAX + 1)
+#define VR_ALLOCATIONS (VR_YMAX + 1)
+#define VR_COUNT (VR_ALLOCATIONS + 1)
 #define VR_OUTPUTS VR_U
 #define VR_PARAMETERS VR_KP
 
@@ -95,6 +99,11 @@ static fmi2Status step(Instance* in, double h) {
       log_error(in, "a measured force is beyond the sensors' range y_max");
       return fmi2Error;
     }
+  for (int i = 0; i < (int)in->values[VR_ALLOCATIONS]; ++i) {
+    static void* volatile allocated; /* volatile: the pair is not optimised away */
+    allocated = malloc(64);
+    free(allocated);
+  }
   for (int i = 0; i < N; ++i) f[i] = y[i] - u[i]; /* u: the command held until now */
   for (int i = 0; i < N; ++i) {
     double p = 0;
