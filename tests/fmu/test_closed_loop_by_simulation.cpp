@@ -74,6 +74,18 @@ void check_against_matrices(const std::string& scene_path, double tolerance) {
   CHECK(d < tolerance);
 }
 
+// The artefact `a` with a fixture FMU run as `settings` in its controller's place.
+flexloop::artefact::LoopArtefact with_fmu(
+    flexloop::artefact::LoopArtefact a, const flexloop::controller::fmu::FmuControllerSettings& s) {
+  a.controller = flexloop::artefact::ControllerKind::kFmu;
+  a.fmu.file = s.file;
+  a.fmu.sha256 = flexloop::scene::file_sha256(s.file);
+  a.fmu.inputs = s.inputs;
+  a.fmu.outputs = s.outputs;
+  a.fmu.parameters = s.parameters;
+  return a;
+}
+
 }  // namespace
 
 TEST_CASE("The transform of an impulse response is the sampled system's frequency response",
@@ -174,23 +186,40 @@ TEST_CASE("The closed loop by simulation with the PI as the fixture FMU equals t
           "[fmu][analysis]") {
   const auto p = flexloop::scene::build_scene_plant(
       flexloop::scene::load_scene("tools/scenes/metrology_frame.toml"));
-  auto a = flexloop::scene::build_loop_artefact(p, flexloop::scene::sample_scene(p),
-                                                flexloop::artefact::PlantForm::kDense);
+  const auto a = flexloop::scene::build_loop_artefact(p, flexloop::scene::sample_scene(p),
+                                                      flexloop::artefact::PlantForm::kDense);
   const auto f = grid_with_resonances(p, 4000);
   const auto builtin = closed_loop_by_simulation(a, f);
   REQUIRE(builtin.decayed);
 
   // The same artefact with the fixture FMU in the PI's place (its gains as parameters).
-  const auto settings = flexloop::test::pi_fmu_settings(a.pi, flexloop::test::pi_fmu_path());
-  a.controller = flexloop::artefact::ControllerKind::kFmu;
-  a.fmu.file = settings.file;
-  a.fmu.sha256 = flexloop::scene::file_sha256(settings.file);
-  a.fmu.inputs = settings.inputs;
-  a.fmu.outputs = settings.outputs;
-  a.fmu.parameters = settings.parameters;
-  const auto fmu = closed_loop_by_simulation(a, f);
+  const auto fmu = closed_loop_by_simulation(
+      with_fmu(a, flexloop::test::pi_fmu_settings(a.pi, flexloop::test::pi_fmu_path())), f);
   CHECK(fmu.controller_failure.empty());
   CHECK(fmu.decayed);
   CHECK(fmu.samples == builtin.samples);
   CHECK(relative_difference(fmu.response, builtin.response) < 1e-12);
+}
+
+TEST_CASE("The shipped LQG as the state-space fixture FMU, by simulation, is the matrices' loop",
+          "[fmu][analysis]") {
+  // The FMU removes D22 u_{k-1} from the raw sensors itself; its loop measured by simulation is
+  // the sampled closed loop plant::lti::close_loop_sampled forms from the design's matrices.
+  const auto p = flexloop::scene::build_scene_plant(
+      flexloop::scene::load_scene("tools/scenes/metrology_frame_lqg.toml"));
+  const auto sampled = flexloop::scene::sample_scene(p);
+  const auto a =
+      flexloop::scene::build_loop_artefact(p, sampled, flexloop::artefact::PlantForm::kDense);
+  const auto f = grid_with_resonances(p, 4000);
+  const auto fmu = closed_loop_by_simulation(
+      with_fmu(a, flexloop::test::state_space_fmu_settings(a.state_space,
+                                                           flexloop::test::state_space_fmu_path())),
+      f);
+  CHECK(fmu.controller_failure.empty());
+  CHECK(fmu.decayed);
+  const double d =
+      relative_difference(fmu.response, lti::frequency_response(sampled.closed_loop, f));
+  INFO(fmu.samples << " samples per channel, relative difference " << d);
+  CHECK(d < 1e-9);
+  CHECK(relative_difference(fmu.response, closed_loop_by_simulation(a, f).response) < 1e-12);
 }
