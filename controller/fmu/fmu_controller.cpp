@@ -53,7 +53,10 @@ struct FmuController::Session {
   std::vector<double> parameter_value;
   double period = 0;
   long steps = 0;
-  FmuFailure failure;
+  FmuFailure failure;        // since the last (re)initialisation: the steps stop on it
+  FmuFailure first_failure;  // of the whole session: what failure() reports
+  bool initialised = false;  // fmi2ExitInitializationMode returned fine since the last reset
+  bool fatal = false;        // an fmi2Fatal: FMI 2.0 allows no further call to the FMU
   FmuFailure* sink = nullptr;
 
   explicit Session(const FmuControllerSettings& s)
@@ -63,11 +66,21 @@ struct FmuController::Session {
         library(dir.path(), description.model_identifier, s.file),
         period(s.period),
         sink(s.failure_sink) {}
+  // The calls FMI 2.0's state machine allows: none after fmi2Fatal (the instance is left as it
+  // is); after fmi2Error, or before initialisation ended, fmi2FreeInstance only; else
+  // fmi2Terminate first.
   ~Session() {
-    if (instance) {
-      library.calls().terminate(instance);
-      library.calls().free_instance(instance);
-    }
+    if (!instance || fatal) return;
+    if (initialised && !failure.call) library.calls().terminate(instance);
+    library.calls().free_instance(instance);
+  }
+
+  // Records a failed call (the first of the session stays what failure() reports).
+  void record(const FmuFailure& f) noexcept {
+    failure = f;
+    fatal = fatal || f.status == fmi2Fatal;
+    if (!first_failure.call) first_failure = f;
+    if (sink && !sink->call) *sink = f;
   }
 
   // Parameters, experiment, initialisation: after fmi2Instantiate and after fmi2Reset alike.
@@ -77,8 +90,9 @@ struct FmuController::Session {
     const Fmi2Calls& f = library.calls();
     steps = 0;
     failure = {};
+    initialised = false;
     const auto first = [&](fmi2Status status, const char* call) {
-      if (failed(status)) failure = {call, status, 0};
+      if (failed(status)) record({call, status, 0});
       return failed(status);
     };
     (!parameter.empty() &&
@@ -88,7 +102,7 @@ struct FmuController::Session {
               "fmi2SetupExperiment") ||
         first(f.enter_initialization_mode(instance), "fmi2EnterInitializationMode") ||
         first(f.exit_initialization_mode(instance), "fmi2ExitInitializationMode");
-    if (failure.call && sink) *sink = failure;
+    initialised = !failure.call;
     return failure;
   }
 };
@@ -143,8 +157,7 @@ void FmuController::step_buffers() noexcept {
   const Fmi2Calls& f = x.library.calls();
   const auto fail = [&](fmi2Status status, const char* call) {
     if (!failed(status)) return false;
-    x.failure = {call, status, x.steps};
-    if (x.sink) *x.sink = x.failure;
+    x.record({call, status, x.steps});
     u_.setZero();
     return true;
   };
@@ -164,9 +177,10 @@ void FmuController::reset() noexcept {
   Session& x = *session_;
   u_.setZero();
   held_commands_ = 0;
+  if (x.fatal) return;  // no call after fmi2Fatal: the safe command stays
+  x.initialised = false;
   if (const fmi2Status status = x.library.calls().reset(x.instance); failed(status)) {
-    x.failure = {"fmi2Reset", status, x.steps};
-    if (x.sink) *x.sink = x.failure;
+    x.record({"fmi2Reset", status, x.steps});
     return;
   }
   x.initialise();
@@ -181,7 +195,7 @@ std::string describe(const FmuFailure& f, double period) {
 }
 
 std::string FmuController::failure() const {
-  return describe(session_->failure, session_->period);
+  return describe(session_->first_failure, session_->period);
 }
 
 void FmuController::set_state(const Eigen::VectorXd&) const {

@@ -11,7 +11,9 @@
 // initial state (a start from rest), and set_previous_command() only counts the commands the
 // actuator held instead of an answer (the FMU is not told). A call that returns fmi2Error or
 // fmi2Fatal during the loop cannot throw there: the step returns the safe command (zero force)
-// from then on and failure() names the call and the sample; check() throws it after the run.
+// from then on (until a reset succeeds) and failure() names the call and the sample; check()
+// throws it after the run. The calls keep to FMI 2.0's state machine: after fmi2Error only
+// fmi2Reset or fmi2FreeInstance, after fmi2Fatal no call at all (not even at destruction).
 #include <Eigen/Core>
 #include <array>
 #include <memory>
@@ -82,7 +84,8 @@ class FmuController {
   void set_earlier_command(int, const Vector&) const;
   long held_commands() const noexcept { return held_commands_; }
 
-  /// Empty while every call has returned fmi2OK or fmi2Warning; else the first failure.
+  /// Empty while every call has returned fmi2OK or fmi2Warning; else the first failure (kept
+  /// through a reset that recovers the FMU: the run's verdict reports it).
   std::string failure() const;
   /// @throws flexloop::InputError naming the FMU when a call in the loop failed.
   void check() const;

@@ -8,8 +8,15 @@
  * `double values[VR_COUNT]`, `int initialised`, `const fmi2CallbackFunctions* callbacks`). The
  * fixture defines its law: reset_state (at instantiation and fmi2Reset), initialise (at
  * fmi2ExitInitializationMode: 0 refuses the parameters, after log_error) and step (fmi2DoStep,
- * once initialised, h > 0). Nothing here allocates but fmi2Instantiate. */
+ * once initialised, h > 0). Nothing here allocates but fmi2Instantiate.
+ *
+ * The fixtures hold their importer to FMI 2.0's state machine and abort the process on a call
+ * it does not allow, so that a test passing shows none was made: no call at all after a call
+ * returned fmi2Fatal (the standard: "it is not possible to call any other function for any of the
+ * FMU instances"), after fmi2Error only fmi2Reset, fmi2FreeInstance and fmi2GetReal, and
+ * fmi2Terminate only once initialised. Instance also needs `int failed` (fmi2Error seen). */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -20,6 +27,24 @@
 static void reset_state(Instance* in);
 static int initialise(Instance* in);
 static fmi2Status step(Instance* in, double h);
+
+static int fixture_fatal; /* an fmi2Fatal was returned: every instance is corrupted */
+
+/* Aborts on a call the state machine does not allow (see the top). */
+static void require_allowed(const Instance* in, const char* call, int allowed_after_error) {
+  if (fixture_fatal || (in && in->failed && !allowed_after_error)) {
+    fprintf(stderr, "fixture FMU %s: %s called after %s: FMI 2.0 does not allow it\n", FMU_NAME,
+            call, fixture_fatal ? "fmi2Fatal" : "fmi2Error");
+    abort();
+  }
+}
+
+/* A status returned to the importer, remembered for require_allowed. */
+static fmi2Status returned(Instance* in, fmi2Status status) {
+  if (status == fmi2Error) in->failed = 1;
+  if (status == fmi2Fatal) fixture_fatal = 1;
+  return status;
+}
 
 static void log_error(Instance* in, const char* message) {
   if (in->callbacks && in->callbacks->logger)
@@ -74,6 +99,7 @@ EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String 
                                      fmi2String resources, const fmi2CallbackFunctions* callbacks,
                                      fmi2Boolean visible, fmi2Boolean logging) {
   (void)name, (void)resources, (void)visible, (void)logging;
+  require_allowed(NULL, "fmi2Instantiate", 0);
   if (type != fmi2CoSimulation || !guid || strcmp(guid, FMU_GUID) != 0) return NULL;
   Instance* in = calloc(1, sizeof *in);
   if (!in) return NULL;
@@ -83,23 +109,26 @@ EXPORT fmi2Component fmi2Instantiate(fmi2String name, fmi2Type type, fmi2String 
 }
 
 EXPORT void fmi2FreeInstance(fmi2Component c) {
+  require_allowed(c, "fmi2FreeInstance", 1);
   free(c);
 }
 
 EXPORT fmi2Status fmi2SetupExperiment(fmi2Component c, fmi2Boolean tol_defined, fmi2Real tol,
                                       fmi2Real start, fmi2Boolean stop_defined, fmi2Real stop) {
-  (void)c, (void)tol_defined, (void)tol, (void)start, (void)stop_defined, (void)stop;
+  (void)tol_defined, (void)tol, (void)start, (void)stop_defined, (void)stop;
+  require_allowed(c, "fmi2SetupExperiment", 0);
   return fmi2OK;
 }
 
 EXPORT fmi2Status fmi2EnterInitializationMode(fmi2Component c) {
-  (void)c;
+  require_allowed(c, "fmi2EnterInitializationMode", 0);
   return fmi2OK;
 }
 
 EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
   Instance* in = c;
-  if (!initialise(in)) return fmi2Error;
+  require_allowed(in, "fmi2ExitInitializationMode", 0);
+  if (!initialise(in)) return returned(in, fmi2Error);
   in->initialised = 1;
   return fmi2OK;
 }
@@ -107,25 +136,34 @@ EXPORT fmi2Status fmi2ExitInitializationMode(fmi2Component c) {
 EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real h, fmi2Boolean no_set_prior) {
   (void)t, (void)no_set_prior;
   Instance* in = c;
-  if (!in->initialised || !(h > 0)) return fmi2Error;
-  return step(in, h);
+  require_allowed(in, "fmi2DoStep", 0);
+  if (!in->initialised || !(h > 0)) return returned(in, fmi2Error);
+  return returned(in, step(in, h));
 }
 
 EXPORT fmi2Status fmi2Terminate(fmi2Component c) {
-  (void)c;
+  Instance* in = c;
+  require_allowed(in, "fmi2Terminate", 0);
+  if (!in->initialised) {
+    fprintf(stderr, "fixture FMU %s: fmi2Terminate before initialisation ended\n", FMU_NAME);
+    abort();
+  }
   return fmi2OK;
 }
 
 EXPORT fmi2Status fmi2Reset(fmi2Component c) {
-  reset_state(c);
+  require_allowed(c, "fmi2Reset", 1);
+  reset_state(c); /* back to the instantiated state: the error is gone */
+  ((Instance*)c)->failed = 0;
   return fmi2OK;
 }
 
 EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                               fmi2Real value[]) {
   Instance* in = c;
+  require_allowed(in, "fmi2GetReal", 1);
   for (size_t i = 0; i < n; ++i) {
-    if (vr[i] >= VR_COUNT) return fmi2Error;
+    if (vr[i] >= VR_COUNT) return returned(in, fmi2Error);
     value[i] = in->values[vr[i]];
   }
   return fmi2OK;
@@ -134,11 +172,12 @@ EXPORT fmi2Status fmi2GetReal(fmi2Component c, const fmi2ValueReference vr[], si
 EXPORT fmi2Status fmi2SetReal(fmi2Component c, const fmi2ValueReference vr[], size_t n,
                               const fmi2Real value[]) {
   Instance* in = c;
+  require_allowed(in, "fmi2SetReal", 0);
   for (size_t i = 0; i < n; ++i) {
     /* Parameters are fixed once initialised; the outputs are the FMU's own. */
     if (vr[i] >= VR_COUNT || (vr[i] >= VR_OUTPUTS && vr[i] < VR_PARAMETERS) ||
         (in->initialised && vr[i] >= VR_PARAMETERS))
-      return fmi2Error;
+      return returned(in, fmi2Error);
     in->values[vr[i]] = value[i];
   }
   return fmi2OK;

@@ -13,7 +13,8 @@
  *   G_f = -E K_P,  G_x = -E K_I,  E = (I + K_P)^-1,  a = exp(-w_l h),  b = (1 - a) / w_l or h
  *
  * Value references: 0..5 y, 6..11 u, 12..47 K_P (row major), 48..83 K_I, 84 leak_rad_s,
- * 85 u_min, 86 u_max, 87 y_max, 88 allocations_per_step (modelDescription.xml lists them). */
+ * 85 u_min, 86 u_max, 87 y_max, 88 allocations_per_step, 89 fatal_on_overload (an overload is
+ * fmi2Fatal instead of fmi2Error when not 0) (modelDescription.xml lists them). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,7 +34,8 @@
 #define VR_UMAX (VR_UMIN + 1)
 #define VR_YMAX (VR_UMAX + 1)
 #define VR_ALLOCATIONS (VR_YMAX + 1)
-#define VR_COUNT (VR_ALLOCATIONS + 1)
+#define VR_FATAL (VR_ALLOCATIONS + 1)
+#define VR_COUNT (VR_FATAL + 1)
 #define VR_OUTPUTS VR_U
 #define VR_PARAMETERS VR_KP
 
@@ -44,6 +46,7 @@ typedef struct {
   double h_gains; /* the step size a and b were computed for (0: not yet) */
   double a, b;
   int initialised;
+  int failed; /* fmi2Error returned: only fmi2Reset, fmi2FreeInstance, fmi2GetReal now */
   const fmi2CallbackFunctions* callbacks;
 } Instance;
 
@@ -97,7 +100,7 @@ static fmi2Status step(Instance* in, double h) {
   for (int i = 0; i < N; ++i)
     if (!(fabs(y[i]) <= in->values[VR_YMAX])) {
       log_error(in, "a measured force is beyond the sensors' range y_max");
-      return fmi2Error;
+      return in->values[VR_FATAL] != 0 ? fmi2Fatal : fmi2Error;
     }
   for (int i = 0; i < (int)in->values[VR_ALLOCATIONS]; ++i) {
     static void* volatile allocated; /* volatile: the pair is not optimised away */

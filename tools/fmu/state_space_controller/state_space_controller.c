@@ -56,6 +56,7 @@ typedef struct {
   double sent[MAX_DELAY + 1][NC]; /* the commands answered, a ring: sent[head] the last */
   int head, delay, hold;
   int initialised;
+  int failed; /* fmi2Error returned: only fmi2Reset, fmi2FreeInstance, fmi2GetReal now */
   const fmi2CallbackFunctions* callbacks;
 } Instance;
 
