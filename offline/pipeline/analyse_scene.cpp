@@ -299,6 +299,10 @@ std::vector<Eigen::MatrixXcd> closed_loop_of_fmu(const scene::ScenePlant& p,
       file.c_str());
   const artefact::LoopArtefact a =
       scene::build_loop_artefact(p, scene::sample_scene(p), artefact::PlantForm::kDense);
+  if (a.disturbances() == 0 || a.performance() == 0) {
+    std::printf("  no floor or no performance channel: no closed loop to measure\n");
+    return {};
+  }
   const ImpulseSettings settings;
   // Progress on a terminal only (a lightly damped loop runs up to max_samples per channel).
   const bool tty = ::isatty(STDERR_FILENO) != 0;
