@@ -4,7 +4,7 @@
 # private loopback-only namespace (--netns):
 #   1. at the scene's 10 kHz the run passes its verdict (misses within the allowed share), and
 #      each frame channel's RMS is within 10 % of sim's prediction for the same loop that hil
-#      reports beside it (a run outside is repeated once: this VM's stalls come in bursts);
+#      reports beside it (a run outside is repeated, up to three runs: this VM's stalls come in bursts);
 #   2. an FMU whose fmi2DoStep returns fmi2Error (a sensor overload: y_max below the forces the
 #      floor drives) stops hil before its loop (exit 2: sim's prediction meets it first), and
 #      fails the controller process's verdict (exit 3), each naming the call and the sample;
@@ -60,7 +60,7 @@ out=$(cat "$tmp/controller.txt")
    ${BASH_REMATCH[3]} -gt 1000 ]] || fail "allocating FMU not counted: $out"
 
 # 1. The loop at 10 kHz.
-for attempt in 1 2; do
+for attempt in 1 2 3; do
   "$flexloop" hil "$scene" --netns --duration 3 --report "$tmp/hil.json" > "$tmp/hil.txt" 2>&1
   rc=$?
   python3 - "$tmp/hil.json" <<'PY'
@@ -82,8 +82,8 @@ sys.exit(0 if r["verdict"]["result"] == "pass" and all(abs(q - 1) <= 0.10 for q 
 PY
   judged=$?
   [[ $rc -eq 0 && $judged -eq 0 ]] && break
-  [[ $attempt -eq 1 && ( $rc -eq 3 || $judged -eq 3 ) ]] ||
+  [[ $attempt -lt 3 && ( $rc -eq 3 || $judged -eq 3 ) ]] ||
     fail "hil with the FMU: exit $rc, judged $judged: $(cat "$tmp/hil.txt")"
-  echo "outside the margins once: running again"
+  echo "outside the margins: running again"
 done
 echo "controller FMU: loop closed at 10 kHz"
