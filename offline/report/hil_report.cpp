@@ -94,8 +94,12 @@ void print_physical(const nlohmann::json& r) {
   const auto& perf = (*p)["performance"];
   const nlohmann::json& sim = p->contains("sim") ? (*p)["sim"] : nlohmann::json(nullptr);
   const bool own = sim.is_object() && sim["controller_on"].is_object();
-  std::printf("  RMS performance outputs, this run%s%s:\n",
-              sim.is_object() ? " | sim, controller off" : "", own ? " | sim, controller on" : "");
+  // The replay of this run's misses (online/hil/run_replay.hpp), when it could be made.
+  const nlohmann::json& replay = p->contains("replay") ? (*p)["replay"] : nlohmann::json(nullptr);
+  const bool replayed = replay.is_object() && replay.contains("performance_rms");
+  std::printf("  RMS performance outputs, this run%s%s%s:\n",
+              sim.is_object() ? " | sim, controller off" : "", own ? " | sim, controller on" : "",
+              replayed ? " | sim with this run's misses" : "");
   for (std::size_t i = 0; i < perf.size(); ++i) {
     const double run = perf[i].value("rms", 0.0);
     std::printf("    %-14s %11.4e %s", perf[i].value("name", "?").c_str(), run,
@@ -107,8 +111,26 @@ void print_physical(const nlohmann::json& r) {
         const double on = sim["controller_on"]["performance_rms"][i].get<double>();
         std::printf(" | %11.4e (%+6.1f dB)", on, 20 * std::log10(on / off));
       }
+      if (replayed) {
+        const double again = replay["performance_rms"][i].get<double>();
+        std::printf(" | %11.4e (%+6.1f dB)", again, 20 * std::log10(again / off));
+      }
     }
     std::printf("\n");
+  }
+  if (replayed) {
+    double worst = 0;
+    for (std::size_t i = 0; i < perf.size(); ++i)
+      worst = std::max(
+          worst,
+          std::abs(perf[i].value("rms", 0.0) / replay["performance_rms"][i].get<double>() - 1));
+    std::printf(
+        "  sim with this run's %lld misses (%lld safe-command cycles), replayed sample for sample: "
+        "largest |RMS this run / replay - 1| = %.1e\n",
+        replay.value("deadline_misses", 0LL), replay.value("safe_command_cycles", 0LL), worst);
+  } else if (replay.is_object()) {
+    std::printf("  no replay of this run's misses: %s\n",
+                replay.value("unavailable", std::string("?")).c_str());
   }
   double largest = 0;
   for (const auto& c : (*p)["command"]) largest = std::max(largest, c.value("rms", 0.0));

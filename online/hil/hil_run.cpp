@@ -11,6 +11,7 @@
 #include "online/hil/baseline_json.hpp"
 #include "online/hil/child_process.hpp"
 #include "online/hil/interleaved_baselines.hpp"
+#include "online/hil/run_replay.hpp"
 #include "online/hil/status_line.hpp"
 #include "online/loop/controller_loop.hpp"
 #include "online/loop/plant_loop.hpp"
@@ -225,9 +226,16 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
                   100 * unanswered_share, loop.rate_hz);
     verdict.reasons.push_back(text);
   }
-  if (report.contains("physical") && loop_cycles > 0)
+  if (report.contains("physical") && loop_cycles > 0) {
     report["physical"]["sim"] =
         sim_prediction(loop, static_cast<double>(loop_cycles) / loop.rate_hz);
+    if (controller && controller_json.contains("unanswered_samples"))
+      report["physical"]["replay"] = replay_run(
+          loop, plant_options,
+          {.samples = plant_json.value("samples", std::int64_t{0}),
+           .unapplied = loop::SampleRanges::from_json(plant_json["unapplied_answers"]),
+           .unanswered = loop::SampleRanges::from_json(controller_json["unanswered_samples"])});
+  }
   report["verdict"]["result"] = to_string(verdict.result);
   report["verdict"]["reasons"] = verdict.reasons;
   if (!has_controller) {

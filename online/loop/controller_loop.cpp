@@ -6,6 +6,7 @@
 #include "online/loop/latency_json.hpp"
 #include "online/loop/loop_controller.hpp"
 #include "online/loop/private_network.hpp"
+#include "online/loop/station_start.hpp"
 #include "online/loop/stop_signal.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "rt/loop_process_setup.hpp"
@@ -38,6 +39,17 @@ void answer_sample(ControllerStation<Controller>& station, const flexloop_msgs::
   r.response->record(rt::monotonic_now_ns() - station.samples().newest_received_ns());
 }
 
+// The samples before `s` that went unanswered, for hil's replay of the run
+// (online/loop/sample_ranges.hpp). A second plant run makes the record incomplete.
+void record_unanswered(const flexloop_msgs::sensor_sample_t& s, std::int64_t& epoch,
+                       std::int64_t& last_seq, SampleRanges& unanswered) noexcept {
+  if (last_seq >= 0 && s.plant_epoch != epoch) unanswered.mark_incomplete();
+  if (last_seq < 0 || s.plant_epoch != epoch) last_seq = 0;
+  epoch = s.plant_epoch;
+  unanswered.add(last_seq + 1, s.seq - 1);
+  last_seq = s.seq;
+}
+
 template <class Controller>
 ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
                               const artefact::LoopArtefact& loop,
@@ -52,13 +64,8 @@ ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
   r.period_ns = period_ns;
   r.allocations_counted = rt::allocations_counted();
   // The start the plant process draws: the same artefact, the same seeds, the same numbers.
-  typename ControllerStation<Controller>::Start start;
-  const auto& stationary = sim::run_start(loop);
-  if (o.start == sim::StartKind::kStationary && stationary.exists()) {
-    start = sim::draw_start(loop, stationary, sim::floor_start_states(loop));
-  }
-  auto station = std::make_unique<ControllerStation<Controller>>(std::move(controller),
-                                                                 o.safe_after, std::move(start));
+  auto station = std::make_unique<ControllerStation<Controller>>(
+      std::move(controller), o.safe_after, controller_start(loop, o.start));
   rt::LcmTransport lcm(url, o.receive_path);
   lcm.subscribe(o.channels.sensor, station->samples());
   rt::LcmPublisher<flexloop_msgs::actuator_command_t> command(lcm, o.channels.command);
@@ -84,11 +91,13 @@ ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
   const auto wake = [&] { return station->samples().has_fresh() || stop_requested(); };
   constexpr std::int64_t kLookNs = 20'000'000;  // how often an idle loop checks the stop flag
   std::int64_t spin_from = 0;
+  std::int64_t epoch = 0, last_seq = -1;  // the plant run answered, and its last sample answered
   while (!stop_requested()) {
     const std::int64_t now = rt::monotonic_now_ns();
     if (now >= end) break;
     lcm.handle_until(now + kLookNs < end ? now + kLookNs : end, receive, wake, spin_from);
     if (const flexloop_msgs::sensor_sample_t* s = station->samples().take()) {
+      record_unanswered(*s, epoch, last_seq, r.unanswered);
       answer_sample(*station, *s, command, r);
       spin_from = s->t_ns + period_ns - spin_margin_ns;
     }
@@ -131,6 +140,7 @@ nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopO
       {"cpu", o.realtime.cpu},
       {"fifo", r.fifo},
       {"controller_setup", r.setup},
+      {"unanswered_samples", r.unanswered.to_json()},
       {"real_time_promises", real_time_promises_json(answer_watch(r))}};
 }
 

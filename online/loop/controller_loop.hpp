@@ -16,6 +16,7 @@
 #include "artefact/loop_artefact.hpp"
 #include "online/loop/loop_options.hpp"
 #include "online/loop/real_time_promises.hpp"
+#include "online/loop/sample_ranges.hpp"
 #include "rt/latency_histogram.hpp"
 #include "rt/message_validation.hpp"
 
@@ -40,6 +41,9 @@ struct ControllerLoopResult {
   std::int64_t answers_allocating = 0;
   bool allocations_counted = false;
   std::int64_t period_ns = 0;
+  /// The samples of the plant run it answered that it did not answer (superseded, dropped, or
+  /// sent while it was stopped), by seq; incomplete when it answered more than one plant run.
+  SampleRanges unanswered;
   rt::DropCounts drops;
   std::string setup;
   bool fifo = false;

@@ -20,6 +20,7 @@
 #include "artefact/loop_artefact.hpp"
 #include "online/loop/loop_accounts.hpp"
 #include "online/loop/loop_options.hpp"
+#include "online/loop/sample_ranges.hpp"
 #include "plant/runtime/divergence.hpp"
 #include "rt/message_validation.hpp"
 
@@ -48,6 +49,7 @@ struct PlantLoopResult {
   std::int64_t spin_margin_ns = 0;  ///< hybrid: as spun (rt::effective_spin_margin_ns)
   std::int64_t periods = 0;         ///< grid periods elapsed (cycles + skipped)
   std::int64_t cycles = 0;
+  std::int64_t samples = 0;  ///< samples taken (seq of the last)
   std::int64_t deadline_misses = 0;
   std::int64_t late_answers = 0;
   std::int64_t overruns = 0;
@@ -65,6 +67,8 @@ struct PlantLoopResult {
   RunEnd end = RunEnd::kDuration;  ///< why the loop ended (online/loop/run_verdict.hpp)
   PhysicalResults physical;
   std::vector<SegmentFigures> segments;  ///< in order; one when the run was not segmented
+  /// The samples whose answers the plant did not apply (it held or went safe), by seq.
+  SampleRanges unapplied;
   /// LoopOptions::lcm_log: messages written, dropped (the ring full), and what went wrong.
   struct LogFigures {
     std::int64_t recorded = 0, dropped = 0;

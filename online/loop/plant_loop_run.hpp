@@ -17,6 +17,7 @@
 #include "online/loop/channel_map.hpp"
 #include "online/loop/plant_loop.hpp"
 #include "online/loop/plant_station.hpp"
+#include "online/loop/station_start.hpp"
 #include "online/loop/stop_signal.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "plant/runtime/divergence.hpp"
@@ -106,8 +107,7 @@ class PlantLoopRun {
       }
     }
     // The last sample's answer had its window too.
-    station_->settle(clock_.next_deadline_ns());
-    record_answer();
+    settle(clock_.next_deadline_ns());
     close_segment();
   }
 
@@ -115,6 +115,7 @@ class PlantLoopRun {
     const rt::DeadlineSchedule& s = clock_.schedule();
     r_.periods = s.periods_elapsed();
     r_.cycles = s.cycles();
+    r_.samples = station_->last_sample().seq;
     r_.overruns = s.overruns();
     r_.skipped_periods = s.skipped_periods();
     r_.deadline_misses = station_->deadline_misses();
@@ -145,8 +146,7 @@ class PlantLoopRun {
     const rt::CycleStart c = clock_.wait_next();
     a.wakeup_lateness->record(c.lateness_ns);
     const std::int64_t t0 = rt::monotonic_now_ns();
-    station_->settle(c.due_ns);
-    record_answer();
+    settle(c.due_ns);
     const auto& sample = station_->sample(t0);
     // The plant's outputs with the command its actuators hold (the answer to the previous
     // sample): sim checks the same outputs with the command that answers them, so a divergence
@@ -177,6 +177,15 @@ class PlantLoopRun {
     return true;
   }
 
+  // Settles the last period; an answer it did not apply (held or safe) is recorded by its
+  // sample's seq, for hil's replay of the run (online/loop/sample_ranges.hpp).
+  void settle(std::int64_t due_ns) noexcept {
+    const std::int64_t seq = station_->last_sample().seq;
+    const CommandSource source = station_->settle(due_ns);
+    if (source == CommandSource::kHeld || source == CommandSource::kSafe) r_.unapplied.add(seq);
+    record_answer();
+  }
+
   void record_answer() noexcept {
     if (const auto* answer = station_->last_answer()) {
       LoopAccounts& a = r_.accounts;
@@ -204,26 +213,14 @@ class PlantLoopRun {
   }
 
   // The station at the run's start: the start the controller process draws as well
-  // (online/sim/loop_start.hpp), or rest.
+  // (online/loop/station_start.hpp), or rest.
   std::unique_ptr<PlantStation<Hardware>> make_station(Hardware hw) {
-    const auto& actuator = loop_.effects.actuator;
-    r_.physical.command_limit = actuator.present ? actuator.force_limit_n / std::abs(actuator.gain)
-                                                 : std::numeric_limits<double>::infinity();
-    const auto& stationary = sim::run_start(loop_);
-    std::optional<sim::DrawnStart> start;
-    if (o_.start == sim::StartKind::kStationary && stationary.exists()) {
-      start = sim::draw_start(loop_, stationary, sim::floor_filter_states(hw));
-      sim::start_hardware_at(loop_, *start, hw);
-    }
+    const std::optional<sim::DrawnStart> start = start_plant_hardware(loop_, o_.start, hw);
     // A new epoch per run: the controller sees a restart, old answers are stale.
     const std::int64_t epoch = rt::monotonic_now_ns() ^ (static_cast<std::int64_t>(getpid()) << 40);
-    auto station = std::make_unique<PlantStation<Hardware>>(
-        std::move(hw), PlantStationSettings{.safe_after = o_.safe_after,
-                                            .epoch = epoch,
-                                            .period_ns = clock_options_.period_ns,
-                                            .command_limit = r_.physical.command_limit,
-                                            .safe_ramp_periods = static_cast<std::int64_t>(
-                                                o_.safe_ramp_s * loop_.rate_hz + 0.5)});
+    const PlantStationSettings settings = plant_station_settings(loop_, o_, epoch);
+    r_.physical.command_limit = settings.command_limit;
+    auto station = std::make_unique<PlantStation<Hardware>>(std::move(hw), settings);
     if (start) station->start_command(typename Hardware::Command(start->last_command));
     return station;
   }

@@ -2,11 +2,11 @@
 // built into their loop artefacts, run as plant and controller processes over LCM in a private
 // loopback-only namespace, on the general runtime path (channel counts 2/2/2/2, 6/8/8/8 and
 // 3/2/2/2; 8, 24 and 106 states). Correctness only, no timing bound: every period ran, the
-// messages carried the loop's channel counts (no drop of any kind), the PI answered, a loop with
-// no controller ran its plant alone; and a run recorded with --lcm-log holds every sample it
-// sent, after the channel map.
-// The flexible arm's plant step at 10 kHz is reported (WARN). Needs root for the namespace;
-// without it each case says so and checks nothing.
+// messages carried the loop's channel counts (no drop of any kind), the PI answered and the run
+// equals hil's replay of its own misses, a loop with no controller ran its plant alone; and a run
+// recorded with --lcm-log holds every sample it sent, after the channel map. The flexible arm's
+// plant step at 10 kHz is reported (WARN). Needs root for the namespace; without it each case says
+// so and checks nothing.
 #include <catch2/catch.hpp>
 #include <lcm/lcm-cpp.hpp>
 #include <nlohmann/json.hpp>
@@ -69,6 +69,18 @@ void check_run(const nlohmann::json& r, const artefact::LoopArtefact& a, double 
     // In time for most periods (a shared VM stalls now and then; the timing tests judge that).
     CHECK(r["controller"]["answered"].get<double>() >= 0.9 * cycles);
     CHECK(r["deadline_misses"].get<double>() <= 0.1 * cycles);
+    // The run is the loop it timed: hil's replay of its own misses (online/hil/run_replay.hpp)
+    // gives each performance output's RMS to rounding, whatever the misses cost.
+    const auto& replay = r["physical"]["replay"];
+    REQUIRE(replay.contains("performance_rms"));
+    CHECK(replay["deadline_misses"] == r["deadline_misses"]);
+    CHECK(replay["safe_command_cycles"] == r["safe_command_cycles"]);
+    const auto& performance = r["physical"]["performance"];
+    REQUIRE(performance.size() == replay["performance_rms"].size());
+    for (std::size_t i = 0; i < performance.size(); ++i)
+      CHECK(std::abs(performance[i]["rms"].get<double>() /
+                         replay["performance_rms"][i].get<double>() -
+                     1) <= 1e-9);
   }
 }
 
