@@ -229,7 +229,9 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   if (report.contains("physical") && loop_cycles > 0) {
     report["physical"]["sim"] =
         sim_prediction(loop, static_cast<double>(loop_cycles) / loop.rate_hz);
-    if (controller && controller_json.contains("unanswered_samples"))
+    if (controller && plant_json["divergence"].is_string())
+      report["physical"]["replay"] = {{"unavailable", "the run diverged"}};
+    else if (controller && controller_json.contains("unanswered_samples"))
       report["physical"]["replay"] = replay_run(
           loop, plant_options,
           {.samples = plant_json.value("samples", std::int64_t{0}),
