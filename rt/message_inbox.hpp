@@ -12,6 +12,7 @@
 // offers and takes.
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include "rt/message_validation.hpp"
 
@@ -86,5 +87,18 @@ class MessageInbox {
   std::int64_t superseded_ = 0;
   DropCounts drops_;
 };
+
+/// Encodes `m` into `buffer` and offers it to `inbox` as received at received_ns, as the LCM
+/// subscription would hand it over: for a run replayed without sockets
+/// (online/hil/run_replay.hpp) and for tests. Not for the loop: the buffer grows (allocates)
+/// when the message needs it.
+template <class Msg>
+std::optional<DropReason> offer_encoded(MessageInbox<Msg>& inbox, const Msg& m,
+                                        std::int64_t received_ns,
+                                        std::vector<std::uint8_t>& buffer) {
+  buffer.resize(static_cast<std::size_t>(m.getEncodedSize()));
+  m.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
+  return inbox.offer(buffer.data(), static_cast<int>(buffer.size()), received_ns);
+}
 
 }  // namespace flexloop::rt

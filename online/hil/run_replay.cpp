@@ -30,15 +30,6 @@ class RangeCursor {
   std::size_t next_ = 0;
 };
 
-// Encodes `m` and offers it to `inbox` as received at received_ns, as LCM would hand it over.
-template <class Msg>
-void deliver(rt::MessageInbox<Msg>& inbox, const Msg& m, std::int64_t received_ns,
-             std::vector<std::uint8_t>& buffer) {
-  buffer.resize(static_cast<std::size_t>(m.getEncodedSize()));
-  m.encode(buffer.data(), 0, static_cast<int>(buffer.size()));
-  inbox.offer(buffer.data(), static_cast<int>(buffer.size()), received_ns);
-}
-
 nlohmann::json unavailable(const std::string& why) {
   return {{"unavailable", why}};
 }
@@ -69,14 +60,14 @@ nlohmann::json replay_with(Hardware hw, Controller controller, const artefact::L
       if (!answer)
         return unavailable("the plant applied an answer to sample " + std::to_string(k) +
                            ", which the controller process did not answer");
-      deliver(plant.commands(), *answer, t - period + compute + transit, buffer);
+      rt::offer_encoded(plant.commands(), *answer, t - period + compute + transit, buffer);
     }
     answer.reset();
     plant.settle(t);
     if (k == record.samples) break;
     const auto& s = plant.sample(t);
     if (unanswered.contains(s.seq)) continue;
-    deliver(station.samples(), s, t + transit, buffer);
+    rt::offer_encoded(station.samples(), s, t + transit, buffer);
     if (const auto* got = station.samples().take()) {
       auto& cmd = station.answer(*got);
       cmd.t_ns = t + compute;

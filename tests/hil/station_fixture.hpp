@@ -55,9 +55,8 @@ inline constexpr std::int64_t kAnswerAfter = 100'000, kTransit = 50'000;
 /// Encodes `m` and offers it to `inbox` as received at received_ns.
 template <class Msg>
 auto deliver(rt::MessageInbox<Msg>& inbox, const Msg& m, std::int64_t received_ns) {
-  std::vector<std::uint8_t> buf(static_cast<std::size_t>(m.getEncodedSize()));
-  m.encode(buf.data(), 0, static_cast<int>(buf.size()));
-  return inbox.offer(buf.data(), static_cast<int>(buf.size()), received_ns);
+  std::vector<std::uint8_t> buffer;
+  return rt::offer_encoded(inbox, m, received_ns, buffer);
 }
 
 /// The metrology plant's station and a controller's (the compiled PI unless given).
