@@ -9,6 +9,7 @@
 #include "plant/runtime/dense_plant.hpp"
 #include "plant/runtime/modal_plant.hpp"
 #include "tests/support/float_error_bound.hpp"
+#include "tests/support/long_run.hpp"
 #include "tests/support/metrology.hpp"
 
 using namespace flexloop;
@@ -17,7 +18,7 @@ using plant::runtime::ModalPlant;
 
 namespace {
 
-constexpr long kSteps = 1000000;
+constexpr long kSteps = test::long_run_steps(1000000);
 constexpr int kNx = 12, kNu = 12, kNy = 12;
 
 // Floor accelerations ~1e-3 m/s² RMS (the scene's level) and actuator forces ~1 N RMS.
