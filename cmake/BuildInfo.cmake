@@ -1,4 +1,4 @@
-# Version, git hash and compiler for `flexloop version`, written at configure time.
+# Version, git hash and compiler for `flexloop version` and provenance, written at configure time.
 execute_process(
   COMMAND git rev-parse --short=12 HEAD
   WORKING_DIRECTORY ${CMAKE_SOURCE_DIR}
@@ -12,7 +12,8 @@ if(NOT FLEXLOOP_GIT_HASH)
 elseif(_dirty)
   string(APPEND FLEXLOOP_GIT_HASH "-dirty")
 endif()
-configure_file(${CMAKE_SOURCE_DIR}/cmake/build_info.hpp.in
-               ${CMAKE_BINARY_DIR}/generated/flexloop/build_info.hpp @ONLY)
-add_library(flexloop_build_info INTERFACE)
-target_include_directories(flexloop_build_info INTERFACE ${CMAKE_BINARY_DIR}/generated)
+# A source file, not a header: only it recompiles when the hash changes (common/build_info.hpp).
+configure_file(${CMAKE_SOURCE_DIR}/cmake/build_info.cpp.in
+               ${CMAKE_BINARY_DIR}/generated/build_info.cpp @ONLY)
+add_library(flexloop_build_info STATIC ${CMAKE_BINARY_DIR}/generated/build_info.cpp)
+target_include_directories(flexloop_build_info PUBLIC ${CMAKE_SOURCE_DIR})

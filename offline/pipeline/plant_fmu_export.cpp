@@ -8,8 +8,8 @@
 #include <sstream>
 #include <string>
 
+#include "common/build_info.hpp"
 #include "common/input_error.hpp"
-#include "flexloop/build_info.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "online/plant_fmu/plant_fmu_variables.hpp"
 

@@ -1,6 +1,6 @@
 #include "offline/pipeline/provenance.hpp"
 
-#include "flexloop/build_info.hpp"
+#include "common/build_info.hpp"
 #include "offline/scene/loop_input.hpp"
 
 namespace flexloop::pipeline {

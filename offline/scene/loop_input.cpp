@@ -1,6 +1,6 @@
 #include "offline/scene/loop_input.hpp"
+#include "common/build_info.hpp"
 #include "common/input_error.hpp"
-#include "flexloop/build_info.hpp"
 
 #include <openssl/evp.h>
 

@@ -16,7 +16,7 @@ import sys
 
 # Floors (doc/design.md §2): 0 numeric, common; 1 msgs, rt; 2 artefact; 3 the mathematics, offline
 # (plant/model, plant/lti, controller/design) and online (plant/runtime, controller/runtime);
-# 4 the assemblies; 5 tools. `generated` is the build's own headers (flexloop/build_info.hpp).
+# 4 the assemblies; 5 tools.
 ALLOWED = {
     "numeric": set(),
     "common": {"numeric"},
@@ -40,11 +40,10 @@ ALLOWED = {
                          "controller/fmu", "online/sim"},
     "offline/report": {"numeric", "common", "msgs", "rt", "plant/model", "plant/lti"},
     "offline/scene": {"numeric", "common", "artefact", "plant/model", "plant/lti",
-                      "controller/design", "controller/runtime", "generated"},
+                      "controller/design", "controller/runtime"},
     "offline/pipeline": {"numeric", "common", "artefact", "plant/model", "plant/lti",
                          "controller/design", "plant/runtime", "controller/runtime",
-                         "controller/fmu", "offline/scene", "offline/report", "online/plant_fmu",
-                         "generated"},
+                         "controller/fmu", "offline/scene", "offline/report", "online/plant_fmu"},
     # The study times the online kernels (it uses them; they never use it).
     "offline/study": {"numeric", "common", "artefact", "plant/model", "plant/lti",
                       "controller/design", "plant/runtime", "controller/runtime", "online/sim",
@@ -57,8 +56,6 @@ SOURCES = (".cpp", ".hpp", ".h", ".c")
 def folder_of(path):
     """The folder a repository path belongs to, as ALLOWED names it."""
     parts = path.split("/")
-    if parts[0] == "flexloop":
-        return "generated"
     if parts[0] in ("plant", "controller", "offline", "online") and len(parts) > 2:
         return "/".join(parts[:2])
     return parts[0]
@@ -66,7 +63,7 @@ def folder_of(path):
 
 def main():
     root = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else ".").resolve()
-    known = set(ALLOWED) | {"tools", "generated", "tests"}
+    known = set(ALLOWED) | {"tools", "tests"}
     bad = []
     files = 0
     for path in sorted(root.rglob("*")):

@@ -3,7 +3,7 @@
 #include <Eigen/Core>
 #include <cstdio>
 
-#include "flexloop/build_info.hpp"
+#include "common/build_info.hpp"
 #include "tools/flexloop/subcommands.hpp"
 
 namespace flexloop::cli {
