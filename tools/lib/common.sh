@@ -3,7 +3,7 @@
 
 FLEXLOOP_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 FLEXLOOP_PACKAGES=(
-  build-essential cmake ninja-build ccache git pkg-config clang-format
+  build-essential cmake ninja-build ccache lld git pkg-config clang-format
   libeigen3-dev liblcm-dev liblcm-bin libglib2.0-dev
   libboost-dev catch2 libbenchmark-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libssl-dev iproute2 util-linux bsdutils rt-tests gnuplot-nox python3 python3-matplotlib valgrind
