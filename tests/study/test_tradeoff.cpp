@@ -71,7 +71,7 @@ const study::Measurement& row(const std::string& method, double rate, const std:
 
 // One sweep, computed once per process, serves every property below: each is a section of one test
 // case, so that ctest computes the sweep once (as seven test cases, seven processes computed it,
-// 6 s each under the sanitizers).
+// 5.3 s each under the sanitizers).
 TEST_CASE("tradeoff: the three-mass sweep's properties") {
   SECTION("every configuration has a row, measured or with its reason") {
     const auto& r = sweep();
