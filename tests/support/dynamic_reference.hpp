@@ -24,13 +24,21 @@ struct PiReference {
   bool anti_windup = true;
   Eigen::VectorXd x = Eigen::VectorXd::Zero(Ac.rows());
   Eigen::VectorXd u_prev = Eigen::VectorXd::Zero(Cc.rows());
+  // The LUs of (I - Dc D22) and Cc, factored at the first step: the matrices stay as constructed,
+  // and a solve with the same factors gives the same bits as factoring anew each sample.
+  Eigen::MatrixXd loop{};
+  Eigen::FullPivLU<Eigen::MatrixXd> loop_lu{}, state_lu{};
 
   Eigen::VectorXd step(const Eigen::VectorXd& y) {
-    const Eigen::MatrixXd loop = Eigen::MatrixXd::Identity(D22.rows(), D22.rows()) - Dc * D22;
+    if (loop.size() == 0) {
+      loop = Eigen::MatrixXd::Identity(D22.rows(), D22.rows()) - Dc * D22;
+      loop_lu.compute(loop);
+      state_lu.compute(Cc);
+    }
     const Eigen::VectorXd f = y - D22 * u_prev;
-    const Eigen::VectorXd v = loop.fullPivLu().solve(Cc * x + Dc * f);
+    const Eigen::VectorXd v = loop_lu.solve(Cc * x + Dc * f);
     const Eigen::VectorXd u = v.cwiseMax(u_min).cwiseMin(u_max);
-    if (anti_windup && u != v) x = Cc.fullPivLu().solve(loop * u - Dc * f);
+    if (anti_windup && u != v) x = state_lu.solve(loop * u - Dc * f);
     x = Ac * x + Bc * (f + D22 * u);
     u_prev = u;
     return u;

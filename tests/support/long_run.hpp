@@ -1,17 +1,35 @@
 #pragma once
-// The step count of a long numerical run. Under the sanitizers (tools/sanitize: ASan + UBSan at
-// -O1, 20x slower on these loops) a tenth of it: what they look for, an access out of bounds or
-// undefined arithmetic, lies on the path every step takes, and a tenth of the run takes it too.
-// The bounds over the full length (drift, rounding) are the ordinary build's, where tools/check
+// Long runs under the sanitizers (tools/sanitize: ASan + UBSan at -O1, 20x slower on these loops)
+// take a tenth of their length: what the sanitizers look for, an access out of bounds or undefined
+// arithmetic, lies on the path every step takes, and a tenth of the run takes it too. The bounds
+// over the full length (drift, rounding, statistics) are the ordinary build's, where tools/check
 // runs every test at the length its name states.
+#include <cmath>
+
 namespace flexloop::test {
 
-constexpr long long_run_steps(long steps) {
 #if defined(__SANITIZE_ADDRESS__)
-  return steps / 10;
+inline constexpr long kSanitizerShare = 10;
 #else
-  return steps;
+inline constexpr long kSanitizerShare = 1;
 #endif
+
+// The step count of a long deterministic run.
+constexpr long long_run_steps(long steps) {
+  return steps / kSanitizerShare;
+}
+
+// A statistical run: its length and the tolerance of the average it judges. The tolerance widens
+// with the square root of the share, as an average's scatter goes with one over the square root
+// of its length.
+struct StatisticalRun {
+  double seconds;
+  double tolerance;
+};
+
+inline StatisticalRun statistical_run(double seconds, double tolerance) {
+  const auto share = static_cast<double>(kSanitizerShare);
+  return {seconds / share, tolerance * std::sqrt(share)};
 }
 
 }  // namespace flexloop::test
