@@ -56,7 +56,7 @@ std::string plant_fmu_description(const artefact::LoopArtefact& a, const std::st
                 " at " + number(a.rate_hz) +
                 " Hz) with its simulated hardware and floor: the actuators' commands in, the "
                 "sensors and performance sensors out, one step per loop period");
-  attribute(root, "generationTool", std::string("flexloop ") + build_info::kVersion);
+  attribute(root, "generationTool", std::string("flexloop ") + common::build_info::kVersion);
   attribute(root, "variableNamingConvention", "flat");
   attribute(root, "numberOfEventIndicators", "0");
   auto cs = root.append_child("CoSimulation");

@@ -8,8 +8,8 @@ namespace flexloop::pipeline {
 nlohmann::json make_provenance(const std::string& source_path, const std::string& command) {
   return {{"source", source_path},
           {"source_sha256", scene::file_sha256(source_path)},
-          {"flexloop_version", build_info::kVersion},
-          {"flexloop_git", build_info::kGitHash},
+          {"flexloop_version", common::build_info::kVersion},
+          {"flexloop_git", common::build_info::kGitHash},
           {"command", command}};
 }
 

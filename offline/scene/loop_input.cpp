@@ -53,8 +53,12 @@ std::string text_sha256(std::string_view text) {
 }
 
 artefact::Provenance loop_provenance(const std::string& scene_path, const std::string& model_path) {
-  return {scene_path,           file_sha256(scene_path), model_path, file_sha256(model_path),
-          build_info::kVersion, build_info::kGitHash};
+  return {scene_path,
+          file_sha256(scene_path),
+          model_path,
+          file_sha256(model_path),
+          common::build_info::kVersion,
+          common::build_info::kGitHash};
 }
 
 artefact::LoopArtefact load_loop(const std::string& path, const LoopInputOptions& o) {

@@ -13,9 +13,10 @@ void register_version(CLI::App& app) {
       app.add_subcommand("version", "Print version, git hash, compiler, Eigen and LCM versions");
   cmd->footer("Example:\n  flexloop version");
   cmd->callback([] {
-    std::printf("flexloop %s\n", build_info::kVersion);
-    std::printf("git      %s\n", build_info::kGitHash);
-    std::printf("compiler %s (%s build)\n", build_info::kCompiler, build_info::kBuildType);
+    std::printf("flexloop %s\n", common::build_info::kVersion);
+    std::printf("git      %s\n", common::build_info::kGitHash);
+    std::printf("compiler %s (%s build)\n", common::build_info::kCompiler,
+                common::build_info::kBuildType);
     std::printf("eigen    %d.%d.%d\n", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION,
                 EIGEN_MINOR_VERSION);
     std::printf("lcm      %d.%d.%d\n", LCM_MAJOR_VERSION, LCM_MINOR_VERSION, LCM_MICRO_VERSION);
