@@ -77,18 +77,25 @@ Outcome exact_or_refused(const plant::lti::DiscreteStateSpace& d, const std::str
   return Outcome::kAgreed;
 }
 
-// A continuous pair ω² + 2ζω s + s² (states position, velocity) and a distinct damped pair at
-// 3 ω, mixed by a random basis; ZOH at kRateHz.
-plant::lti::DiscreteStateSpace pair_with_damping(double zeta, double omega) {
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(4, 4);
-  J.block<2, 2>(0, 0) << 0, 1, -omega * omega, -2 * zeta * omega;
-  const double w2 = 3 * omega;
-  J.block<2, 2>(2, 2) << 0, 1, -w2 * w2, -0.02 * w2;
+// The continuous block-diagonal J followed by a distinct damped pair at w2, mixed by a random
+// basis, with one random input and output; ZOH at kRateHz.
+plant::lti::DiscreteStateSpace mixed_with_damped_pair(const Eigen::MatrixXd& J, double w2) {
+  const Eigen::Index n = J.rows() + 2;
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(n, n);
+  A.topLeftCorner(J.rows(), J.rows()) = J;
+  A.bottomRightCorner<2, 2>() << 0, 1, -w2 * w2, -0.02 * w2;
   std::mt19937 rng(5);
-  const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(4, 4) + 0.3 * test::random_matrix(rng, 4, 4);
-  const auto c = test::labelled(S * J * S.inverse(), test::random_matrix(rng, 4, 1),
-                                test::random_matrix(rng, 1, 4), Eigen::MatrixXd::Zero(1, 1));
+  const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(n, n) + 0.3 * test::random_matrix(rng, n, n);
+  const auto c = test::labelled(S * A * S.inverse(), test::random_matrix(rng, n, 1),
+                                test::random_matrix(rng, 1, n), Eigen::MatrixXd::Zero(1, 1));
   return plant::lti::discretise(c, {plant::lti::DiscretisationMethod::kZeroOrderHold, 1 / kRateHz});
+}
+
+// A continuous pair ω² + 2ζω s + s² (states position, velocity) beside a damped pair at 3 ω.
+plant::lti::DiscreteStateSpace pair_with_damping(double zeta, double omega) {
+  Eigen::Matrix2d J;
+  J << 0, 1, -omega * omega, -2 * zeta * omega;
+  return mixed_with_damped_pair(J, 3 * omega);
 }
 
 }  // namespace
@@ -123,16 +130,10 @@ TEST_CASE("critically damped pair (a Jordan block) is refused, and near it exact
 
 TEST_CASE("critically damped triple (a Jordan block of size 3 up to rounding) is refused",
           "[hard][repeated][defective]") {
-  // (s + ω)^3 in companion form beside a damped pair at 3 ω, mixed by a random basis.
-  const double omega = 2 * kPi * 50.0, w2 = 3 * omega;
-  Eigen::MatrixXd J = Eigen::MatrixXd::Zero(5, 5);
-  J.block<3, 3>(0, 0) << 0, 1, 0, 0, 0, 1, -omega * omega * omega, -3 * omega * omega, -3 * omega;
-  J.block<2, 2>(3, 3) << 0, 1, -w2 * w2, -0.02 * w2;
-  std::mt19937 rng(5);
-  const Eigen::MatrixXd S = Eigen::MatrixXd::Identity(5, 5) + 0.3 * test::random_matrix(rng, 5, 5);
-  const auto c = test::labelled(S * J * S.inverse(), test::random_matrix(rng, 5, 1),
-                                test::random_matrix(rng, 1, 5), Eigen::MatrixXd::Zero(1, 1));
-  const auto d =
-      plant::lti::discretise(c, {plant::lti::DiscretisationMethod::kZeroOrderHold, 1 / kRateHz});
-  CHECK(exact_or_refused<5>(d, "triple pole") == Outcome::kRefused);
+  // (s + ω)^3 in companion form beside a damped pair at 3 ω.
+  const double omega = 2 * kPi * 50.0;
+  Eigen::Matrix3d J;
+  J << 0, 1, 0, 0, 0, 1, -omega * omega * omega, -3 * omega * omega, -3 * omega;
+  CHECK(exact_or_refused<5>(mixed_with_damped_pair(J, 3 * omega), "triple pole") ==
+        Outcome::kRefused);
 }
