@@ -47,8 +47,10 @@ struct FloatComparison {
 /// Runs the double and float plants (make(std::type_identity<Plant<Scalar, NX, NU, NY>>{}))
 /// side by side for `steps` steps on the input that input(k, u) writes into u, and evaluates the
 /// bound. The rounding terms use each step's own |x̂|, |u| (fixed-size, no allocation per step).
-template <template <typename, int, int, int> class Plant, int NX, int NU, int NY, typename Make,
-          typename Input>
+// Plant's parameter list ends in a pack: it then matches plants with further defaulted parameters
+// (DensePlant's and ModalPlant's NH) without C++17's relaxed matching, which clang 14 leaves off.
+template <template <typename, int, int, int, int...> class Plant, int NX, int NU, int NY,
+          typename Make, typename Input>
 FloatComparison compare_float_double(const Eigen::MatrixXd& Delta, const Eigen::MatrixXd& B,
                                      const Eigen::MatrixXd& C, const Eigen::MatrixXd& D, long steps,
                                      Make make, Input input) {
