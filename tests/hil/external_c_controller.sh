@@ -10,11 +10,15 @@
 #     <= 2 x the ping-pong's unanswered share + 1 % of the cycles; round-trip p99 <= 1.5 x the
 #     ping-pong's p99 + the timer's p99;
 #     (a run outside them is repeated once with new baselines, as tests/timing/test_hil_loop.cpp does);
-#   - the frame acceleration falls as `flexloop sim` predicts for the same loop and seeds: each
-#     channel's RMS within 5 % of sim's. With every answer in time the run is sim's loop sample
-#     for sample (up to the order of summation); a miss holds the previous command a period
-#     longer, which an observer-based design feels (at 10 kHz, where LCM's C receive thread misses
-#     a few per cent on this VM, doc/performance.md shows what that costs).
+#   - the run is the loop it timed: `flexloop replay` replays the plant's record (the answers it
+#     did not apply, held or safe; the C controller answers every sample, which the test checks)
+#     with flexloop's own state-space controller, and each frame acceleration's RMS is within 1 %
+#     of the replay's. Not to rounding: the two controllers sum in other orders, the 16-bit force
+#     sensors hide the difference, and this LQG design's own loop through its model of the
+#     feedthrough grows it (x 1.2 per sample) until it flips a quantisation step, after which the
+#     two runs are different draws of the same loop: 1e-4 of the RMS apart on this loop.
+#   - the run and sim's ideal loop are printed side by side: their difference is what the
+#     misses cost (about 10 % on a VM whose timer was late by milliseconds).
 #   tests/hil/external_c_controller.sh FLEXLOOP FLEXLOOP_C_CONTROLLER SOURCE_DIR
 set -uo pipefail
 flexloop=$1 ccontroller=$2 root=$3
@@ -75,6 +79,8 @@ run_loop() {
     kill -TERM %1; wait %1" > "$tmp/netns.txt" 2>&1 ||
     fail "in the namespace: $(cat "$tmp/netns.txt" "$tmp/controller.txt" 2>/dev/null)"
   grep -q "answered" "$tmp/controller.txt" || fail "controller: $(cat "$tmp/controller.txt")"
+  "$flexloop" replay "$tmp/loop.json" --plant-report "$tmp/plant.json" --json "$tmp/replay.json" \
+    > "$tmp/replay.txt" || fail "flexloop replay: $(cat "$tmp/replay.txt")"
 }
 
 judge() {
@@ -102,17 +108,21 @@ for line in open(d + "/sim.txt"):
     m = re.match(r"\s+(\S+) \[[^]]*\]\s+(\S+)\s+(\S+)\s+(\S+) dB", line)
     if m:
         sim[m.group(1)] = (float(m.group(2)), float(m.group(3)))
-run = {c["name"]: c["rms"] for c in plant["physical"]["performance"]}
-assert len(sim) == 6 and set(sim) == set(run), (sim, run)
-for name, (off, on) in sim.items():
-    print(f"{name}: external C controller {run[name]:.4e} ({20 * math.log10(run[name] / off):+.1f} dB "
-          f"against sim's controller off), sim {on:.4e} ({20 * math.log10(on / off):+.1f} dB)")
-    if abs(run[name] / on - 1) > 0.05:
-        # Safe-command cycles (a VM stall) change what the plant applied: not sim's loop; retry.
-        if plant.get("safe_command_cycles", 0) > 0:
-            print(f"{name} off sim by more than 5 % after {plant['safe_command_cycles']} safe-command cycles")
-            sys.exit(3)
-        raise AssertionError((name, run[name], on))
+answered = int(re.search(r"answered (\d+) samples", open(d + "/controller.txt").read()).group(1))
+if answered != plant["samples"]:
+    # A sample lost on the way (a socket buffer overrun in a stall): not the replay's loop; retry.
+    print(f"the C controller answered {answered} of {plant['samples']} samples")
+    sys.exit(3)
+replay = json.load(open(d + "/replay.json"))
+assert replay["deadline_misses"] == misses, (replay["deadline_misses"], misses)
+names = [c["name"] for c in plant["physical"]["performance"]]
+assert len(sim) == 6 and set(sim) == set(names), (sim, names)
+for name, run, replayed in zip(names, replay["run_performance_rms"], replay["performance_rms"]):
+    off, on = sim[name]
+    print(f"{name}: external C controller {run:.4e} ({20 * math.log10(run / off):+.1f} dB against "
+          f"sim's controller off), its replay {replayed:.4e}, sim's ideal loop {on:.4e} "
+          f"({20 * math.log10(on / off):+.1f} dB)")
+    assert abs(run / replayed - 1) <= 0.01, (name, run, replayed)
 PY
 }
 
@@ -122,7 +132,8 @@ for attempt in 1 2; do
   rc=$?
   cat "$tmp/judged.txt"
   [[ $rc == 0 ]] && break
-  [[ $rc == 3 && $attempt == 1 ]] || fail "figures: $(cat "$tmp/plant.txt" "$tmp/sim.txt")"
-  echo "outside the timing margins once: running again with new baselines"
+  [[ $rc == 3 && $attempt == 1 ]] ||
+    fail "figures: $(cat "$tmp/plant.txt" "$tmp/replay.txt" "$tmp/sim.txt")"
+  echo "outside the timing margins, or a sample lost, once: running again with new baselines"
 done
 echo "external C controller: loop closed"

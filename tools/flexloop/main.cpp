@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
   flexloop::cli::register_controller(app);
   flexloop::cli::register_hil(app);
   flexloop::cli::register_log(app);
+  flexloop::cli::register_replay(app);
   flexloop::cli::register_tradeoff(app);
   return flexloop::cli::run_command_line(app, argc, argv);
 }

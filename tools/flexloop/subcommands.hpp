@@ -18,6 +18,7 @@ void register_plant(CLI::App& app);
 void register_controller(CLI::App& app);
 void register_hil(CLI::App& app);
 void register_log(CLI::App& app);
+void register_replay(CLI::App& app);
 void register_tradeoff(CLI::App& app);
 void register_reduce(CLI::App& app);
 void register_export_fmu(CLI::App& app);
