@@ -6,14 +6,15 @@
 #include <cstdlib>
 #include <stdexcept>
 
-#if defined(__SANITIZE_ADDRESS__)
-#include <sanitizer/lsan_interface.h>
-#endif
-
+#include "common/address_sanitizer.hpp"
 #include "common/input_error.hpp"
 #include "controller/fmu/fmu_archive.hpp"
 #include "controller/fmu/fmu_description.hpp"
 #include "controller/fmu/fmu_library.hpp"
+
+#if defined(FLEXLOOP_ADDRESS_SANITIZER)
+#include <sanitizer/lsan_interface.h>
+#endif
 
 namespace flexloop::controller::fmu {
 
@@ -76,7 +77,7 @@ struct FmuController::Session {
   ~Session() {
     if (!instance) return;
     if (fatal) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(FLEXLOOP_ADDRESS_SANITIZER)
       // Left unfreed on purpose (the standard forbids fmi2FreeInstance now): not a leak to report.
       __lsan_ignore_object(instance);
 #endif

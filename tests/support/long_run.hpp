@@ -6,9 +6,11 @@
 // runs every test at the length its name states.
 #include <cmath>
 
+#include "common/address_sanitizer.hpp"
+
 namespace flexloop::test {
 
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(FLEXLOOP_ADDRESS_SANITIZER)
 inline constexpr long kSanitizerShare = 10;
 #else
 inline constexpr long kSanitizerShare = 1;

@@ -8,7 +8,7 @@ FLEXLOOP_PACKAGES=(
   libboost-dev catch2 libbenchmark-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libssl-dev iproute2 util-linux bsdutils rt-tests gnuplot-nox python3 python3-matplotlib valgrind
   libcjson-dev libmatio-dev python3-numpy python3-scipy python3-mpmath libslicot-dev liblapack-dev libblas-dev
-  gfortran libzip-dev libpugixml-dev
+  gfortran libzip-dev libpugixml-dev clang libclang-rt-14-dev
 )
 
 say() { printf '\033[1m[flexloop]\033[0m %s\n' "$*"; }
@@ -44,6 +44,14 @@ configure() {
   local cache="$FLEXLOOP_ROOT/$dir/CMakeCache.txt"
   if [[ -f "$cache" ]] && ! grep -q '^CMAKE_GENERATOR:INTERNAL=Ninja$' "$cache"; then
     say "$dir was configured with another generator: configuring it anew"
+    rm -rf "${FLEXLOOP_ROOT:?}/$dir/CMakeCache.txt" "${FLEXLOOP_ROOT:?}/$dir/CMakeFiles"
+  fi
+  # CMake keeps the compiler it first found: one configured with another ($CXX) starts anew.
+  local compiler
+  compiler=$(command -v "${CXX:-c++}")
+  if [[ -f "$cache" ]] &&
+    ! grep -qx "CMAKE_CXX_COMPILER:\(FILEPATH\|STRING\)=$compiler" "$cache"; then
+    say "$dir was configured with another compiler: configuring it anew with $compiler"
     rm -rf "${FLEXLOOP_ROOT:?}/$dir/CMakeCache.txt" "${FLEXLOOP_ROOT:?}/$dir/CMakeFiles"
   fi
   local launcher=()
