@@ -19,7 +19,10 @@
  * kept as it was: flexloop's own controller also moves x to a state that produces the held
  * command, a least-squares step this example leaves out.)
  *
- *   flexloop-c-controller LOOP.json [--url URL] [--duration S] [--safe-after N]
+ * With --record FILE it writes, when it ends, the samples it did not answer (lost on the way: gaps
+ * in seq) as `flexloop replay --controller-record` reads them.
+ *
+ *   flexloop-c-controller LOOP.json [--url URL] [--duration S] [--safe-after N] [--record FILE]
  *
  * Run it inside the plant's private namespace (tools/netns-run), beside `flexloop plant LOOP.json`.
  */
@@ -36,7 +39,7 @@
 #include "flexloop_msgs_actuator_command_t.h"
 #include "flexloop_msgs_sensor_sample_t.h"
 
-enum { kMaxHistory = 33, kRemembered = 64 };
+enum { kMaxHistory = 33, kRemembered = 64, kMaxGaps = 4096 };
 
 typedef struct {
   int nx, ns, nc, delay, hold;
@@ -54,6 +57,10 @@ typedef struct {
   lcm_t* lcm;
   flexloop_msgs_actuator_command_t cmd;
   int64_t answered;
+  /* The samples not answered, as ranges of seq (kMaxGaps at most; else, or after a second plant
+   * run, the record is incomplete). */
+  int64_t gap_first[kMaxGaps], gap_last[kMaxGaps];
+  int gaps, gaps_incomplete;
 } Controller;
 
 static volatile sig_atomic_t stop_requested = 0;
@@ -300,6 +307,29 @@ static void step(Controller* c, const double* y) {
   memcpy(c->history + c->head * nc, u, sizeof(double) * (size_t)nc);
 }
 
+static void record_gap(Controller* c, int64_t first, int64_t last) {
+  if (last < first) return;
+  if (c->gaps == kMaxGaps) {
+    c->gaps_incomplete = 1;
+    return;
+  }
+  c->gap_first[c->gaps] = first;
+  c->gap_last[c->gaps] = last;
+  ++c->gaps;
+}
+
+/* {"unanswered_samples": {"ranges": [[first, last], ...], "complete": true|false}} */
+static int write_record(const Controller* c, const char* file) {
+  FILE* out = fopen(file, "w");
+  if (!out) return 0;
+  fprintf(out, "{\"unanswered_samples\": {\"ranges\": [");
+  for (int i = 0; i < c->gaps; ++i)
+    fprintf(out, "%s[%lld, %lld]", i ? ", " : "", (long long)c->gap_first[i],
+            (long long)c->gap_last[i]);
+  fprintf(out, "], \"complete\": %s}}\n", c->gaps_incomplete ? "false" : "true");
+  return fclose(out) == 0;
+}
+
 static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
                       const flexloop_msgs_sensor_sample_t* s, void* user) {
   (void)rbuf;
@@ -310,7 +340,10 @@ static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
   for (int i = 0; i < s->n_sensors; ++i)
     if (!isfinite(s->sensors[i])) return;
   if (!isfinite(s->applied_scale)) return;
+  int64_t expected = c->last_seq + 1;
   if (!c->started || s->plant_epoch != c->epoch) {
+    if (c->started) c->gaps_incomplete = 1; /* the record covers one plant run */
+    expected = 1;
     reset(c); /* a new plant run starts from rest */
     c->epoch = s->plant_epoch;
     c->started = 1;
@@ -325,6 +358,7 @@ static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
   } else {
     remember_held(c, s->applied_seq); /* the plant holds the last answer */
   }
+  record_gap(c, expected, s->seq - 1);
   c->last_seq = s->seq;
   step(c, s->sensors);
   memcpy(c->sent + (s->seq % kRemembered) * c->nc, c->cmd.commands, sizeof(double) * (size_t)c->nc);
@@ -342,6 +376,7 @@ static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
 int main(int argc, char** argv) {
   const char* loop = NULL;
   const char* url = getenv("LCM_DEFAULT_URL");
+  const char* record = NULL;
   double duration_s = 0;
   Controller c;
   memset(&c, 0, sizeof c);
@@ -350,16 +385,22 @@ int main(int argc, char** argv) {
     if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
       printf(
           "usage: flexloop-c-controller LOOP.json [--url URL] [--duration S] [--safe-after N]\n"
+          "                             [--record FILE]\n"
           "Answers every FLEXLOOP_SENSOR sample with the loop artefact's state-space controller.\n"
+          "--record FILE: at the end, the samples not answered (flexloop replay "
+          "--controller-record).\n"
           "Example, inside one tools/netns-run -- bash:\n"
           "  flexloop build tools/scenes/metrology_frame_lqg.toml -o /tmp/lqg.json\n"
           "  flexloop-c-controller /tmp/lqg.json --duration 7 &\n"
-          "  flexloop plant /tmp/lqg.json --duration 5 --cpu 0\n");
+          "  flexloop plant /tmp/lqg.json --duration 5 --cpu 0 --json /tmp/plant.json\n"
+          "  (then: flexloop replay /tmp/lqg.json --plant-report /tmp/plant.json)\n");
       return 0;
     } else if (strcmp(argv[i], "--url") == 0 && i + 1 < argc) {
       url = argv[++i];
     } else if (strcmp(argv[i], "--duration") == 0 && i + 1 < argc) {
       duration_s = atof(argv[++i]);
+    } else if (strcmp(argv[i], "--record") == 0 && i + 1 < argc) {
+      record = argv[++i];
     } else if (strcmp(argv[i], "--safe-after") == 0 && i + 1 < argc) {
       c.safe_after = atoll(argv[++i]);
     } else if (argv[i][0] != '-' && !loop) {
@@ -394,5 +435,9 @@ int main(int argc, char** argv) {
   while (!stop_requested && now_ns() < end) lcm_handle_timeout(c.lcm, 100);
   printf("flexloop-c-controller: answered %lld samples\n", (long long)c.answered);
   lcm_destroy(c.lcm);
+  if (record && !write_record(&c, record)) {
+    fprintf(stderr, "flexloop-c-controller: %s: cannot be written\n", record);
+    return 1;
+  }
   return 0;
 }
