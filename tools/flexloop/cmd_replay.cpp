@@ -113,11 +113,19 @@ void run(const ReplayArgs& a) {
         read_ranges(common::JsonReader(j, a.controller_record), "unanswered_samples");
   }
   const artefact::LoopArtefact loop = load_at_rate(a.loop, a.plant_report, p.rate_hz);
-  if (p.performance_rms.size() != loop.channels.performance.size())
+  // The report must be of this loop: its performance outputs, by name and in order.
+  const auto& outputs = loop.channels.performance;
+  if (p.performance_rms.size() != outputs.size())
     throw common::InputError(a.plant_report + ": key 'physical'",
                              "has " + std::to_string(p.performance_rms.size()) +
                                  " performance outputs, " + a.loop + " has " +
-                                 std::to_string(loop.channels.performance.size()));
+                                 std::to_string(outputs.size()));
+  for (std::size_t i = 0; i < outputs.size(); ++i)
+    if (p.performance_rms[i].first != outputs[i].name)
+      throw common::InputError(a.plant_report + ": key 'physical'",
+                               "performance output " + std::to_string(i + 1) + " is '" +
+                                   p.performance_rms[i].first + "', " + a.loop + "'s is '" +
+                                   outputs[i].name + "': a report of another loop");
   p.options.rate_hz = p.rate_hz;
   const nlohmann::json replay = hil::replay_run(loop, p.options, p.run);
   if (replay.contains("unavailable"))
