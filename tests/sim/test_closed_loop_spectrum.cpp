@@ -17,15 +17,20 @@
 #include "plant/lti/vibration_criterion.hpp"
 #include "plant/lti/welch.hpp"
 #include "plant/runtime/dense_plant.hpp"
+#include "tests/support/long_run.hpp"
 
 using namespace flexloop;
 
 namespace {
 
-// Worst deviation [dB] of the Welch spectrum of 600 s of simulated frame acceleration (1 kHz,
-// the scene's floor) from sum_j |T_ij(e^{jwT})|^2 S_w(f) over 1-200 Hz, S_w the floor's one-sided
-// PSD (white: 2 rms^2 / fs; VC: 2 dt |F(e^{jwT})|^2, F the discretised floor filter); NX the
-// plant's state count (12, or 24 under gravity preload). Returns (dB, Hz).
+// 600 s of record, judged within 1 dB; under the sanitizers a tenth of it, judged sqrt(10) wider
+// (58 Welch segments instead of 585: the scatter of a band grows by about sqrt(10)).
+const test::StatisticalRun kRecord = test::statistical_run(600, 1.0);
+
+// Worst deviation [dB] of the Welch spectrum of the record of simulated frame acceleration (1 kHz,
+// the scene's floor) from sum_j |T_ij(e^{jwT})|^2 S_w(f) over 1-200 Hz, S_w the floor's
+// one-sided PSD (white: 2 rms^2 / fs; VC: 2 dt |F(e^{jwT})|^2, F the discretised floor filter);
+// NX the plant's state count (12, or 24 under gravity preload). Returns (dB, Hz).
 template <int NX>
 std::pair<double, double> worst_spectrum_deviation(scene::Scene sc, double f_min_hz) {
   // 1 kHz keeps 600 s of log small; 1-200 Hz stays well below Nyquist.
@@ -39,7 +44,7 @@ std::pair<double, double> worst_spectrum_deviation(scene::Scene sc, double f_min
 
   sim::RunSettings s;
   s.dt = sampled.plant.dt;
-  s.steps = 600'000;  // 600 s
+  s.steps = std::lround(kRecord.seconds / s.dt);
   s.log_every = 1;
   using Plant = plant::runtime::DensePlant<double, NX, 12, 12, 6>;
   const Plant plant = Plant::from_matrices(d.A, d.B, d.C, d.D);
@@ -61,7 +66,7 @@ std::pair<double, double> worst_spectrum_deviation(scene::Scene sc, double f_min
       psd.push_back(2 * s.dt * std::norm(g(0, 0)));
     return psd;
   };
-  const Eigen::Index L = 2048;  // 0.49 Hz bins, 585 segments
+  const Eigen::Index L = 2048;  // 0.49 Hz bins, 585 segments in 600 s
   double worst_db = 0, worst_f = 0;
   for (int i = 0; i < 6; ++i) {
     const auto est = plant::lti::welch_psd(r.log.matrix().col(1 + 6 + i), fs, {L, 0.5});
@@ -97,7 +102,7 @@ TEST_CASE(
   const auto [worst_db, worst_f] = worst_spectrum_deviation<12>(sc, 1.0);
   INFO("worst deviation " << worst_db << " dB at " << worst_f << " Hz");
   WARN("Welch vs |T|^2: worst deviation " << worst_db << " dB at " << worst_f << " Hz");
-  CHECK(std::abs(worst_db) <= 1.0);
+  CHECK(std::abs(worst_db) <= kRecord.tolerance);
 }
 
 TEST_CASE(
@@ -114,5 +119,5 @@ TEST_CASE(
   const auto [worst_db, worst_f] = worst_spectrum_deviation<24>(sc, 2.0);
   INFO("worst deviation " << worst_db << " dB at " << worst_f << " Hz");
   WARN("Welch vs |T|^2 (preload): worst deviation " << worst_db << " dB at " << worst_f << " Hz");
-  CHECK(std::abs(worst_db) <= 1.0);
+  CHECK(std::abs(worst_db) <= kRecord.tolerance);
 }
