@@ -49,7 +49,7 @@ struct DrivenThenFree {
 }  // namespace
 
 TEST_CASE("float vs double over 10^8 steps with denormals flushed: within the derived bound",
-          "[hard][float]") {
+          "[hard][float][long_run]") {
   const auto m = plant::lti::to_modal_form(test::metrology().s.plant);
   test::FloatComparison c;
   bool flushed = false;
