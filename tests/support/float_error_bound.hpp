@@ -26,6 +26,8 @@
 #include <cmath>
 #include <type_traits>
 
+#include "numeric/column_product.hpp"
+
 namespace flexloop::test {
 
 // Σ_{i=0}^{K-1} |A^i|, stopping once the terms no longer change the sum in double.
@@ -68,25 +70,30 @@ FloatComparison compare_float_double(const Eigen::MatrixXd& Delta, const Eigen::
   const Eigen::Matrix<double, NY, NX> Ca = C.cwiseAbs(), CAa = C.cwiseAbs() * A.cwiseAbs();
   const Eigen::Matrix<double, NY, NU> Da = D.cwiseAbs(), CBa = C.cwiseAbs() * B.cwiseAbs();
 
-  Vu u, u_prev = Vu::Zero();
-  Vx x_hat_prev = Vx::Zero(), delta_bar = Vx::Zero();
+  // The products of the bound are the step's own fixed-size kernels (numeric/column_product.hpp):
+  // Eigen's product of a fixed-size matrix with an expression goes through its general
+  // matrix-vector routine, a third of a 10^8-step run's time.
+  Vu u, abs_u, abs_u_prev = Vu::Zero();
+  Vx abs_x_hat_prev = Vx::Zero(), delta_bar = Vx::Zero();
   Vy error = Vy::Zero(), scale = Vy::Zero(), out_round = Vy::Zero();
   for (long k = 0; k < steps; ++k) {
     input(k, u);
     const Eigen::Matrix<float, NU, 1> uf = u.template cast<float>();
-    const Vx x_hat = pf.state().template cast<double>();
+    const Vx abs_x_hat = pf.state().template cast<double>().cwiseAbs();
+    abs_u = u.cwiseAbs();
     const Vy y = pd.output(u);
     const Vy y_hat = pf.output(uf).template cast<double>();
     error = error.cwiseMax((y_hat - y).cwiseAbs());
     scale = scale.cwiseMax(y.cwiseAbs());
-    delta_bar = delta_bar.cwiseMax(u_round * x_hat.cwiseAbs() +
-                                   gamma * (Ea * x_hat.cwiseAbs() + Ba * u.cwiseAbs()));
-    out_round = out_round.cwiseMax(
-        gamma * (CAa * x_hat_prev.cwiseAbs() + CBa * u_prev.cwiseAbs() + Da * u.cwiseAbs()));
+    delta_bar = delta_bar.cwiseMax(u_round * abs_x_hat +
+                                   gamma * numeric::product_sum(Ea, abs_x_hat, Ba, abs_u));
+    out_round =
+        out_round.cwiseMax(gamma * (numeric::product_sum(CAa, abs_x_hat_prev, CBa, abs_u_prev) +
+                                    numeric::column_product(Da, abs_u)));
     pd.advance(u);
     pf.advance(uf);
-    x_hat_prev = x_hat;
-    u_prev = u;
+    abs_x_hat_prev = abs_x_hat;
+    abs_u_prev = abs_u;
   }
   return {error, Ca * (abs_power_sum(A, steps) * delta_bar) + out_round, scale};
 }
