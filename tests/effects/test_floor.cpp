@@ -40,17 +40,19 @@ double worst_db(const std::vector<double>& levels, double reference) {
 double brute_force_band_rms(const StateSpace& s, const ThirdOctaveBand& band, double dt) {
   constexpr int kPoints = 4000;
   const auto n = s.nx();
+  // The matrices and the factorisation's storage once, for every point (the same arithmetic).
+  const Eigen::MatrixXcd A = s.A.cast<std::complex<double>>(), B = s.B.cast<std::complex<double>>(),
+                         C = s.C.cast<std::complex<double>>();
+  Eigen::MatrixXcd m(n, n);
+  Eigen::PartialPivLU<Eigen::MatrixXcd> lu(n);
   double sum = 0;
   for (int i = 0; i <= kPoints; ++i) {
     const double f = band.lower_hz + (band.upper_hz - band.lower_hz) * i / kPoints;
     const std::complex<double> p = dt > 0 ? std::exp(std::complex<double>(0, kTwoPi * f * dt))
                                           : std::complex<double>(0, kTwoPi * f);
-    const Eigen::MatrixXcd m =
-        p * Eigen::MatrixXcd::Identity(n, n) - s.A.cast<std::complex<double>>();
-    const std::complex<double> h =
-        (s.C.cast<std::complex<double>>() *
-         m.partialPivLu().solve(s.B.cast<std::complex<double>>()))(0, 0) +
-        s.D(0, 0);
+    m = p * Eigen::MatrixXcd::Identity(n, n) - A;
+    lu.compute(m);
+    const std::complex<double> h = (C * lu.solve(B))(0, 0) + s.D(0, 0);
     const double psd = 2 * (dt > 0 ? dt : 1) * std::norm(h) / std::pow(kTwoPi * f, 2);
     sum += (i == 0 || i == kPoints ? 0.5 : 1) * psd;
   }
