@@ -43,15 +43,13 @@ double brute_force_band_rms(const StateSpace& s, const ThirdOctaveBand& band, do
   // The matrices and the factorisation's storage once, for every point (the same arithmetic).
   const Eigen::MatrixXcd A = s.A.cast<std::complex<double>>(), B = s.B.cast<std::complex<double>>(),
                          C = s.C.cast<std::complex<double>>();
-  Eigen::MatrixXcd m(n, n);
   Eigen::PartialPivLU<Eigen::MatrixXcd> lu(n);
   double sum = 0;
   for (int i = 0; i <= kPoints; ++i) {
     const double f = band.lower_hz + (band.upper_hz - band.lower_hz) * i / kPoints;
     const std::complex<double> p = dt > 0 ? std::exp(std::complex<double>(0, kTwoPi * f * dt))
                                           : std::complex<double>(0, kTwoPi * f);
-    m = p * Eigen::MatrixXcd::Identity(n, n) - A;
-    lu.compute(m);
+    lu.compute(p * Eigen::MatrixXcd::Identity(n, n) - A);
     const std::complex<double> h = (C * lu.solve(B))(0, 0) + s.D(0, 0);
     const double psd = 2 * (dt > 0 ? dt : 1) * std::norm(h) / std::pow(kTwoPi * f, 2);
     sum += (i == 0 || i == kPoints ? 0.5 : 1) * psd;
