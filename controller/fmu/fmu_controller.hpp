@@ -21,7 +21,7 @@
 #include <utility>
 #include <vector>
 
-#include "controller/fmu/fmi2.h"
+#include "common/fmi2.h"
 #include "numeric/channel_limits.hpp"
 
 namespace flexloop::controller::fmu {

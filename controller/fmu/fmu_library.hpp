@@ -4,7 +4,7 @@
 #include <filesystem>
 #include <string>
 
-#include "controller/fmu/fmi2.h"
+#include "common/fmi2.h"
 
 namespace flexloop::controller::fmu {
 

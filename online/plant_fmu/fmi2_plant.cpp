@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "artefact/loop_artefact.hpp"
-#include "controller/fmu/fmi2.h"
+#include "common/fmi2.h"
 #include "online/plant_fmu/plant_fmu_model.hpp"
 #include "online/plant_fmu/plant_fmu_variables.hpp"
 

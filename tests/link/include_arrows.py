@@ -37,7 +37,7 @@ ALLOWED = {
                    "controller/runtime", "controller/fmu", "online/sim", "online/loop"},
     # The plant FMU's library: the artefact's plant and hardware behind the FMI calls.
     "online/plant_fmu": {"numeric", "common", "artefact", "plant/runtime", "controller/runtime",
-                         "controller/fmu", "online/sim"},
+                         "online/sim"},
     "offline/report": {"numeric", "common", "msgs", "rt", "plant/model", "plant/lti"},
     "offline/scene": {"numeric", "common", "artefact", "plant/model", "plant/lti",
                       "controller/design", "controller/runtime"},

@@ -20,7 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "controller/fmu/fmi2.h"
+#include "common/fmi2.h"
 
 #define EXPORT __attribute__((visibility("default")))
 

@@ -19,7 +19,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "controller/fmu/fmi2.h"
+#include "common/fmi2.h"
 
 #define FMU_NAME "pi_force_feedback"
 #define FMU_GUID "{5f1d8c2e-33a0-4b6e-9d1c-pi-force-feedback-1}"

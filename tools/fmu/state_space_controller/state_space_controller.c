@@ -20,7 +20,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "controller/fmu/fmi2.h"
+#include "common/fmi2.h"
 
 #if !defined(NX) || !defined(NS) || !defined(NC) || !defined(FMU_GUID) || !defined(FMU_NAME)
 #error "NX, NS, NC, FMU_GUID and FMU_NAME come from tools/fmu/CMakeLists.txt"

@@ -1,10 +1,11 @@
-#ifndef FLEXLOOP_CONTROLLER_FMU_FMI2_H
-#define FLEXLOOP_CONTROLLER_FMU_FMI2_H
+#ifndef FLEXLOOP_COMMON_FMI2_H
+#define FLEXLOOP_COMMON_FMI2_H
 /* The FMI 2.0 Co-Simulation interface as the standard's text defines it (FMI 2.0.x, sections
  * 2.1.2 "Platform Dependent Definitions" and 2.1.3-2.1.10, 4.2): the platform types, the
  * callbacks and the function types a loader resolves. Written here from the text, not copied
  * from the standard's headers; C, so that the project's own FMU sources (tools/fmu) and the
- * C++ loader (controller/fmu) share one definition. */
+ * C++ loader (controller/fmu) and the exported plant FMU (online/plant_fmu) share one
+ * definition, from the lowest floor, so that neither includes the other. */
 #include <stddef.h>
 
 #ifdef __cplusplus
