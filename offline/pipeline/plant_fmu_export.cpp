@@ -4,12 +4,15 @@
 
 #include <unistd.h>
 #include <cstdio>
+#include <map>
 #include <pugixml.hpp>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "common/build_info.hpp"
 #include "common/input_error.hpp"
+#include "offline/pipeline/si_unit.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "online/plant_fmu/plant_fmu_variables.hpp"
 
@@ -27,8 +30,11 @@ void attribute(pugi::xml_node n, const char* name, const std::string& value) {
   n.append_attribute(name) = value.c_str();
 }
 
-// Adds the outputs (1-based indices in ModelVariables), none depending on an input within a step:
-// the sample at t + h reads the command held over [t, t + h) only through the plant's state.
+// Adds the outputs (1-based indices in ModelVariables), each depending on no input
+// (dependencies=""), which is exact: the outputs at a communication point are the sample there,
+// which reads the command held over the step before it (the plant's D acts on the held force,
+// plant/runtime/simulated_hardware.hpp), never the inputs set at that point; they change only in
+// fmi2DoStep. The same holds in initialization mode, where they are the sample at t = 0.
 void list_outputs(pugi::xml_node parent, const char* name,
                   const std::vector<plant_fmu::PlantFmuVariable>& v) {
   auto list = parent.append_child(name);
@@ -38,6 +44,47 @@ void list_outputs(pugi::xml_node parent, const char* name,
       attribute(u, "index", std::to_string(i + 1));
       attribute(u, "dependencies", "");
     }
+}
+
+// The SI unit of each variable, by the artefact's unit string. @throws flexloop::InputError naming
+// the artefact and the channel whose unit does not read (si_unit.hpp's grammar).
+std::map<std::string, SiUnit> variable_units(const artefact::LoopArtefact& a,
+                                             const std::vector<plant_fmu::PlantFmuVariable>& v) {
+  std::map<std::string, SiUnit> units;
+  for (const auto& variable : v) {
+    if (units.count(variable.unit)) continue;
+    try {
+      units.emplace(variable.unit, parse_si_unit(variable.unit));
+    } catch (const std::invalid_argument& e) {
+      throw common::InputError(a.source, "channel " + variable.name + ": " + e.what() +
+                                             "; the plant FMU declares the unit of every variable");
+    }
+  }
+  return units;
+}
+
+// <UnitDefinitions>: one <Unit> per Modelica name, its BaseUnit exponents (factor 1: SI).
+void define_units(pugi::xml_node root, const std::map<std::string, SiUnit>& units) {
+  auto list = root.append_child("UnitDefinitions");
+  std::map<std::string, const SiUnit*> by_name;
+  for (const auto& [text, unit] : units) by_name.emplace(unit.name, &unit);
+  for (const auto& [name, unit] : by_name) {
+    auto u = list.append_child("Unit");
+    attribute(u, "name", name);
+    auto base = u.append_child("BaseUnit");
+    for (std::size_t b = 0; b < unit->exponents.size(); ++b)
+      if (unit->exponents[b] != 0)
+        attribute(base, SiUnit::kBase[b], std::to_string(unit->exponents[b]));
+  }
+}
+
+void declare_log_categories(pugi::xml_node root) {
+  auto list = root.append_child("LogCategories");
+  for (const auto& c : plant_fmu::kLogCategories) {
+    auto category = list.append_child("Category");
+    attribute(category, "name", c.name);
+    attribute(category, "description", c.description);
+  }
 }
 
 }  // namespace
@@ -70,12 +117,15 @@ std::string plant_fmu_description(const artefact::LoopArtefact& a, const std::st
   attribute(cs, "canGetAndSetFMUstate", "false");
   attribute(cs, "canSerializeFMUstate", "false");
   attribute(cs, "providesDirectionalDerivative", "false");
+  const auto variables = plant_fmu::plant_fmu_variables(a);
+  const auto units = variable_units(a, variables);
+  define_units(root, units);
+  declare_log_categories(root);
   auto experiment = root.append_child("DefaultExperiment");
   attribute(experiment, "startTime", "0");
   attribute(experiment, "stopTime", number(a.duration_s));
   attribute(experiment, "stepSize", number(a.dt()));
 
-  const auto variables = plant_fmu::plant_fmu_variables(a);
   auto list = root.append_child("ModelVariables");
   for (const auto& v : variables) {
     auto sv = list.append_child("ScalarVariable");
@@ -85,6 +135,7 @@ std::string plant_fmu_description(const artefact::LoopArtefact& a, const std::st
     attribute(sv, "variability", "discrete");
     if (!v.input) attribute(sv, "initial", "calculated");
     auto real = sv.append_child("Real");
+    attribute(real, "unit", units.at(v.unit).name);
     if (v.input) attribute(real, "start", "0");
   }
   auto rest = list.append_child("ScalarVariable");
@@ -92,6 +143,7 @@ std::string plant_fmu_description(const artefact::LoopArtefact& a, const std::st
   attribute(rest, "valueReference", std::to_string(plant_fmu::kStartAtRestReference));
   attribute(rest, "causality", "parameter");
   attribute(rest, "variability", "fixed");
+  attribute(rest, "initial", "exact");
   attribute(rest, "description",
             "false: the open loop's stationary start, drawn from the artefact's seeds (as flexloop "
             "sim's controller-off run); true: at rest, the floor stationary");

@@ -1,7 +1,7 @@
 #pragma once
-// The variables of the plant FMU that `flexloop export-fmu` writes (issue 33): one list that the
-// exporter's modelDescription.xml and the FMU's own fmi2GetReal / fmi2SetReal read, so that the
-// two can never disagree on a value reference.
+// The variables and log categories of the plant FMU that `flexloop export-fmu` writes (issue 33):
+// one list that the exporter's modelDescription.xml and the FMU's own fmi2 functions read, so that
+// the two can never disagree on a value reference or a category.
 //
 //   real inputs   0 .. nc-1                 "actuator.<channel>"     the command held over a step
 //   real outputs  nc .. nc+ns-1             "sensor.<channel>"       what the sensors read
@@ -10,6 +10,8 @@
 //   boolean parameter 0                     "start_at_rest"          false: the open loop's
 //                                           stationary start (as `flexloop sim`'s controller-off
 //                                           run)
+#include <cstddef>
+#include <iterator>
 #include <string>
 #include <vector>
 
@@ -28,18 +30,35 @@ inline constexpr unsigned kStartAtRestReference = 0;  ///< the one boolean param
 struct PlantFmuVariable {
   std::string name;
   unsigned value_reference;
-  bool input;  ///< else an output
+  bool input;        ///< else an output
+  std::string unit;  ///< the artefact's channel unit, e.g. "m/s^2", "N"
 };
+
+/// The log categories modelDescription.xml declares, each one the FMU logs under
+/// (fmi2SetDebugLogging names them).
+struct PlantFmuLogCategory {
+  const char* name;
+  const char* description;
+};
+inline constexpr PlantFmuLogCategory kLogCategories[] = {
+    {"logStatusError",
+     "why a call returned fmi2Error (on from fmi2Instantiate, whatever its loggingOn)"},
+    {"logEvents",
+     "the instance's changes of state: instantiated, initialised, terminated, reset (on when "
+     "fmi2Instantiate's loggingOn is true)"},
+};
+inline constexpr std::size_t kLogStatusError = 0, kLogEvents = 1;
+inline constexpr std::size_t kLogCategoryCount = std::size(kLogCategories);
 
 /// The real variables of the artefact's plant FMU, by value reference.
 inline std::vector<PlantFmuVariable> plant_fmu_variables(const artefact::LoopArtefact& a) {
   std::vector<PlantFmuVariable> v;
   unsigned vr = 0;
-  for (const auto& name : a.names(a.channels.actuators))
-    v.push_back({"actuator." + name, vr++, true});
-  for (const auto& name : a.names(a.channels.sensors)) v.push_back({"sensor." + name, vr++, false});
-  for (const auto& name : a.names(a.channels.performance))
-    v.push_back({"performance." + name, vr++, false});
+  for (const auto& c : a.channels.actuators)
+    v.push_back({"actuator." + c.name, vr++, true, c.unit});
+  for (const auto& c : a.channels.sensors) v.push_back({"sensor." + c.name, vr++, false, c.unit});
+  for (const auto& c : a.channels.performance)
+    v.push_back({"performance." + c.name, vr++, false, c.unit});
   return v;
 }
 

@@ -209,9 +209,12 @@ TEST_CASE("The plant FMU refuses a step other than its period and a wrong GUID",
   {
     PlantFmuHarness fmu(file, false);
     CHECK(fmu.raw_step(0, 2 * a.dt()) == fmi2Error);
-    CHECK(fmu.raw_step(0, a.dt()) == fmi2OK);
     CHECK(fmu.description().step_size == a.dt());
     CHECK_FALSE(fmu.description().variable_step);
+  }
+  {
+    PlantFmuHarness fmu(file, false);  // a refused call leaves the instance in the error state
+    CHECK(fmu.raw_step(0, a.dt()) == fmi2OK);
   }
   const controller::fmu::FmuDirectory unpacked(file);
   const controller::fmu::FmuLibrary library(unpacked.path(), "flexloop_plant", file);
