@@ -151,6 +151,13 @@ fmi2Status start_plant(PlantInstance* in, const char* call) {
   return fmi2OK;
 }
 
+// How far a master's step size may be from h at step k: 1e-9 h, and the rounding of a master
+// that passes the difference of its points fl((k + 1) h) - fl(k h) (each rounded by half an ulp,
+// <= eps t / 2, and the difference by half an ulp of h): within 2 eps t_{k+1}.
+double step_tolerance(long long k, double h) {
+  return 1e-9 * h + 2 * DBL_EPSILON * static_cast<double>(k + 1) * h;
+}
+
 // The drift a master's communication point may have from t_k = k h: 1e-9 h for the rounding of h,
 // and what a master that adds its h k times gathers (each sum rounds by at most half an ulp,
 // <= eps t_k / 2, and its h may differ by the 1e-9 h the step check accepts). Never a quarter
@@ -338,7 +345,7 @@ FLEXLOOP_FMI2_EXPORT fmi2Status fmi2DoStep(fmi2Component c, fmi2Real t, fmi2Real
   if (!in) return fmi2Error;
   if (in->state != kStepComplete) return wrong_state(in, "fmi2DoStep");
   const double dt = in->loop.dt();
-  if (!(std::abs(h - dt) <= 1e-9 * dt))
+  if (!(std::abs(h - dt) <= step_tolerance(in->steps, dt)))
     return fail(in,
                 "fmi2DoStep: communicationStepSize %.17g s is not this plant's loop period "
                 "%.17g s (its DefaultExperiment stepSize; the plant is discrete at it)",
