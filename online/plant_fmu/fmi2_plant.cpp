@@ -11,8 +11,8 @@
 // set may name there). A refused call returns fmi2Error, logs why under "logStatusError", and
 // leaves the instance in the state `error`, from which fmi2Reset starts it again (section 2.1.3:
 // after fmi2Error the simulation cannot continue with the instance). No exception leaves this
-// file, and a call that succeeds neither allocates nor logs (the messages are formatted into a
-// buffer on the stack).
+// file. Messages are formatted into a buffer on the stack: no refusal allocates, and fmi2DoStep,
+// fmi2GetReal and fmi2SetReal in stepComplete neither allocate nor log unless they refuse.
 #include <algorithm>
 #include <array>
 #include <cfloat>

@@ -99,12 +99,16 @@ class PlantFmu {
     dlclose(handle_);
   }
 
+  /// fmi2Instantiate's answer for this name and type, with the FMU's GUID and resources.
+  fmi2Component try_instantiate(const char* name, fmi2Type type, bool logging_on = false) {
+    const std::string resources = "file://" + (unpacked_.path() / "resources").string();
+    return instantiate_(name, type, guid_.c_str(), resources.c_str(), &callbacks_, fmi2False,
+                        logging_on ? fmi2True : fmi2False);
+  }
   /// A new instance (the previous one freed), in state instantiated.
   void instantiate(bool logging_on = false) {
     if (c) free_(c);
-    const std::string resources = "file://" + (unpacked_.path() / "resources").string();
-    c = instantiate_("calls", fmi2CoSimulation, guid_.c_str(), resources.c_str(), &callbacks_,
-                     fmi2False, logging_on ? fmi2True : fmi2False);
+    c = try_instantiate("calls", fmi2CoSimulation, logging_on);
     REQUIRE(c);
   }
   /// Instantiated, set up and initialised: stepComplete at t = 0.
@@ -234,6 +238,10 @@ TEST_CASE("The plant FMU allows each call only in the states FMI 2.0 allows it",
     fmu.refused(call(fmu.c), "is not allowed in state instantiated");
   }
   fmu.instantiate();
+  fmu.refused(fmu.setup(fmu.c, fmi2False, 0, 1, fmi2False, 0), "not at startTime 1");
+  fmu.instantiate();
+  fmu.refused(fmu.setup(fmu.c, fmi2False, 0, 0, fmi2True, -1), "stopTime -1 is before startTime 0");
+  fmu.instantiate();
   fmu.refused(fmu.do_step(fmu.c, 0, fmu.h(), fmi2True),
               "fmi2DoStep is not allowed in state instantiated");
 
@@ -328,10 +336,36 @@ TEST_CASE(
   double largest = 0;
   for (double v : before) largest = std::max(largest, std::abs(v));
   CHECK(largest > 0);  // the stationary start: a draw, not zeros
+
+  // start_at_rest set in initialization mode after the outputs were read: they are the sample at
+  // rest, as when it is set before.
+  const fmi2ValueReference rest = 0;
+  const fmi2Boolean yes = fmi2True;
+  std::vector<double> late(out.size()), early(out.size());
+  fmu.instantiate();
+  REQUIRE(fmu.enter(fmu.c) == fmi2OK);
+  REQUIRE(fmu.get_real(fmu.c, out.data(), out.size(), late.data()) == fmi2OK);
+  CHECK(late == before);
+  REQUIRE(fmu.set_boolean(fmu.c, &rest, 1, &yes) == fmi2OK);
+  REQUIRE(fmu.exit(fmu.c) == fmi2OK);
+  REQUIRE(fmu.get_real(fmu.c, out.data(), out.size(), late.data()) == fmi2OK);
+  fmu.instantiate();
+  REQUIRE(fmu.set_boolean(fmu.c, &rest, 1, &yes) == fmi2OK);
+  REQUIRE(fmu.enter(fmu.c) == fmi2OK);
+  REQUIRE(fmu.exit(fmu.c) == fmi2OK);
+  REQUIRE(fmu.get_real(fmu.c, out.data(), out.size(), early.data()) == fmi2OK);
+  CHECK(late == early);
+  CHECK(late != before);
 }
 
-TEST_CASE("The plant FMU refuses null arrays without reading them", "[fmu]") {
+TEST_CASE("The plant FMU refuses null arguments without reading them", "[fmu]") {
   PlantFmu fmu(plant_fmu_calls::chain());
+  CHECK(fmu.try_instantiate(nullptr, fmi2CoSimulation) == nullptr);
+  CHECK(fmu.log.back().text == "fmi2Instantiate: no instanceName");
+  CHECK(fmu.try_instantiate("", fmi2CoSimulation) == nullptr);
+  CHECK(fmu.log.back().text == "fmi2Instantiate: no instanceName");
+  CHECK(fmu.try_instantiate("me", fmi2ModelExchange) == nullptr);
+  CHECK(fmu.log.back().text.find("Co-Simulation only") != std::string::npos);
   const fmi2ValueReference vr[2] = {0, 0};
   double values[2] = {0, 0};
   fmi2Boolean flags[2] = {0, 0};
