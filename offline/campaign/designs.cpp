@@ -11,6 +11,10 @@
 
 namespace flexloop::campaign {
 
+struct DesignPoints::SobolEngine {
+  boost::random::sobol engine;
+};
+
 namespace {
 
 constexpr std::uint64_t kStrataTag = 0x4C48532D7065726Dull;  // "LHS-perm": apart from jitters
@@ -80,14 +84,17 @@ DesignPoints::DesignPoints(DesignKind kind, long n, int d, std::uint64_t seed)
     if (n > 0xFFFFFFFFL) throw std::invalid_argument("design lhs: n beyond 2^32 - 1");
     for (int k = 0; k < d; ++k) strata_.push_back(strata_permutation(n, seed, k));
   }
+  if (kind == DesignKind::kSobol || kind == DesignKind::kSaltelli)
+    sobol_ = std::make_shared<const SobolEngine>(
+        SobolEngine{boost::random::sobol(static_cast<std::size_t>(sobol_dims))});
 }
 
-// Point `point` (>= 1) of the Sobol sequence in `dimension` dimensions; Boost's engine starts
-// at point 1, so seed(point - 1) puts it there (Gray-code jump, O(dimension * bits)).
-std::vector<double> DesignPoints::sobol_point(long point, int dimension) const {
-  boost::random::sobol engine(static_cast<std::size_t>(dimension));
+// Point `point` (>= 1) of the design's Sobol sequence; Boost's engine starts at point 1, so
+// seed(point - 1) puts a copy of it there (Gray-code jump, O(dimension * bits)).
+std::vector<double> DesignPoints::sobol_point(long point) const {
+  boost::random::sobol engine = sobol_->engine;
   engine.seed(static_cast<std::uint64_t>(point - 1));
-  std::vector<double> x(static_cast<std::size_t>(dimension));
+  std::vector<double> x(engine.dimension());
   for (double& v : x) v = unit_from_bits(engine());
   return x;
 }
@@ -108,12 +115,12 @@ std::vector<double> DesignPoints::point(long index) const {
         x[k] = in_stratum(strata_[k][i], unit_from_bits(counter_bits(seed_, i, k)), n_);
       return x;
     case DesignKind::kSobol:
-      return sobol_point(index + 1, d_);
+      return sobol_point(index + 1);
     case DesignKind::kSaltelli: {
       const long block = index / (d_ + 2L);
       const long j = index % (d_ + 2L);
-      const std::vector<double> ab = sobol_point(block + 1, 2 * d_);  // [A_b | B_b]
-      const std::size_t offset = j == 1 ? d : 0;  // j == 1: all of B_b, else A_b
+      const std::vector<double> ab = sobol_point(block + 1);  // [A_b | B_b]
+      const std::size_t offset = j == 1 ? d : 0;              // j == 1: all of B_b, else A_b
       for (std::size_t k = 0; k < d; ++k) x[k] = ab[offset + k];
       if (j >= 2) x[static_cast<std::size_t>(j - 2)] = ab[d + static_cast<std::size_t>(j - 2)];
       return x;

@@ -14,6 +14,7 @@
 //    2d-dimensional Sobol sequence; evaluation index b*(d+2) + j is A_b (j = 0), B_b (j = 1) or
 //    A_b with column i taken from B_b (j = 2 + i).
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,7 +31,8 @@ std::string design_name(DesignKind kind);
 long evaluation_count(DesignKind kind, long n, int d);
 
 /// The points of one design. Building it costs O(n d) for a Latin hypercube (its permutations)
-/// and O(d) otherwise; a point then costs O(d) (Sobol: O(d log index)).
+/// and O(d) otherwise; a point then costs O(d) (Sobol: O(d * 64), the Gray-code jump). point()
+/// may be called from several threads at once.
 class DesignPoints {
  public:
   /// std::invalid_argument for n < 1, d < 1 or d beyond the Sobol table (3667, 1833 for Saltelli).
@@ -45,12 +47,14 @@ class DesignPoints {
   std::uint64_t seed() const { return seed_; }
 
  private:
-  std::vector<double> sobol_point(long point, int dimension) const;
+  struct SobolEngine;  // Boost's engine with its direction numbers, built once per design
+  std::vector<double> sobol_point(long point) const;
   DesignKind kind_;
   long n_;
   int d_;
   std::uint64_t seed_;
   std::vector<std::vector<std::uint32_t>> strata_;  // LHS: strata_[k][i] = pi_k(i)
+  std::shared_ptr<const SobolEngine> sobol_;        // Sobol and Saltelli
 };
 
 /// Evaluation `index` (0 <= index < evaluation_count) as a point of [0,1)^d: a pure function of
