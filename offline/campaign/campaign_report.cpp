@@ -116,7 +116,7 @@ json sobol_figure_json(const FigureColumn& f, long n, const std::vector<std::str
   return out;
 }
 
-std::vector<std::string> plan_columns(const json& plan) {
+std::vector<std::string> column_paths(const json& plan) {
   std::vector<std::string> columns;
   for (const json& c : plan.at("columns")) columns.push_back(c.get<std::string>());
   return columns;
@@ -158,7 +158,7 @@ json campaign_summary(const json& plan, const std::vector<json>& samples) {
   for (const FigureColumn& f : figures) per_figure[f.name] = figure_summary(f, status);
   summary["figures"] = per_figure;
   if (plan.value("design", std::string()) == "saltelli") {
-    const std::vector<std::string> columns = plan_columns(plan);
+    const std::vector<std::string> columns = column_paths(plan);
     const long n = plan.at("n").get<long>();
     if (total != evaluation_count(DesignKind::kSaltelli, n, static_cast<int>(columns.size())))
       throw std::invalid_argument("campaign report: a Saltelli plan of n = " + std::to_string(n) +
