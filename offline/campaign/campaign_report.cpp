@@ -154,9 +154,13 @@ json campaign_summary(const json& plan, const std::vector<json>& samples) {
   for (long prefix : prefixes(total)) convergence.push_back(p_unstable_json(status, prefix));
   summary["p_unstable_convergence"] = convergence;
   const std::vector<FigureColumn> figures = figure_columns(samples);
-  json per_figure = json::object();
-  for (const FigureColumn& f : figures) per_figure[f.name] = figure_summary(f, status);
+  json per_figure = json::object(), order = json::array();
+  for (const FigureColumn& f : figures) {
+    per_figure[f.name] = figure_summary(f, status);
+    order.push_back(f.name);
+  }
   summary["figures"] = per_figure;
+  summary["figure_order"] = order;  // JSON objects have no order; the report's tables keep this
   if (plan.value("design", std::string()) == "saltelli") {
     const std::vector<std::string> columns = column_paths(plan);
     const long n = plan.at("n").get<long>();
@@ -207,8 +211,9 @@ std::string figures_markdown(const json& summary) {
      << "Each cell: the quantile's estimate [its distribution-free interval, confidence >= 95 "
         "%]; an unbounded end means too few samples for that confidence.\n\n"
      << "| figure | n | 5 % | 50 % | 95 % |\n|---|---|---|---|---|\n";
-  for (const auto& [name, f] : summary["figures"].items()) {
-    md << "| " << name << " | " << f["n"];
+  for (const json& name : summary["figure_order"]) {
+    const json& f = summary["figures"][name.get<std::string>()];
+    md << "| " << name.get<std::string>() << " | " << f["n"];
     for (const json& q : f["quantiles"]) md << " | " << quantile_cell(q);
     md << " |\n";
   }
@@ -226,10 +231,10 @@ std::string sobol_markdown(const json& summary) {
     return cell(i["estimate"]) + " [" + cell(i["lo"]) + ", " + cell(i["hi"]) + "]" +
            (i["holds_zero"].get<bool>() ? " (0)" : "");
   };
-  for (const auto& [name, s] : summary["sobol"].items())
-    for (const json& p : s["parameters"])
-      md << "| " << name << " | " << p["path"].get<std::string>() << " | " << index(p["first"])
-         << " | " << index(p["total"]) << " |\n";
+  for (const json& name : summary["figure_order"])
+    for (const json& p : summary["sobol"][name.get<std::string>()]["parameters"])
+      md << "| " << name.get<std::string>() << " | " << p["path"].get<std::string>() << " | "
+         << index(p["first"]) << " | " << index(p["total"]) << " |\n";
   return md.str() + "\n";
 }
 

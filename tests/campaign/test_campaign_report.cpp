@@ -147,6 +147,10 @@ TEST_CASE("the summary of a synthetic campaign holds the numbers computed by han
         "disk_margin_deg", "disk_margin_all_db", "disk_margin_all_deg", "peak_sigma"})
     CHECK(summary["figures"][name]["n"] == 85);
   CHECK(summary["figures"]["spectral_radius"]["max"].get<double>() < 1.0);
+  CHECK(summary["figure_order"] == json{"spectral_radius", "natural_frequency_1_hz",
+                                        "natural_frequency_2_hz", "rms.x", "rms_open.x",
+                                        "disk_margin_db", "disk_margin_deg", "disk_margin_all_db",
+                                        "disk_margin_all_deg", "peak_sigma"});
   CHECK_FALSE(summary.contains("sobol"));
 }
 
