@@ -413,4 +413,51 @@ void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
   run_gnuplot(png_path, body, spec);
 }
 
+namespace {
+
+// A category label as a gnuplot data string: double-quoted, without the characters that would
+// end it.
+std::string data_label(const std::string& label) {
+  std::string q = "\"";
+  for (char c : label)
+    if (c != '"' && c != '\\' && c != '\n' && c != '\r') q += c;
+  return q + "\"";
+}
+
+}  // namespace
+
+void plot_interval_bars(const PlotSpec& spec, const std::vector<std::string>& categories,
+                        const std::vector<BarSeries>& series, const std::string& png_path) {
+  if (categories.empty() || series.empty())
+    throw std::invalid_argument("plot " + png_path + ": no bars to draw");
+  for (const BarSeries& b : series)
+    if (b.value.size() != categories.size() || b.lo.size() != categories.size() ||
+        b.hi.size() != categories.size())
+      throw std::invalid_argument("plot " + png_path + ": series '" + b.title + "' needs " +
+                                  std::to_string(categories.size()) + " values, lo and hi");
+  // Columns: label, then value lo hi of each series.
+  std::string body = labels(spec) + "$bars << EOD\n";
+  for (std::size_t c = 0; c < categories.size(); ++c) {
+    body += data_label(categories[c]);
+    for (const BarSeries& b : series)
+      body += ' ' + value(b.value[c], false) + ' ' + value(b.lo[c], false) + ' ' +
+              value(b.hi[c], false);
+    body += '\n';
+  }
+  body += "EOD\n";
+  body +=
+      "set style data histograms\nset style histogram errorbars gap 2 lw 1.5\n"
+      "set style fill solid 0.6 border -1\nset boxwidth 0.9\nset xzeroaxis lt -1\n"
+      "set key\nset autoscale xfixmin\nset autoscale xfixmax\nset offsets 0.5, 0.5, 0, 0\n";
+  if (categories.size() > 4) body += "set xtics rotate by -30\n";
+  std::string cmd = "plot ";
+  for (std::size_t k = 0; k < series.size(); ++k) {
+    const std::string col = std::to_string(3 * k + 2);
+    cmd += (k ? ", \\\n     " : "") + std::string("$bars using ") + col + ":" +
+           std::to_string(3 * k + 3) + ":" + std::to_string(3 * k + 4) +
+           (k == 0 ? ":xtic(1)" : "") + " " + plot_title(series[k].title);
+  }
+  run_gnuplot(png_path, body + cmd + "\n", spec);
+}
+
 }  // namespace flexloop::report

@@ -94,4 +94,16 @@ void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& 
 void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
                     const std::vector<double>& counts, const std::string& png_path);
 
+/// One group member of a bar chart: a value per category and its interval (lo <= value <= hi;
+/// NaN: no bar there).
+struct BarSeries {
+  std::string title;
+  std::vector<double> value, lo, hi;
+};
+
+/// (e) Bars with error bars: for each category (labels on the x axis) one bar per series, side
+/// by side, each with its [lo, hi] interval drawn over it (Sobol indices with their intervals).
+void plot_interval_bars(const PlotSpec& spec, const std::vector<std::string>& categories,
+                        const std::vector<BarSeries>& series, const std::string& png_path);
+
 }  // namespace flexloop::report

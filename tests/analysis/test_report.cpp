@@ -190,6 +190,18 @@ TEST_CASE("plots: one PNG per kind", "[report][plot]") {
     CHECK(is_png(png));
     CHECK_THROWS_AS(report::plot_histogram({}, {0, 1}, {1, 2}, png), std::invalid_argument);
   }
+  SECTION("bars with intervals (NaN: no bar), labels with blanks and quotes") {
+    const std::string png = dir / "bars.png";
+    const double nan = std::nan("");
+    report::plot_interval_bars({"Sobol indices", "", "share of the variance"},
+                               {"element.\"k\" 1", "mass", "gain"},
+                               {{"first", {0.6, 0.3, nan}, {0.5, 0.2, nan}, {0.7, 0.4, nan}},
+                                {"total", {0.7, 0.3, 0.05}, {0.6, 0.25, -0.01}, {0.8, 0.35, 0.1}}},
+                               png);
+    CHECK(is_png(png));
+    CHECK_THROWS_AS(report::plot_interval_bars({}, {"a"}, {{"x", {1, 2}, {1}, {1}}}, png),
+                    std::invalid_argument);
+  }
   // Every section leaves only finished PNGs behind: no scripts, logs or partial images.
   for (const auto& name : dir.files()) CHECK(name.size() > 4);
   for (const auto& name : dir.files()) CHECK(name.substr(name.size() - 4) == ".png");

@@ -1,0 +1,270 @@
+#include "offline/campaign/campaign_pictures.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+
+#include "offline/campaign/sample_table.hpp"
+#include "offline/campaign/statistics.hpp"
+#include "offline/report/plot.hpp"
+
+namespace flexloop::campaign {
+
+namespace {
+
+using nlohmann::json;
+constexpr int kHistogramRanks = 3;  // the first natural frequencies drawn as histograms
+
+// A figure's name as part of a file name.
+std::string file_stem(const std::string& name) {
+  std::string s;
+  for (char c : name)
+    s +=
+        (std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.') ? c : '_';
+  return s;
+}
+
+double json_or_nan(const json& j) {
+  return j.is_number() ? j.get<double>() : kMissing;
+}
+
+std::vector<SampleStatus> statuses(const std::vector<json>& samples) {
+  std::vector<SampleStatus> out;
+  for (const json& s : samples) out.push_back(sample_status(s));
+  return out;
+}
+
+// The ECDF of xs (sorted here) as a staircase, each quantile's estimate and its interval as a
+// horizontal bar at height p (an unbounded end drawn to the data's end, dashed).
+void draw_ecdf(const std::string& name, std::vector<double> xs, const json& quantiles,
+               const std::string& png) {
+  std::sort(xs.begin(), xs.end());
+  report::Series ecdf{"ECDF of " + std::to_string(xs.size()) + " stable samples",
+                      {xs.front()},
+                      {0.0},
+                      "steps lw 2 lc rgb '#1f4e79'"};
+  for (std::size_t i = 0; i < xs.size(); ++i) {
+    ecdf.x.push_back(xs[i]);
+    ecdf.y.push_back(static_cast<double>(i + 1) / static_cast<double>(xs.size()));
+  }
+  std::vector<report::Series> series{ecdf};
+  for (const json& q : quantiles) {
+    const double p = q["p"].get<double>();
+    const bool bounded = q["lo"].is_number() && q["hi"].is_number();
+    const double lo = q["lo"].is_number() ? q["lo"].get<double>() : xs.front();
+    const double hi = q["hi"].is_number() ? q["hi"].get<double>() : xs.back();
+    const std::string pct = std::to_string(static_cast<int>(std::lround(100 * p)));
+    series.push_back(
+        {pct + " % quantile, " + (bounded ? "its 95 % interval" : "its interval (unbounded)"),
+         {lo, hi},
+         {p, p},
+         std::string("linespoints lw 4 pt 2 ps 1.5 lc rgb '#d62728'") + (bounded ? "" : " dt 2")});
+    series.push_back(
+        {"", {json_or_nan(q["estimate"])}, {p}, "points pt 7 ps 1.6 lc rgb '#000000'"});
+  }
+  report::PlotSpec spec;
+  spec.title = name + ": empirical distribution with the 5/50/95 % quantile intervals";
+  spec.xlabel = name;
+  spec.ylabel = "fraction of stable samples <= x";
+  if (xs.front() == xs.back()) {  // one value: an axis of +-0.5 % around it, not an empty one
+    const double half = xs.front() != 0.0 ? 0.005 * std::abs(xs.front()) : 0.5;
+    spec.x_min = xs.front() - half, spec.x_max = xs.front() + half;
+  }
+  report::plot_lines(spec, series, png);
+}
+
+void draw_histogram(const std::string& name, const std::vector<double>& xs,
+                    const std::string& png) {
+  const auto [min_it, max_it] = std::minmax_element(xs.begin(), xs.end());
+  double lo = *min_it, hi = *max_it;
+  if (!(hi > lo)) {  // one value: a bin of +-0.5 % around it
+    const double half = lo != 0.0 ? 0.005 * std::abs(lo) : 0.5;
+    lo -= half, hi += half;
+  }
+  const int bins = std::clamp(static_cast<int>(std::ceil(std::sqrt(xs.size()))), 5, 50);
+  std::vector<double> edges, counts(static_cast<std::size_t>(bins), 0.0);
+  for (int b = 0; b <= bins; ++b) edges.push_back(lo + (hi - lo) * b / bins);
+  for (double x : xs) {
+    const int b = std::min(bins - 1, static_cast<int>((x - lo) / (hi - lo) * bins));
+    counts[static_cast<std::size_t>(std::max(0, b))] += 1.0;
+  }
+  report::PlotSpec spec;
+  spec.title = name + ": histogram over " + std::to_string(xs.size()) + " stable samples";
+  spec.xlabel = "frequency [Hz]";
+  spec.ylabel = "samples";
+  report::plot_histogram(spec, edges, counts, png);
+}
+
+// Per grid point: 5/50/95 % (ECDF inverse) and the max of sigma_max over the stable samples.
+bool draw_sigma_envelope(const json& plan, const std::vector<json>& samples,
+                         const std::vector<SampleStatus>& status, const std::string& png) {
+  if (!plan.contains("sigma_grid_hz") || !plan["sigma_grid_hz"].is_array()) return false;
+  const std::vector<double> f = plan["sigma_grid_hz"].get<std::vector<double>>();
+  const auto db = [](double s) { return s > 0.0 ? 20.0 * std::log10(s) : kMissing; };
+  std::vector<report::Series> lines{{"max over samples", f, {}, "lines lw 2 lc rgb '#d62728'"},
+                                    {"95 %", f, {}, "lines lw 2 lc rgb '#ff7f0e'"},
+                                    {"50 %", f, {}, "lines lw 2 lc rgb '#2ca02c'"},
+                                    {"5 %", f, {}, "lines lw 2 lc rgb '#1f77b4'"}};
+  bool any = false;
+  for (std::size_t j = 0; j < f.size(); ++j) {
+    std::vector<double> at;
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const json& s = samples[i].contains("sigma_max") ? samples[i]["sigma_max"] : json();
+      if (status[i] == SampleStatus::kStable && s.is_array() && j < s.size() && s[j].is_number())
+        at.push_back(s[j].get<double>());
+    }
+    std::sort(at.begin(), at.end());
+    any = any || !at.empty();
+    const auto q = [&](double p) {
+      return at.empty()
+                 ? kMissing
+                 : db(at[static_cast<std::size_t>(std::max(
+                             1L,
+                             static_cast<long>(std::ceil(p * static_cast<double>(at.size()))))) -
+                         1]);
+    };
+    lines[0].y.push_back(at.empty() ? kMissing : db(at.back()));
+    lines[1].y.push_back(q(0.95));
+    lines[2].y.push_back(q(0.5));
+    lines[3].y.push_back(q(0.05));
+  }
+  if (!any) return false;
+  const json& nominal = plan.contains("nominal") ? plan["nominal"] : json();
+  if (nominal.is_object() && nominal.contains("sigma_max") && nominal["sigma_max"].is_array() &&
+      nominal["sigma_max"].size() == f.size()) {
+    report::Series nom{"nominal machine", f, {}, "lines lw 2 dt 2 lc rgb '#000000'"};
+    for (const json& s : nominal["sigma_max"]) nom.y.push_back(db(json_or_nan(s)));
+    lines.push_back(nom);
+  }
+  report::PlotSpec spec;
+  spec.title = "closed loop, floor -> performance: largest singular value over the samples";
+  spec.xlabel = "frequency [Hz]";
+  spec.ylabel = "sigma_max [dB]";
+  spec.logx = true;
+  report::plot_lines(spec, lines, png);
+  return true;
+}
+
+// The worst figures against one parameter: the disk margin and the peak sigma of the stable
+// samples, and the spectral radius of every judged sample (unstable ones in red, above 1).
+bool draw_scatter(const std::string& column, const std::vector<json>& samples,
+                  const std::vector<SampleStatus>& status, const std::string& png) {
+  const auto figure = [&](const char* field, bool stable, bool unstable) {
+    report::Series s{"", {}, {}, "points pt 7 ps 0.6 lc rgb '#1f4e79'"};
+    for (std::size_t i = 0; i < samples.size(); ++i) {
+      const bool wanted = (stable && status[i] == SampleStatus::kStable) ||
+                          (unstable && status[i] == SampleStatus::kUnstable);
+      const json& params = samples[i].contains("parameters") ? samples[i]["parameters"] : json();
+      if (!wanted || !params.is_object() || !params.contains(column)) continue;
+      const double x = json_or_nan(params[column]);
+      const double y = json_or_nan(samples[i].value(field, json()));
+      if (std::isfinite(x) && std::isfinite(y)) s.x.push_back(x), s.y.push_back(y);
+    }
+    return s;
+  };
+  report::Series radius_stable = figure("spectral_radius", true, false);
+  report::Series radius_unstable = figure("spectral_radius", false, true);
+  radius_stable.title = "stable";
+  radius_unstable.title = "unstable";
+  radius_unstable.style = "points pt 2 ps 0.9 lc rgb '#d62728'";
+  std::vector<report::Panel> panels{{"disk margin [dB]", {figure("disk_margin_db", true, false)}},
+                                    {"peak sigma", {figure("peak_sigma", true, false)}},
+                                    {"spectral radius", {radius_stable}}};
+  if (!radius_unstable.x.empty()) panels.back().series.push_back(radius_unstable);
+  for (auto it = panels.begin(); it != panels.end();)
+    it = it->series.front().x.empty() && it->series.size() == 1 ? panels.erase(it) : it + 1;
+  if (panels.empty()) return false;
+  report::PlotSpec spec;
+  spec.title = "the worst-case figures against " + column;
+  spec.xlabel = column;
+  spec.height_px = 300 * static_cast<int>(panels.size()) + 100;
+  report::plot_stacked(spec, panels, png);
+  return true;
+}
+
+bool draw_sobol(const std::string& figure, const json& sobol, const std::string& png) {
+  std::vector<std::string> names;
+  report::BarSeries first{"first order", {}, {}, {}}, total{"total", {}, {}, {}};
+  for (const json& p : sobol["parameters"]) {
+    names.push_back(p["path"].get<std::string>());
+    first.value.push_back(json_or_nan(p["first"]["estimate"]));
+    first.lo.push_back(json_or_nan(p["first"]["lo"]));
+    first.hi.push_back(json_or_nan(p["first"]["hi"]));
+    total.value.push_back(json_or_nan(p["total"]["estimate"]));
+    total.lo.push_back(json_or_nan(p["total"]["lo"]));
+    total.hi.push_back(json_or_nan(p["total"]["hi"]));
+  }
+  if (names.empty()) return false;
+  report::PlotSpec spec;
+  spec.title = figure + ": Sobol indices with their 95 % bootstrap intervals (" +
+               std::to_string(sobol["base_rows"].get<long>()) + " base rows)";
+  spec.ylabel = "share of the variance";
+  report::plot_interval_bars(spec, names, {first, total}, png);
+  return true;
+}
+
+void draw_p_unstable(const json& convergence, const std::string& png) {
+  report::Series estimate{"estimate", {}, {}, "linespoints lw 2 pt 7 lc rgb '#1f4e79'"};
+  report::Series lo{"Clopper-Pearson 95 % interval", {}, {}, "lines lw 2 dt 2 lc rgb '#d62728'"};
+  report::Series hi{"", {}, {}, "lines lw 2 dt 2 lc rgb '#d62728'"};
+  for (const json& c : convergence) {
+    const auto n = static_cast<double>(c["n"].get<long>());
+    estimate.x.push_back(n), lo.x.push_back(n), hi.x.push_back(n);
+    estimate.y.push_back(json_or_nan(c["estimate"]));
+    lo.y.push_back(json_or_nan(c["lo"]));
+    hi.y.push_back(json_or_nan(c["hi"]));
+  }
+  report::PlotSpec spec;
+  spec.title = "P(unstable) over the first n evaluations";
+  spec.xlabel = "n (evaluations)";
+  spec.ylabel = "P(unstable)";
+  spec.logx = true;
+  report::plot_lines(spec, {estimate, lo, hi}, png);
+}
+
+}  // namespace
+
+std::vector<Picture> draw_campaign_pictures(const json& plan, const std::vector<json>& samples,
+                                            const json& summary, const std::string& out_dir) {
+  const std::vector<SampleStatus> status = statuses(samples);
+  const std::vector<FigureColumn> figures = figure_columns(samples);
+  const auto path = [&](const std::string& file) { return out_dir + "/" + file; };
+  std::vector<Picture> out;
+  draw_p_unstable(summary["p_unstable_convergence"], path("p_unstable.png"));
+  out.push_back({"p_unstable.png", "P(unstable) and its interval against n"});
+  for (const FigureColumn& f : figures) {
+    const std::vector<double> xs = stable_values(f, status, static_cast<long>(samples.size()));
+    if (xs.empty()) continue;
+    const std::string file = "ecdf_" + file_stem(f.name) + ".png";
+    draw_ecdf(f.name, xs, summary["figures"][f.name]["quantiles"], path(file));
+    out.push_back({file, "ECDF of " + f.name + " with its quantile intervals"});
+  }
+  for (int r = 1; r <= kHistogramRanks; ++r) {
+    const std::string name = "natural_frequency_" + std::to_string(r) + "_hz";
+    const auto it = std::find_if(figures.begin(), figures.end(),
+                                 [&](const FigureColumn& f) { return f.name == name; });
+    if (it == figures.end()) break;
+    const std::vector<double> xs = stable_values(*it, status, static_cast<long>(samples.size()));
+    if (xs.empty()) continue;
+    draw_histogram(name, xs, path("histogram_" + name + ".png"));
+    out.push_back({"histogram_" + name + ".png", "histogram of " + name});
+  }
+  if (draw_sigma_envelope(plan, samples, status, path("sigma_envelope.png")))
+    out.push_back({"sigma_envelope.png", "closed-loop sigma envelope against the nominal"});
+  if (plan.contains("columns"))
+    for (const json& c : plan["columns"]) {
+      const std::string column = c.get<std::string>(),
+                        file = "scatter_" + file_stem(column) + ".png";
+      if (draw_scatter(column, samples, status, path(file)))
+        out.push_back({file, "the worst figures against " + column});
+    }
+  if (summary.contains("sobol"))
+    for (const auto& [figure, sobol] : summary["sobol"].items()) {
+      const std::string file = "sobol_" + file_stem(figure) + ".png";
+      if (draw_sobol(figure, sobol, path(file)))
+        out.push_back({file, "Sobol indices of " + figure});
+    }
+  return out;
+}
+
+}  // namespace flexloop::campaign

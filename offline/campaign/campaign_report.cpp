@@ -1,0 +1,267 @@
+#include "offline/campaign/campaign_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "common/atomic_file.hpp"
+#include "offline/campaign/campaign_pictures.hpp"
+#include "offline/campaign/designs.hpp"
+#include "offline/campaign/sample_table.hpp"
+#include "offline/campaign/statistics.hpp"
+
+namespace flexloop::campaign {
+
+namespace {
+
+using nlohmann::json;
+constexpr double kConfidence = 0.95;
+constexpr double kProbabilities[] = {0.05, 0.5, 0.95};
+
+// n = 1, 2, 4, ... below `total`, then total.
+std::vector<long> prefixes(long total) {
+  std::vector<long> out;
+  for (long n = 1; n < total; n *= 2) out.push_back(n);
+  if (total > 0) out.push_back(total);
+  return out;
+}
+
+json quantile_json(const QuantileInterval& q) {
+  return {{"p", q.p},
+          {"estimate", number_or_null(q.estimate)},
+          {"lo", number_or_null(q.lo)},
+          {"hi", number_or_null(q.hi)},
+          {"confidence", q.confidence}};
+}
+
+json quantiles_json(const std::vector<double>& xs) {
+  json out = json::array();
+  for (double p : kProbabilities)
+    out.push_back(quantile_json(quantile_interval(xs, p, kConfidence)));
+  return out;
+}
+
+json figure_summary(const FigureColumn& f, const std::vector<SampleStatus>& status) {
+  const auto total = static_cast<long>(status.size());
+  const std::vector<double> xs = stable_values(f, status, total);
+  json out{{"n", xs.size()}, {"quantiles", quantiles_json(xs)}};
+  out["min"] = xs.empty() ? json(nullptr) : json(*std::min_element(xs.begin(), xs.end()));
+  out["max"] = xs.empty() ? json(nullptr) : json(*std::max_element(xs.begin(), xs.end()));
+  json convergence = json::array();
+  for (long prefix : prefixes(total)) {
+    const std::vector<double> ys = stable_values(f, status, prefix);
+    convergence.push_back({{"n", prefix}, {"used", ys.size()}, {"quantiles", quantiles_json(ys)}});
+  }
+  out["convergence"] = convergence;
+  return out;
+}
+
+json p_unstable_json(const std::vector<SampleStatus>& status, long prefix) {
+  long unstable = 0, judged = 0;
+  for (long i = 0; i < prefix; ++i) {
+    const SampleStatus s = status[static_cast<std::size_t>(i)];
+    unstable += s == SampleStatus::kUnstable;
+    judged += s == SampleStatus::kStable || s == SampleStatus::kUnstable;
+  }
+  const Interval ci = clopper_pearson(unstable, judged, kConfidence);
+  return {{"n", prefix},
+          {"unstable", unstable},
+          {"judged", judged},
+          {"estimate", number_or_null(ci.estimate)},
+          {"lo", ci.lo},
+          {"hi", ci.hi},
+          {"confidence", kConfidence}};
+}
+
+json counts_json(const std::vector<SampleStatus>& status) {
+  long counts[4] = {0, 0, 0, 0};
+  for (SampleStatus s : status) ++counts[static_cast<int>(s)];
+  return {{"total", status.size()},
+          {"stable", counts[0]},
+          {"unstable", counts[1]},
+          {"refused", counts[2]},
+          {"error", counts[3]}};
+}
+
+json interval_json(const Interval& i, bool holds_zero) {
+  return {{"estimate", number_or_null(i.estimate)},
+          {"lo", number_or_null(i.lo)},
+          {"hi", number_or_null(i.hi)},
+          {"holds_zero", holds_zero}};
+}
+
+// Sobol indices of one figure: the base rows whose d + 2 evaluations all have the figure.
+json sobol_figure_json(const FigureColumn& f, long n, const std::vector<std::string>& columns) {
+  const int d = static_cast<int>(columns.size());
+  const long stride = d + 2L;
+  std::vector<double> y;
+  long rows = 0;
+  for (long b = 0; b < n; ++b) {
+    const auto first = f.values.begin() + b * stride;
+    if (!std::all_of(first, first + stride, [](double v) { return std::isfinite(v); })) continue;
+    y.insert(y.end(), first, first + stride);
+    ++rows;
+  }
+  json out{{"base_rows", rows}, {"dropped_rows", n - rows}, {"parameters", json::array()}};
+  if (rows < 2) return out;
+  const std::vector<SobolIndex> indices = sobol_indices(y, rows, d, 500, 1, kConfidence);
+  for (int i = 0; i < d; ++i) {
+    const SobolIndex& s = indices[static_cast<std::size_t>(i)];
+    out["parameters"].push_back({{"path", columns[static_cast<std::size_t>(i)]},
+                                 {"first", interval_json(s.first, s.first_holds_zero)},
+                                 {"total", interval_json(s.total, s.total_holds_zero)}});
+  }
+  return out;
+}
+
+std::vector<std::string> column_paths(const json& plan) {
+  std::vector<std::string> columns;
+  for (const json& c : plan.at("columns")) columns.push_back(c.get<std::string>());
+  return columns;
+}
+
+void check_samples(const json& plan, const std::vector<json>& samples) {
+  const long evaluations = plan.at("evaluations").get<long>();
+  if (static_cast<long>(samples.size()) != evaluations)
+    throw std::invalid_argument("campaign report: " + std::to_string(samples.size()) +
+                                " samples for a plan of " + std::to_string(evaluations) +
+                                " evaluations");
+  for (std::size_t i = 0; i < samples.size(); ++i)
+    if (samples[i].value("index", -1L) != static_cast<long>(i))
+      throw std::invalid_argument("campaign report: sample " + std::to_string(i) + " has index " +
+                                  samples[i].value("index", json()).dump());
+}
+
+}  // namespace
+
+json campaign_summary(const json& plan, const std::vector<json>& samples) {
+  check_samples(plan, samples);
+  std::vector<SampleStatus> status;
+  for (const json& s : samples) status.push_back(sample_status(s));
+  const auto total = static_cast<long>(samples.size());
+  json summary{{"format", "flexloop-campaign-summary"},
+               {"version", 1},
+               {"plan_id", plan.value("plan_id", json())},
+               {"design", plan.value("design", json())},
+               {"n", plan.value("n", json())},
+               {"evaluations", total},
+               {"confidence", kConfidence},
+               {"counts", counts_json(status)},
+               {"p_unstable", p_unstable_json(status, total)}};
+  json convergence = json::array();
+  for (long prefix : prefixes(total)) convergence.push_back(p_unstable_json(status, prefix));
+  summary["p_unstable_convergence"] = convergence;
+  const std::vector<FigureColumn> figures = figure_columns(samples);
+  json per_figure = json::object(), order = json::array();
+  for (const FigureColumn& f : figures) {
+    per_figure[f.name] = figure_summary(f, status);
+    order.push_back(f.name);
+  }
+  summary["figures"] = per_figure;
+  summary["figure_order"] = order;  // JSON objects have no order; the report's tables keep this
+  if (plan.value("design", std::string()) == "saltelli") {
+    const std::vector<std::string> columns = column_paths(plan);
+    const long n = plan.at("n").get<long>();
+    if (total != evaluation_count(DesignKind::kSaltelli, n, static_cast<int>(columns.size())))
+      throw std::invalid_argument("campaign report: a Saltelli plan of n = " + std::to_string(n) +
+                                  " and " + std::to_string(columns.size()) +
+                                  " columns has another number of evaluations");
+    json sobol = json::object();
+    for (const FigureColumn& f : figures) sobol[f.name] = sobol_figure_json(f, n, columns);
+    summary["sobol"] = sobol;
+  }
+  return summary;
+}
+
+namespace {
+
+// A number for a table: 4 significant digits; "-inf"/"+inf" for an unbounded end, "-" for none.
+std::string cell(const json& v, const char* unbounded = "-") {
+  if (!v.is_number()) return unbounded;
+  std::ostringstream s;
+  s.precision(4);
+  s << v.get<double>();
+  return s.str();
+}
+
+std::string quantile_cell(const json& q) {
+  return cell(q["estimate"]) + " [" + cell(q["lo"], "-inf") + ", " + cell(q["hi"], "+inf") + "]";
+}
+
+std::string counts_markdown(const json& summary) {
+  const json& c = summary["counts"];
+  const json& p = summary["p_unstable"];
+  std::ostringstream md;
+  md << "## Samples\n\n| evaluations | stable | unstable | refused | error "
+        "|\n|---|---|---|---|---|\n"
+     << "| " << c["total"] << " | " << c["stable"] << " | " << c["unstable"] << " | "
+     << c["refused"] << " | " << c["error"] << " |\n\n"
+     << "Refused and error samples are not counted as unstable (nor as stable).\n\n"
+     << "**P(unstable)** = " << cell(p["estimate"]) << ", Clopper-Pearson 95 % interval ["
+     << cell(p["lo"]) << ", " << cell(p["hi"]) << "] (" << p["unstable"] << " unstable of "
+     << p["judged"] << " judged).\n\n";
+  return md.str();
+}
+
+std::string figures_markdown(const json& summary) {
+  std::ostringstream md;
+  md << "## Figures over the stable samples\n\n"
+     << "Each cell: the quantile's estimate [its distribution-free interval, confidence >= 95 "
+        "%]; an unbounded end means too few samples for that confidence.\n\n"
+     << "| figure | n | 5 % | 50 % | 95 % |\n|---|---|---|---|---|\n";
+  for (const json& name : summary["figure_order"]) {
+    const json& f = summary["figures"][name.get<std::string>()];
+    md << "| " << name.get<std::string>() << " | " << f["n"];
+    for (const json& q : f["quantiles"]) md << " | " << quantile_cell(q);
+    md << " |\n";
+  }
+  return md.str() + "\n";
+}
+
+std::string sobol_markdown(const json& summary) {
+  if (!summary.contains("sobol")) return "";
+  std::ostringstream md;
+  md << "## Sobol indices (Saltelli design)\n\n"
+     << "First order (Saltelli 2010) and total (Jansen) with 95 % bootstrap intervals; "
+        "(0) marks an interval that holds 0.\n\n"
+     << "| figure | parameter | first | total |\n|---|---|---|---|\n";
+  const auto index = [](const json& i) {
+    return cell(i["estimate"]) + " [" + cell(i["lo"]) + ", " + cell(i["hi"]) + "]" +
+           (i["holds_zero"].get<bool>() ? " (0)" : "");
+  };
+  for (const json& name : summary["figure_order"])
+    for (const json& p : summary["sobol"][name.get<std::string>()]["parameters"])
+      md << "| " << name.get<std::string>() << " | " << p["path"].get<std::string>() << " | "
+         << index(p["first"]) << " | " << index(p["total"]) << " |\n";
+  return md.str() + "\n";
+}
+
+std::string report_markdown(const json& summary, const std::vector<Picture>& pictures) {
+  std::ostringstream md;
+  md << "# Campaign report\n\nPlan " << summary["plan_id"].dump() << ", design "
+     << summary["design"].dump() << ", n = " << summary["n"].dump() << " ("
+     << summary["evaluations"] << " evaluations). The numbers are in summary.json; the "
+     << "estimators are described in doc/campaign_statistics.md of flexloop.\n\n"
+     << counts_markdown(summary) << figures_markdown(summary) << sobol_markdown(summary)
+     << "## Pictures\n\n";
+  for (const Picture& p : pictures)
+    md << "### " << p.caption << "\n\n![" << p.caption << "](" << p.file << ")\n\n";
+  return md.str();
+}
+
+}  // namespace
+
+void write_campaign_report(const json& plan, const std::vector<json>& samples,
+                           const std::string& out_dir) {
+  const json summary = campaign_summary(plan, samples);
+  std::filesystem::create_directories(out_dir);
+  const std::vector<Picture> pictures = draw_campaign_pictures(plan, samples, summary, out_dir);
+  common::write_text_atomically(std::filesystem::path(out_dir) / "summary.json",
+                                summary.dump(2) + "\n");
+  common::write_text_atomically(std::filesystem::path(out_dir) / "report.md",
+                                report_markdown(summary, pictures));
+}
+
+}  // namespace flexloop::campaign

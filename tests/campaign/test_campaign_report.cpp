@@ -1,0 +1,253 @@
+// The campaign report (offline/campaign/campaign_report.hpp) on synthetic plans and samples made
+// here with known values: the summary's counts, P(unstable), quantiles and Sobol indices against
+// numbers computed by hand or by SciPy, and the files it writes.
+#include <unistd.h>
+#include <algorithm>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+#include "offline/campaign/campaign_report.hpp"
+#include "offline/campaign/designs.hpp"
+#include "offline/campaign/statistics.hpp"
+#include "tests/campaign/reference.hpp"
+
+using namespace flexloop::campaign;
+using nlohmann::json;
+
+namespace {
+
+// 100 evaluations: i % 10 == 3 unstable (10), i % 25 == 7 refused (4), i == 50 an error; the
+// other 85 stable, with figures that are simple functions of i.
+json synthetic_sample(long i) {
+  json s{
+      {"plan_id", "synthetic"},
+      {"index", i},
+      {"parameters", {{"element.k.stiffness", 600.0 + 4.0 * i}, {"node.m.mass", 1.0 + 0.01 * i}}}};
+  const bool unstable = i % 10 == 3, refused = i % 25 == 7, error = i == 50;
+  for (const char* f :
+       {"spectral_radius", "natural_frequencies_hz", "rms", "rms_open", "disk_margin_db",
+        "disk_margin_deg", "disk_margin_all_db", "disk_margin_all_deg", "peak_sigma", "sigma_max"})
+    s[f] = nullptr;
+  if (refused || error) {
+    s["status"] = refused ? "refused: buckling under preload" : "error: synthetic";
+    return s;
+  }
+  const double x = static_cast<double>(i);
+  s["status"] = unstable ? "unstable" : "stable";
+  s["spectral_radius"] = unstable ? 1.2 : 0.5 + x / 1000.0;
+  s["natural_frequencies_hz"] = {x + 1.0, 2.0 * x + 100.0};
+  if (unstable) return s;
+  s["rms"] = {{"x", x / 10.0}};
+  s["rms_open"] = {{"x", 1.0}};
+  s["disk_margin_db"] = 6.0 + 0.01 * x;
+  s["disk_margin_deg"] = 40.0 - 0.1 * x;
+  s["disk_margin_all_db"] = 5.0 + 0.01 * x;
+  s["disk_margin_all_deg"] = 35.0 - 0.1 * x;
+  s["peak_sigma"] = x;
+  s["sigma_max"] = {x / 100.0 + 0.01, x / 50.0 + 0.01, x / 200.0 + 0.01};
+  return s;
+}
+
+json synthetic_plan(const char* design, long n, long evaluations) {
+  return {{"format", "flexloop-campaign-plan"},
+          {"version", 1},
+          {"plan_id", "synthetic"},
+          {"design", design},
+          {"n", n},
+          {"evaluations", evaluations},
+          {"columns", {"element.k.stiffness", "node.m.mass"}},
+          {"sigma_grid_hz", {1.0, 10.0, 100.0}},
+          {"nominal", {{"sigma_max", {0.3, 0.9, 0.2}}}}};
+}
+
+// A new directory for a report, removed at the end of the test unless FLEXLOOP_KEEP_TEST_OUTPUT
+// is set (to look at the pictures).
+struct ReportDir {
+  std::filesystem::path path;
+  explicit ReportDir(const std::string& name)
+      : path(std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()))) {
+    std::filesystem::remove_all(path);
+  }
+  ~ReportDir() {
+    if (!std::getenv("FLEXLOOP_KEEP_TEST_OUTPUT")) std::filesystem::remove_all(path);
+  }
+};
+
+bool is_png(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  return in && std::string(sig, 8) == std::string("\x89PNG\r\n\x1a\n", 8);
+}
+
+}  // namespace
+
+TEST_CASE("the summary of a synthetic campaign holds the numbers computed by hand",
+          "[campaign][report]") {
+  std::vector<json> samples;
+  for (long i = 0; i < 100; ++i) samples.push_back(synthetic_sample(i));
+  const json summary = campaign_summary(synthetic_plan("random", 100, 100), samples);
+
+  CHECK(summary["counts"] ==
+        json{{"total", 100}, {"stable", 85}, {"unstable", 10}, {"refused", 4}, {"error", 1}});
+  // P(unstable) over stable + unstable only (refused and error never count), Clopper-Pearson
+  // by SciPy's beta quantiles.
+  const json scipy = test::outside_reference(
+      {{"task", "clopper_pearson"}, {"cases", {{10, 95, 0.95}, {2, 15, 0.95}}}});
+  const json& p = summary["p_unstable"];
+  CHECK(p["unstable"] == 10);
+  CHECK(p["judged"] == 95);
+  CHECK(p["estimate"].get<double>() == Approx(10.0 / 95.0));
+  CHECK(p["lo"].get<double>() == Approx(scipy[0]["lo"].get<double>()).epsilon(1e-10));
+  CHECK(p["hi"].get<double>() == Approx(scipy[0]["hi"].get<double>()).epsilon(1e-10));
+  // Its convergence at n = 1, 2, 4, ..., 64, 100; the first 16 evaluations: 3 and 13 unstable,
+  // 7 refused, so 2 of 15.
+  const json& conv = summary["p_unstable_convergence"];
+  REQUIRE(conv.size() == 8);
+  CHECK(conv[4]["n"] == 16);
+  CHECK(conv[4]["unstable"] == 2);
+  CHECK(conv[4]["judged"] == 15);
+  CHECK(conv[4]["hi"].get<double>() == Approx(scipy[1]["hi"].get<double>()).epsilon(1e-10));
+  CHECK(conv.back()["n"] == 100);
+
+  // The first natural frequency of the stable samples is i + 1: its quantiles are order
+  // statistics of those values, at the ranks SciPy's binomial gives for n = 85.
+  std::vector<double> stable;
+  for (long i = 0; i < 100; ++i)
+    if (samples[static_cast<std::size_t>(i)]["status"] == "stable") stable.push_back(i + 1.0);
+  REQUIRE(stable.size() == 85);
+  const json ranks =
+      test::outside_reference({{"task", "quantile_ranks"},
+                               {"cases", {{85, 0.05, 0.95}, {85, 0.5, 0.95}, {85, 0.95, 0.95}}}});
+  const json& f1 = summary["figures"]["natural_frequency_1_hz"];
+  CHECK(f1["n"] == 85);
+  CHECK(f1["min"] == 1.0);
+  CHECK(f1["max"] == 100.0);
+  for (std::size_t k = 0; k < 3; ++k) {
+    const json& q = f1["quantiles"][k];
+    const double prob = q["p"].get<double>();
+    const auto rank = static_cast<std::size_t>(std::ceil(85 * prob));
+    CHECK(q["estimate"].get<double>() == stable[rank - 1]);
+    const long l = ranks[k]["lo_rank"], u = ranks[k]["hi_rank"];
+    if (l >= 1)
+      CHECK(q["lo"].get<double>() == stable[static_cast<std::size_t>(l - 1)]);
+    else
+      CHECK(q["lo"].is_null());
+    if (u <= 85)
+      CHECK(q["hi"].get<double>() == stable[static_cast<std::size_t>(u - 1)]);
+    else
+      CHECK(q["hi"].is_null());
+  }
+  // Every figure is there, the unstable samples' spectral radius (1.2) is not among the stable.
+  for (const char* name :
+       {"spectral_radius", "natural_frequency_2_hz", "rms.x", "rms_open.x", "disk_margin_db",
+        "disk_margin_deg", "disk_margin_all_db", "disk_margin_all_deg", "peak_sigma"})
+    CHECK(summary["figures"][name]["n"] == 85);
+  CHECK(summary["figures"]["spectral_radius"]["max"].get<double>() < 1.0);
+  CHECK(summary["figure_order"] == json{"spectral_radius", "natural_frequency_1_hz",
+                                        "natural_frequency_2_hz", "rms.x", "rms_open.x",
+                                        "disk_margin_db", "disk_margin_deg", "disk_margin_all_db",
+                                        "disk_margin_all_deg", "peak_sigma"});
+  CHECK_FALSE(summary.contains("sobol"));
+}
+
+TEST_CASE("a Saltelli campaign's summary has the Sobol indices of each figure",
+          "[campaign][report]") {
+  // peak_sigma = 2 u1 + u2 of the unit point: S1 = T1 = 4/5, S2 = T2 = 1/5 (variances 4/12 and
+  // 1/12); one refused evaluation drops its base row.
+  const long n = 256;
+  const int d = 2;
+  const long evaluations = evaluation_count(DesignKind::kSaltelli, n, d);
+  std::vector<json> samples;
+  std::vector<double> y;
+  for (long i = 0; i < evaluations; ++i) {
+    const std::vector<double> u = unit_point(DesignKind::kSaltelli, n, d, 9, i);
+    json s{{"index", i},
+           {"status", i == 5 * (d + 2) + 1 ? "refused: synthetic" : "stable"},
+           {"parameters", {{"element.k.stiffness", u[0]}, {"node.m.mass", u[1]}}},
+           {"peak_sigma", 2 * u[0] + u[1]}};
+    if (i == 5 * (d + 2) + 1)
+      s["peak_sigma"] = nullptr;
+    else if (i / (d + 2) != 5)
+      y.push_back(2 * u[0] + u[1]);
+    samples.push_back(s);
+  }
+  const json summary = campaign_summary(synthetic_plan("saltelli", n, evaluations), samples);
+  const json& sobol = summary["sobol"]["peak_sigma"];
+  CHECK(sobol["base_rows"] == n - 1);
+  CHECK(sobol["dropped_rows"] == 1);
+  const std::vector<SobolIndex> direct = sobol_indices(y, n - 1, d, 500, 1);
+  const double exact[] = {0.8, 0.2};
+  for (std::size_t i = 0; i < 2; ++i) {
+    const json& p = sobol["parameters"][i];
+    CHECK(p["path"] == (i == 0 ? "element.k.stiffness" : "node.m.mass"));
+    CHECK(p["first"]["estimate"].get<double>() == direct[i].first.estimate);
+    CHECK(p["total"]["hi"].get<double>() == direct[i].total.hi);
+    CHECK(p["first"]["estimate"].get<double>() == Approx(exact[i]).margin(0.02));
+    CHECK(p["total"]["estimate"].get<double>() == Approx(exact[i]).margin(0.02));
+    CHECK(p["first"]["holds_zero"] == false);
+  }
+}
+
+TEST_CASE("the report writes summary.json, report.md and valid PNG pictures",
+          "[campaign][report]") {
+  std::vector<json> samples;
+  for (long i = 0; i < 100; ++i) samples.push_back(synthetic_sample(i));
+  const ReportDir report("flexloop_campaign_report");
+  const auto& dir = report.path;
+  write_campaign_report(synthetic_plan("random", 100, 100), samples, dir.string());
+  std::ifstream in(dir / "summary.json");
+  const json summary = json::parse(in);
+  CHECK(summary["counts"]["stable"] == 85);
+  std::ifstream md_in(dir / "report.md");
+  const std::string md((std::istreambuf_iterator<char>(md_in)), std::istreambuf_iterator<char>());
+  CHECK(md.find("| natural_frequency_1_hz | 85 |") != std::string::npos);
+  CHECK(md.find("10 unstable of 95 judged") != std::string::npos);
+  for (const char* png :
+       {"p_unstable.png", "ecdf_natural_frequency_1_hz.png", "ecdf_rms.x.png",
+        "ecdf_rms_open.x.png", "histogram_natural_frequency_1_hz.png", "sigma_envelope.png",
+        "scatter_element.k.stiffness.png", "scatter_node.m.mass.png"}) {
+    INFO(png);
+    CHECK(is_png(dir / png));
+    CHECK(std::filesystem::file_size(dir / png) > 5000);
+    CHECK(md.find(std::string("](") + png + ")") != std::string::npos);
+  }
+  // No temporary file left beside the pictures.
+  for (const auto& entry : std::filesystem::directory_iterator(dir)) {
+    const std::string ext = entry.path().extension().string();
+    CHECK((ext == ".png" || ext == ".json" || ext == ".md"));
+  }
+}
+
+TEST_CASE("a Saltelli report draws the Sobol bars", "[campaign][report]") {
+  const long n = 64;
+  const int d = 2;
+  const long evaluations = evaluation_count(DesignKind::kSaltelli, n, d);
+  std::vector<json> samples;
+  for (long i = 0; i < evaluations; ++i) {
+    const std::vector<double> u = unit_point(DesignKind::kSaltelli, n, d, 9, i);
+    samples.push_back({{"index", i},
+                       {"status", "stable"},
+                       {"parameters", {{"element.k.stiffness", u[0]}, {"node.m.mass", u[1]}}},
+                       {"spectral_radius", 0.5 + 0.1 * u[0] * u[1]},
+                       {"peak_sigma", 2 * u[0] + u[1]}});
+  }
+  const ReportDir report("flexloop_campaign_sobol_report");
+  const auto& dir = report.path;
+  write_campaign_report(synthetic_plan("saltelli", n, evaluations), samples, dir.string());
+  CHECK(is_png(dir / "sobol_peak_sigma.png"));
+  CHECK(std::filesystem::file_size(dir / "sobol_peak_sigma.png") > 5000);
+}
+
+TEST_CASE("a report refuses samples that do not fit the plan", "[campaign][report]") {
+  std::vector<json> samples;
+  for (long i = 0; i < 10; ++i) samples.push_back(synthetic_sample(i));
+  CHECK_THROWS_AS(campaign_summary(synthetic_plan("random", 11, 11), samples),
+                  std::invalid_argument);
+  std::swap(samples[2], samples[3]);
+  CHECK_THROWS_AS(campaign_summary(synthetic_plan("random", 10, 10), samples),
+                  std::invalid_argument);
+}
