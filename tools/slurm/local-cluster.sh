@@ -1,3 +1,4 @@
+# shellcheck shell=bash disable=SC2154
 # Shared by start-local-cluster and stop-local-cluster (sourced; $dir is the cluster's directory).
 
 # The pid in FILE when it is alive, is the program NAME and was started on $dir's files.
