@@ -12,6 +12,9 @@ flexloop=$1 repo=$2
 fail() { echo "slurm campaign: $*" >&2; exit 1; }
 [[ $(id -u) -eq 0 ]] || fail "needs root (the local cluster's daemons run as root)"
 "$flexloop" campaign submit --help >/dev/null 2>&1 || fail "$flexloop has no 'campaign submit'"
+# submit waits for its shards; --wait says so where the command line has it.
+wait_flag=()
+if "$flexloop" campaign submit --help | grep -q -- '--wait'; then wait_flag=(--wait); fi
 
 work=$(mktemp -d /tmp/flexloop-slurm-campaign.XXXXXX)
 cluster="$work/cluster"
@@ -58,8 +61,10 @@ plan="$work/plan.json"
   -n 240 --design lhs --seed 47 -o "$plan"
 
 # 1. The same plan through both engines, merged by `campaign report`.
-"$flexloop" campaign submit "$plan" --engine slurm --shards 3 --wait --out-dir "$work/slurm"
-"$flexloop" campaign submit "$plan" --engine local --shards 3 --wait --out-dir "$work/local"
+"$flexloop" campaign submit "$plan" --engine slurm --shards 3 "${wait_flag[@]}" \
+  --time-limit 10 --work-dir "$work/slurm"
+"$flexloop" campaign submit "$plan" --engine local --shards 3 "${wait_flag[@]}" \
+  --work-dir "$work/local"
 ls "$work"/slurm/campaign-*_0.out >/dev/null || fail "no Slurm log in $work/slurm: not run by Slurm?"
 "$flexloop" campaign report "$plan" "$work"/slurm/shard-*.jsonl --out-dir "$work/report-slurm"
 "$flexloop" campaign report "$plan" "$work"/local/shard-*.jsonl --out-dir "$work/report-local"
