@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "common/input_error.hpp"
 #include "tests/fmu/fmu_fixture.hpp"
 
 namespace flexloop::test {
@@ -48,6 +49,18 @@ struct PrivateTmpdir {
     return names;
   }
 };
+
+/// The message of the flexloop::InputError `f` throws (exit 2 on the command line); "" when it
+/// returns. Any other exception goes on: the test fails on it.
+template <class F>
+std::string input_error_of(F&& f) {
+  try {
+    f();
+  } catch (const common::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
 
 /// One entry of a test archive: `unix_type` (S_IFLNK, S_IFREG, ...; 0: none recorded) goes to the
 /// high 16 bits of the external attributes as a Unix zip tool writes it; `stored`: no compression.

@@ -19,7 +19,6 @@
 #include "tests/fmu/fmu_archive_fixture.hpp"
 
 namespace fs = std::filesystem;
-using flexloop::common::InputError;
 using flexloop::controller::fmu::FmuArchiveLimits;
 using flexloop::controller::fmu::FmuDirectory;
 using flexloop::test::PrivateTmpdir;
@@ -37,12 +36,7 @@ std::string archive_with(const PrivateTmpdir& t, const std::string& name,
 
 // Unpacks `fmu`; the InputError's message, or "" when it unpacked.
 std::string unpack_refusal(const std::string& fmu, const FmuArchiveLimits& limits = {}) {
-  try {
-    const FmuDirectory d(fmu, limits);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return flexloop::test::input_error_of([&] { const FmuDirectory d(fmu, limits); });
 }
 
 // Flips the first byte of `marker` in `file` (the stored data of an entry that holds it).
@@ -176,6 +170,16 @@ TEST_CASE("A zip bomb beyond the scene's fmu_max_unpacked_mb is refused before i
             " bytes before it, 4194304 in it; the scene's [controller] fmu_max_unpacked_mb raises "
             "the cap)");
   CHECK(t.left_behind().empty());
+  // The artefact's reader keeps the cap in 1 .. 2^20 MB.
+  std::string json = flexloop::test::read_bytes(t.inputs / "cart_fmu.json");
+  const std::string cap_key = "\"max_unpacked_mb\": 1";
+  REQUIRE(json.find(cap_key) != std::string::npos);
+  json.replace(json.find(cap_key), cap_key.size(), "\"max_unpacked_mb\": 0");
+  std::ofstream(t.inputs / "bad_cap.json") << json;
+  CHECK_THAT(flexloop::test::input_error_of(
+                 [&] { (void)flexloop::artefact::read_loop_artefact(t.inputs / "bad_cap.json"); }),
+             Catch::StartsWith((t.inputs / "bad_cap.json").string()) &&
+                 Catch::Contains("max_unpacked_mb"));
   // Under the default cap (1 GiB) the same archive unpacks, and its folder goes with it.
   CHECK(unpack_refusal(f).empty());
   CHECK(t.left_behind().empty());
@@ -185,10 +189,11 @@ TEST_CASE("A zip bomb beyond the scene's fmu_max_unpacked_mb is refused before i
     const std::string key = "fmu_max_unpacked_mb = 1";
     text.replace(text.find(key), key.size(), "fmu_max_unpacked_mb = " + bad);
     std::ofstream(t.inputs / "bad_cap.toml") << text;
-    CHECK_THROWS_WITH(flexloop::scene::load_loop((t.inputs / "bad_cap.toml").string()),
-                      Catch::Contains("bad_cap.toml:") &&
-                          Catch::EndsWith("[controller]: 'fmu_max_unpacked_mb' must be a whole "
-                                          "number of MB, 1 .. 1048576"));
+    CHECK_THAT(flexloop::test::input_error_of(
+                   [&] { (void)flexloop::scene::load_loop((t.inputs / "bad_cap.toml").string()); }),
+               Catch::Contains("bad_cap.toml:") &&
+                   Catch::EndsWith("[controller]: 'fmu_max_unpacked_mb' must be a whole "
+                                   "number of MB, 1 .. 1048576"));
   }
 }
 

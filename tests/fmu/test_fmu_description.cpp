@@ -21,7 +21,6 @@
 #include "tests/support/metrology.hpp"
 
 namespace fs = std::filesystem;
-using flexloop::common::InputError;
 using flexloop::controller::fmu::FmuController;
 using flexloop::controller::fmu::FmuControllerSettings;
 using flexloop::controller::fmu::FmuDescription;
@@ -58,12 +57,7 @@ template <class Edit>
 std::string start_refusal(const std::string& fmu, Edit edit) {
   auto s = pi_settings(fmu);
   edit(s);
-  try {
-    (void)FmuController::from_settings(s);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
+  return flexloop::test::input_error_of([&] { (void)FmuController::from_settings(s); });
 }
 std::string start_refusal(const std::string& fmu) {
   return start_refusal(fmu, [](auto&) {});
@@ -164,10 +158,11 @@ TEST_CASE("A library outside the archive is never loaded: its constructor does n
     FmuDescription d;
     d.model_identifier = id;
     d.guid = "{outside}";
-    CHECK_THROWS_WITH(FmuLibrary(unpacked.path(), d, f),
-                      f + ": modelIdentifier \"" + id +
-                          "\" is not a C identifier ([A-Za-z_][A-Za-z0-9_]*): no library is "
-                          "loaded for it");
+    CHECK(flexloop::test::input_error_of([&] {
+            const FmuLibrary library(unpacked.path(), d, f);
+          }) == f + ": modelIdentifier \"" + id +
+                    "\" is not a C identifier ([A-Za-z_][A-Za-z0-9_]*): no library is "
+                    "loaded for it");
     CHECK_FALSE(fs::exists(marker));
   }
   // A valid identifier whose library is a link out of the folder: its canonical path is outside.
@@ -177,10 +172,10 @@ TEST_CASE("A library outside the archive is never loaded: its constructor does n
   FmuDescription d;
   d.model_identifier = "x";
   d.guid = "{linked}";
-  CHECK_THROWS_WITH(FmuLibrary(folder, d, "linked.fmu"),
-                    "linked.fmu: binaries/linux64/x.so resolves to " +
-                        fs::canonical(outside).string() +
-                        ", outside the FMU's unpacked folder: not loaded");
+  CHECK(flexloop::test::input_error_of([&] {
+          const FmuLibrary library(folder, d, "linked.fmu");
+        }) == "linked.fmu: binaries/linux64/x.so resolves to " + fs::canonical(outside).string() +
+                  ", outside the FMU's unpacked folder: not loaded");
   CHECK_FALSE(fs::exists(marker));
   CHECK(t.left_behind().empty());
   // The marker library does write its marker when it is loaded: the checks above mean something.
