@@ -151,6 +151,7 @@ json to_json(const LoopArtefact& a) {
     controller["parameters"] = std::move(parameters);
     controller["inputs"] = a.fmu.inputs;
     controller["outputs"] = a.fmu.outputs;
+    if (a.fmu.max_unpacked_mb) controller["max_unpacked_mb"] = *a.fmu.max_unpacked_mb;
   }
   json floor = {{"spectrum", to_string(a.floor.spectrum)}, {"seed", a.floor.seed}};
   if (a.floor.spectrum == FloorSpectrum::kWhite)
@@ -318,6 +319,8 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
       a.fmu.parameters.emplace_back(name, parameters.number(name));
     a.fmu.inputs = co.labels("inputs");
     a.fmu.outputs = co.labels("outputs");
+    if (co.has("max_unpacked_mb"))
+      a.fmu.max_unpacked_mb = co.integer("max_unpacked_mb", 1, kMaxFmuUnpackedMb);
     require(a.fmu.inputs.size() == ns, co.place("inputs"),
             "has " + std::to_string(a.fmu.inputs.size()) + " names; expected one per sensor (" +
                 std::to_string(ns) + ")");
@@ -459,6 +462,9 @@ void validate(const LoopArtefact& a) {
       (a.fmu.file.empty() || a.fmu.inputs.size() != static_cast<std::size_t>(a.sensors()) ||
        a.fmu.outputs.size() != static_cast<std::size_t>(a.actuators())))
     fail("controller: an FMU needs its file and one variable per sensor and per actuator");
+  if (a.controller == ControllerKind::kFmu && a.fmu.max_unpacked_mb &&
+      (*a.fmu.max_unpacked_mb < 1 || *a.fmu.max_unpacked_mb > kMaxFmuUnpackedMb))
+    fail("controller: max_unpacked_mb must be 1 .. " + std::to_string(kMaxFmuUnpackedMb));
   if (a.floor.spectrum != FloorSpectrum::kWhite && a.floor_filter.A.rows() != kFloorFilterOrder)
     fail("floor filter: expected the discrete filter of order " +
          std::to_string(kFloorFilterOrder));

@@ -1,10 +1,17 @@
 #pragma once
 // An FMU's shared library (binaries/linux64/<modelIdentifier>.so) loaded with dlopen and the
 // FMI 2.0 Co-Simulation calls the loop makes resolved from it. Start-up only.
+//
+// Before dlopen (which runs the library's constructors): the model identifier is a C identifier
+// and the library's canonical path (links resolved) lies inside the unpacked FMU's folder; an FMU
+// that can be instantiated only once per process is not loaded while another copy of it (the same
+// GUID) is. After dlopen, before any instance: fmi2GetTypesPlatform returns "default" and
+// fmi2GetVersion "2.0" (the types and calls flexloop passes are the standard's).
 #include <filesystem>
 #include <string>
 
 #include "common/fmi2.h"
+#include "controller/fmu/fmu_description.hpp"
 
 namespace flexloop::controller::fmu {
 
@@ -23,8 +30,16 @@ struct Fmi2Calls {
 
 class FmuLibrary {
  public:
-  /// @throws flexloop::InputError naming `fmu` with dlerror's text when the library does not
-  /// load (missing, wrong architecture) or lacks one of Fmi2Calls' functions.
+  /// The library of the FMU unpacked in `dir` as `description` describes it (one instance per
+  /// library: a once-per-process FMU holds its claim while this lives). @throws
+  /// flexloop::InputError naming `fmu`: a model identifier that is not a C identifier, a library
+  /// outside `dir`, a second copy of a once-per-process FMU, a library that does not load
+  /// (dlerror's text: missing, wrong architecture), another types platform or FMI version, or a
+  /// missing one of Fmi2Calls' functions.
+  FmuLibrary(const std::filesystem::path& dir, const FmuDescription& description,
+             const std::string& fmu);
+  /// The same, reading `dir`'s modelDescription.xml for the rest, which must name
+  /// `model_identifier`.
   FmuLibrary(const std::filesystem::path& dir, const std::string& model_identifier,
              const std::string& fmu);
   ~FmuLibrary();
@@ -34,6 +49,15 @@ class FmuLibrary {
   const Fmi2Calls& calls() const { return calls_; }
 
  private:
+  /// The GUID of a once-per-process FMU, released when the library goes; empty for any other.
+  struct ProcessClaim {
+    std::string guid;
+    ProcessClaim(const FmuDescription& d, const std::string& fmu);
+    ~ProcessClaim();
+    ProcessClaim(const ProcessClaim&) = delete;
+    ProcessClaim& operator=(const ProcessClaim&) = delete;
+  };
+  ProcessClaim claim_;
   void* handle_ = nullptr;
   Fmi2Calls calls_;
 };

@@ -89,6 +89,7 @@ artefact::FmuParameters fmu_parameters(const Scene& sc) {
   f.file = c.file;
   f.sha256 = file_sha256(c.file);
   f.parameters = c.fmu_parameters;
+  f.max_unpacked_mb = c.fmu_max_unpacked_mb;
   // Each channel's FMU variable: its own name unless the map says otherwise.
   const auto variable = [](const auto& map, const std::string& channel) {
     for (const auto& [from, to] : map)

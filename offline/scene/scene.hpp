@@ -6,6 +6,7 @@
 // beyond the first problem.
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +35,8 @@ struct ControllerSettings {
   /// the sensors and actuators whose FMU variable has another name (scene channel, FMU variable).
   std::vector<std::pair<std::string, double>> fmu_parameters;
   std::vector<std::pair<std::string, std::string>> fmu_sensor_map, fmu_actuator_map;
+  /// fmu: `fmu_max_unpacked_mb`, the cap on the unpacked archive; none: the loader's default.
+  std::optional<long> fmu_max_unpacked_mb;
 };
 
 /// The highest loop rate a scene (or `build --rate`) may ask for, Hz: the loop commands' --rate

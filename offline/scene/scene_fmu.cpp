@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <string>
+
+#include "artefact/fmu_parameters.hpp"
 
 namespace flexloop::scene {
 
@@ -17,7 +20,7 @@ bool among(const std::vector<std::string>& names, const std::string& n) {
 void read_fmu_controller(const common::TomlReader& cr, const toml::table& t,
                          const std::filesystem::path& base, Scene& s) {
   auto& c = s.controller;
-  cr.allow_only({"enabled", "type", "file", "parameters", "map"});
+  cr.allow_only({"enabled", "type", "file", "parameters", "map", "fmu_max_unpacked_mb"});
   const std::string file = cr.string("file");
   // Absolute: the artefact names the FMU wherever it is read from.
   const std::filesystem::path given(file);
@@ -28,6 +31,14 @@ void read_fmu_controller(const common::TomlReader& cr, const toml::table& t,
     cr.fail("FMU file '" + c.file + "' does not exist", cr.get("file"));
   c.file_place = cr.place(cr.get("file"));
   c.place = c.file_place;
+  if (const auto* n = t.get("fmu_max_unpacked_mb")) {
+    const auto* mb = n->as_integer();
+    if (!mb || mb->get() < 1 || mb->get() > artefact::kMaxFmuUnpackedMb)
+      cr.fail("'fmu_max_unpacked_mb' must be a whole number of MB, 1 .. " +
+                  std::to_string(artefact::kMaxFmuUnpackedMb),
+              n);
+    c.fmu_max_unpacked_mb = static_cast<long>(mb->get());
+  }
   if (const auto* n = t.get("parameters")) {
     const auto* p = n->as_table();
     if (!p) cr.fail("'parameters' must be a table of name = number", n);
