@@ -8,7 +8,7 @@ FLEXLOOP_PACKAGES=(
   libboost-dev catch2 libbenchmark-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
   libssl-dev iproute2 util-linux bsdutils rt-tests gnuplot-nox python3 python3-matplotlib valgrind
   libcjson-dev libmatio-dev python3-numpy python3-scipy python3-mpmath libslicot-dev liblapack-dev libblas-dev
-  gfortran libzip-dev libpugixml-dev clang libclang-rt-14-dev
+  gfortran libzip-dev libpugixml-dev clang libclang-rt-14-dev universal-ctags
 )
 
 say() { printf '\033[1m[flexloop]\033[0m %s\n' "$*"; }
