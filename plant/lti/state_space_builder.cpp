@@ -26,7 +26,7 @@ struct Signal {
   Eigen::RowVectorXd cz, du;
 };
 
-// Signals by rows: s = z_part z + u_part u.
+// Several signals, one per row: s = Sz z + Su u (the members z = Sz, u = Su).
 struct Signals {
   Eigen::MatrixXd z, u;
 };
