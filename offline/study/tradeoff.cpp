@@ -268,6 +268,284 @@ struct Reference {
   Eigen::MatrixXcd dc;  // empty: a pole at the origin
 };
 
+// What the sweep walks besides the plants and the options' own lists: the plant forms and the
+// rates (the scene's rate / 10, / 2, x 1, x 2 when none are given), each option checked first.
+struct Sweep {
+  std::vector<artefact::PlantForm> forms;
+  std::vector<double> rates;
+};
+
+Sweep checked_sweep(const scene::ScenePlant& p, const TradeoffOptions& o) {
+  const std::string& file = p.scene.file;
+  for (const std::string& m : o.methods) try {
+      (void)method_of(m);
+    } catch (const std::invalid_argument&) {
+      throw common::InputError(file,
+                               "--methods: unknown method '" + m +
+                                   "' (zoh, foh, tustin, tustin-prewarp, backward-euler, euler)");
+    }
+  Sweep sweep;
+  for (const std::string& f : o.forms) try {
+      sweep.forms.push_back(artefact::parse_plant_form(f));
+    } catch (const std::invalid_argument&) {
+      throw common::InputError(file, "--forms: '" + f + "' (dense, modal)");
+    }
+  for (const std::string& s : o.scalars)
+    if (s != "double" && s != "float")
+      throw common::InputError(file, "--scalars: '" + s + "' (double, float)");
+  for (const std::string& r : o.reductions)
+    if (r != "modal" && r != "modal-dc" && r != "balanced")
+      throw common::InputError(file, "--reductions: '" + r + "' (modal, modal-dc, balanced)");
+  const int n = static_cast<int>(p.plant.nx());
+  for (const int k : o.orders)
+    if (k < 1 || k > n)
+      throw common::InputError(file, "--orders: " + std::to_string(k) + " is outside 1 .. " +
+                                         std::to_string(n) + " (the full order)");
+  const auto& sd = p.scene.discretisation;
+  sweep.rates = o.rates_hz;
+  if (sweep.rates.empty())
+    sweep.rates = {sd.rate_hz / 10, sd.rate_hz / 2, sd.rate_hz, 2 * sd.rate_hz};
+  for (const double r : sweep.rates)
+    if (!(r > 0 && r <= scene::kMaxLoopRateHz))
+      throw common::InputError(file, "--rates: each rate must be in (0, " +
+                                         std::to_string(static_cast<long>(scene::kMaxLoopRateHz)) +
+                                         "] Hz (the loop commands' ceiling)");
+  return sweep;
+}
+
+// The result before its rows: the scene's own configuration, and the band [f_min / 10, f_hi]
+// (f_hi: --band, else 2 f_max) of the natural frequencies f_min .. f_max, whose lowest is also
+// tustin-prewarp's frequency.
+TradeoffResult result_frame(const scene::ScenePlant& p, const TradeoffOptions& o) {
+  const auto& sd = p.scene.discretisation;
+  TradeoffResult result;
+  result.full_order = static_cast<int>(p.plant.nx());
+  result.cost = o.cost;
+  result.default_config = {.method = sd.method,
+                           .prewarp = sd.prewarp_hz > 0,
+                           .rate_hz = sd.rate_hz,
+                           .form = artefact::PlantForm::kDense,
+                           .scalar = Scalar::kDouble,
+                           .reduction = Reduction::kFull,
+                           .order = result.full_order};
+  const Eigen::VectorXd& fn = p.natural_frequencies_hz;
+  double f_min = INFINITY, f_max = 0;
+  for (Index k = 0; k < fn.size(); ++k)
+    if (fn(k) > 0) {
+      f_min = std::min(f_min, fn(k));
+      f_max = std::max(f_max, fn(k));
+    }
+  if (!(f_max > 0)) f_min = 1, f_max = 1;
+  result.band_low_hz = f_min / 10;
+  result.band_hz = o.band_hz > 0 ? o.band_hz : 2 * f_max;
+  result.prewarp_hz = f_min;
+  return result;
+}
+
+// The frequency reference at a rate: the continuous full model G(jw) on the band's grid (log
+// spaced, plus each mode's frequency, up to 0.999 x Nyquist), the actuators' columns behind the
+// DAC's zero-order hold (which the full model's ZOH discretisation is exactly); each pair's
+// error scale; G(0) unless there is a pole at the origin.
+Reference reference_at(const scene::ScenePlant& p, const TradeoffOptions& o,
+                       const TradeoffResult& result, double rate) {
+  const Eigen::VectorXd& fn = p.natural_frequencies_hz;
+  Reference ref;
+  const double top = std::min(result.band_hz, 0.999 * rate / 2);
+  ref.f = lti::log_frequency_grid_hz(result.band_low_hz, std::max(top, 2 * result.band_low_hz),
+                                     o.points);
+  for (Index k = 0; k < fn.size(); ++k)
+    if (fn(k) > result.band_low_hz && fn(k) < top) ref.f.push_back(fn(k));
+  std::sort(ref.f.begin(), ref.f.end());
+  ref.g = lti::frequency_response(p.plant, ref.f);
+  const Index held = static_cast<Index>(p.scene.actuators.size());
+  const Response through_hold = lti::frequency_response(
+      lti::discretise(p.plant, {lti::DiscretisationMethod::kZeroOrderHold, 1 / rate}), ref.f);
+  for (std::size_t k = 0; k < ref.f.size(); ++k)
+    ref.g[k].rightCols(held) = through_hold[k].rightCols(held);
+  ref.peak = MatrixXd::Zero(p.plant.ny(), p.plant.nu());
+  for (const auto& g : ref.g) ref.peak = ref.peak.cwiseMax(g.cwiseAbs());
+  ref.peak = error_scale(ref.peak, p.plant);
+  try {
+    ref.dc = lti::frequency_response(p.plant, {0.0})[0];
+  } catch (const std::domain_error&) {
+  }
+  return ref;
+}
+
+// The loop reference at a rate: the full model by exact ZOH in double, its floor samples, its
+// open-loop step and its closed loop. A scene whose state-space controller is discrete has it at
+// its own rate only: there, and where the exact loop cannot be built, every row says why.
+struct LoopReference {
+  long steps = 0;
+  MatrixXd floor, step, z;
+  std::string error;
+};
+
+LoopReference loop_reference_at(const scene::ScenePlant& p, const TradeoffOptions& o, double rate) {
+  const double scene_rate = p.scene.discretisation.rate_hz;
+  const bool discrete_controller = p.state_space && !p.state_space->continuous;
+  scene::ScenePlant q = p;
+  q.scene.discretisation = {lti::DiscretisationMethod::kZeroOrderHold, rate, 0};
+  LoopReference loop;
+  loop.steps = std::max(10L, std::lround(o.run_s * rate));
+  std::optional<artefact::LoopArtefact> exact;
+  if (discrete_controller && rate != scene_rate)
+    loop.error =
+        "the scene's state-space controller is discrete at " + std::to_string(scene_rate) + " Hz";
+  else
+    try {
+      exact = scene::build_loop_artefact(q, scene::sample_scene(q), artefact::PlantForm::kDense);
+    } catch (const std::exception& e) {
+      loop.error = e.what();
+    }
+  if (exact) {
+    loop.floor = floor_samples(*exact, loop.steps);
+    const KernelRuns k = kernel_runs<double>(*exact, loop.floor, loop.steps);
+    loop.step = k.step;
+    loop.z = k.z;
+  }
+  return loop;
+}
+
+// One configuration measured against the references: the stored plant's frequency errors, and
+// its kernels' open-loop step and closed loop. Returns the timer of its closed-loop step, or an
+// empty one when the runtime plant refuses what its scalar cannot hold (pole_precision.hpp):
+// then the row says why, as a user's run would.
+std::function<double(long)> measure_configuration(const artefact::LoopArtefact& a,
+                                                  const scene::SampledScene& sampled,
+                                                  bool has_controller, const Reference& ref,
+                                                  const LoopReference& loop, Measurement& m) {
+  const bool single = m.config.scalar == Scalar::kFloat;
+  const lti::DiscreteStateSpace stored = single ? stored_plant<float>(a) : stored_plant<double>(a);
+  try {
+    m.hinf_error = relative_error(lti::frequency_response(stored, ref.f), ref.g, ref.peak);
+  } catch (const std::domain_error&) {
+    m.hinf_error = INFINITY;
+  }
+  m.dc_error = NAN;
+  if (ref.dc.size() > 0) try {
+      m.dc_error = relative_error(lti::frequency_response(stored, {0.0}), {ref.dc}, ref.peak);
+    } catch (const std::domain_error&) {
+      m.dc_error = INFINITY;
+    }
+  KernelRuns k;
+  try {
+    k = single ? kernel_runs<float>(a, loop.floor, loop.steps)
+               : kernel_runs<double>(a, loop.floor, loop.steps);
+  } catch (const std::invalid_argument& e) {
+    m.skipped = e.what();
+    return {};
+  }
+  m.kernel = k.kernel;
+  m.closed_loop_radius =
+      has_controller ? sampled.closed_loop.spectral_radius : sampled.plant.spectral_radius;
+  m.step_error = worst_row_error(k.step, loop.step, false);
+  m.closed_loop_error = worst_row_error(k.z, loop.z, true);
+  m.closed_loop_rms_error = worst_rms_ratio(k.z, loop.z);
+  return std::move(k.timed);
+}
+
+// The sweep so far: its rows, the timers of the measured ones (kept until the timing) and the
+// progress. Progress counts the error runs, then every timing pass over the measured
+// configurations (known once the sweep is done; until then counted as if none were skipped).
+struct SweepState {
+  struct Timer {
+    std::size_t row;
+    std::function<double(long)> timed;
+  };
+  TradeoffResult& result;
+  std::vector<Timer> timers;
+  std::size_t done = 0, total = 0;
+};
+
+// The scene with one variant's plant sampled by one method at a rate, or why it cannot be.
+struct SampledVariant {
+  scene::ScenePlant plant;
+  std::optional<scene::SampledScene> sampled;
+  std::string why;
+};
+
+SampledVariant sample_variant(const scene::ScenePlant& p, const Variant& v,
+                              const std::string& method, double rate, double prewarp_hz,
+                              const std::string& loop_error) {
+  SampledVariant c{p, std::nullopt, !v.error.empty() ? v.error : loop_error};
+  c.plant.plant = v.sys;
+  c.plant.scene.discretisation = {method_of(method), rate,
+                                  method == "tustin-prewarp" ? prewarp_hz : 0.0};
+  if (c.why.empty()) try {
+      if (method == "tustin-prewarp" && !(prewarp_hz < rate / 2))
+        throw std::invalid_argument("the pre-warp frequency is above Nyquist");
+      c.sampled = scene::sample_scene(c.plant);
+    } catch (const std::exception& e) {
+      c.why = e.what();
+    }
+  return c;
+}
+
+// The rows of one rate: every variant x method x form x scalar, in that order, each measured or
+// kept with the reason it could not be.
+void sweep_rate(const scene::ScenePlant& p, const TradeoffOptions& o,
+                const std::vector<Variant>& plants, const std::vector<artefact::PlantForm>& forms,
+                double rate, SweepState& s) {
+  const Reference ref = reference_at(p, o, s.result, rate);
+  const LoopReference loop = loop_reference_at(p, o, rate);
+  for (const Variant& v : plants)
+    for (const std::string& method : o.methods) {
+      const SampledVariant c = sample_variant(p, v, method, rate, s.result.prewarp_hz, loop.error);
+      for (const artefact::PlantForm form : forms) {
+        std::optional<artefact::LoopArtefact> a;
+        std::string why = c.why;
+        if (why.empty()) try {
+            a = scene::build_loop_artefact(c.plant, *c.sampled, form);
+          } catch (const std::exception& e) {
+            why = e.what();
+          }
+        for (const std::string& scalar : o.scalars) {
+          Measurement m;
+          m.config = {.method = method_of(method),
+                      .prewarp = method == "tustin-prewarp",
+                      .rate_hz = rate,
+                      .form = form,
+                      .scalar = scalar == "float" ? Scalar::kFloat : Scalar::kDouble,
+                      .reduction = reduction_of(v.reduction),
+                      .order = v.order};
+          m.reduction_bound = v.bound;
+          if (o.progress) o.progress(s.done, s.total, m.config);
+          ++s.done;
+          m.skipped = why;
+          if (why.empty())
+            if (auto timed = measure_configuration(*a, *c.sampled, scene::has_controller(c.plant),
+                                                   ref, loop, m))
+              s.timers.push_back({s.result.rows.size(), std::move(timed)});
+          s.result.rows.push_back(m);
+        }
+      }
+    }
+}
+
+// The timing, round-robin: each pass times every measured configuration once, so that the VM's
+// slow and fast phases (tens of seconds) fall on all of them alike, not on whichever was measured
+// then; each row gets the median and the spread of its passes, and its share of the period.
+void time_round_robin(const TradeoffOptions& o, SweepState& s) {
+  s.total = s.done + static_cast<std::size_t>(o.repeats) * s.timers.size();
+  std::vector<std::vector<double>> ns(s.timers.size());
+  for (int pass = 0; pass < o.repeats; ++pass)
+    for (std::size_t k = 0; k < s.timers.size(); ++k) {
+      if (o.progress) o.progress(s.done, s.total, s.result.rows[s.timers[k].row].config);
+      ++s.done;
+      ns[k].push_back(s.timers[k].timed(o.bench_steps));
+    }
+  for (std::size_t k = 0; k < s.timers.size(); ++k) {
+    Measurement& m = s.result.rows[s.timers[k].row];
+    std::sort(ns[k].begin(), ns[k].end());
+    m.ns_per_step = ns[k].empty() ? NAN : ns[k][ns[k].size() / 2];
+    m.ns_min = ns[k].empty() ? NAN : ns[k].front();
+    m.ns_max = ns[k].empty() ? NAN : ns[k].back();
+    m.period_share = m.ns_per_step * 1e-9 * m.config.rate_hz;
+  }
+  if (o.progress) o.progress(s.total, s.total, {});
+}
+
 }  // namespace
 
 std::string to_string(Scalar s) {
@@ -291,224 +569,16 @@ std::string Configuration::label() const {
   return s.str();
 }
 
+// The sweep (checked, framed, every rate's rows), then the timing of what it measured.
 TradeoffResult run_tradeoff(const scene::ScenePlant& p, const TradeoffOptions& o) {
-  const std::string& file = p.scene.file;
-  for (const std::string& m : o.methods) try {
-      (void)method_of(m);
-    } catch (const std::invalid_argument&) {
-      throw common::InputError(file,
-                               "--methods: unknown method '" + m +
-                                   "' (zoh, foh, tustin, tustin-prewarp, backward-euler, euler)");
-    }
-  std::vector<artefact::PlantForm> forms;
-  for (const std::string& f : o.forms) try {
-      forms.push_back(artefact::parse_plant_form(f));
-    } catch (const std::invalid_argument&) {
-      throw common::InputError(file, "--forms: '" + f + "' (dense, modal)");
-    }
-  for (const std::string& s : o.scalars)
-    if (s != "double" && s != "float")
-      throw common::InputError(file, "--scalars: '" + s + "' (double, float)");
-  for (const std::string& r : o.reductions)
-    if (r != "modal" && r != "modal-dc" && r != "balanced")
-      throw common::InputError(file, "--reductions: '" + r + "' (modal, modal-dc, balanced)");
-  const int n = static_cast<int>(p.plant.nx());
-  for (const int k : o.orders)
-    if (k < 1 || k > n)
-      throw common::InputError(file, "--orders: " + std::to_string(k) + " is outside 1 .. " +
-                                         std::to_string(n) + " (the full order)");
-  const auto& sd = p.scene.discretisation;
-  std::vector<double> rates = o.rates_hz;
-  if (rates.empty()) rates = {sd.rate_hz / 10, sd.rate_hz / 2, sd.rate_hz, 2 * sd.rate_hz};
-  for (const double r : rates)
-    if (!(r > 0 && r <= scene::kMaxLoopRateHz))
-      throw common::InputError(file, "--rates: each rate must be in (0, " +
-                                         std::to_string(static_cast<long>(scene::kMaxLoopRateHz)) +
-                                         "] Hz (the loop commands' ceiling)");
-
-  TradeoffResult result;
-  result.full_order = n;
-  result.cost = o.cost;
-  result.default_config = {.method = sd.method,
-                           .prewarp = sd.prewarp_hz > 0,
-                           .rate_hz = sd.rate_hz,
-                           .form = artefact::PlantForm::kDense,
-                           .scalar = Scalar::kDouble,
-                           .reduction = Reduction::kFull,
-                           .order = n};
-  const Eigen::VectorXd& fn = p.natural_frequencies_hz;
-  double f_min = INFINITY, f_max = 0;
-  for (Index k = 0; k < fn.size(); ++k)
-    if (fn(k) > 0) {
-      f_min = std::min(f_min, fn(k));
-      f_max = std::max(f_max, fn(k));
-    }
-  if (!(f_max > 0)) f_min = 1, f_max = 1;
-  result.band_low_hz = f_min / 10;
-  result.band_hz = o.band_hz > 0 ? o.band_hz : 2 * f_max;
-  result.prewarp_hz = f_min;
-
+  const Sweep sweep = checked_sweep(p, o);
+  TradeoffResult result = result_frame(p, o);
   const std::vector<Variant> plants = variants(p, o, {result.band_low_hz, result.band_hz});
   const std::size_t configurations =
-      plants.size() * rates.size() * o.methods.size() * o.forms.size() * o.scalars.size();
-  // Progress counts the error runs, then every timing pass over the measured configurations
-  // (known once the first part is done; until then counted as if none were skipped).
-  std::size_t total = configurations * static_cast<std::size_t>(1 + o.repeats);
-  struct Timer {
-    std::size_t row;
-    std::function<double(long)> timed;
-  };
-  std::vector<Timer> timers;
-  std::size_t done = 0;
-  const bool discrete_controller = p.state_space && !p.state_space->continuous;
-
-  for (const double rate : rates) {
-    // The reference at this rate: the continuous full model on the band's grid; and the loop of
-    // the full model by exact ZOH in double (floor, step and closed loop).
-    Reference ref;
-    const double top = std::min(result.band_hz, 0.999 * rate / 2);
-    ref.f = lti::log_frequency_grid_hz(result.band_low_hz, std::max(top, 2 * result.band_low_hz),
-                                       o.points);
-    for (Index k = 0; k < fn.size(); ++k)
-      if (fn(k) > result.band_low_hz && fn(k) < top) ref.f.push_back(fn(k));
-    std::sort(ref.f.begin(), ref.f.end());
-    ref.g = lti::frequency_response(p.plant, ref.f);
-    // The actuators' columns as the hardware drives them: through the DAC's zero-order hold,
-    // which the full model's ZOH discretisation is exactly.
-    const Index held = static_cast<Index>(p.scene.actuators.size());
-    const Response through_hold = lti::frequency_response(
-        lti::discretise(p.plant, {lti::DiscretisationMethod::kZeroOrderHold, 1 / rate}), ref.f);
-    for (std::size_t k = 0; k < ref.f.size(); ++k)
-      ref.g[k].rightCols(held) = through_hold[k].rightCols(held);
-    ref.peak = MatrixXd::Zero(p.plant.ny(), p.plant.nu());
-    for (const auto& g : ref.g) ref.peak = ref.peak.cwiseMax(g.cwiseAbs());
-    ref.peak = error_scale(ref.peak, p.plant);
-    try {
-      ref.dc = lti::frequency_response(p.plant, {0.0})[0];
-    } catch (const std::domain_error&) {
-    }
-
-    scene::ScenePlant q = p;
-    q.scene.discretisation = {lti::DiscretisationMethod::kZeroOrderHold, rate, 0};
-    const long steps = std::max(10L, std::lround(o.run_s * rate));
-    std::optional<artefact::LoopArtefact> exact;
-    std::string exact_error;
-    if (discrete_controller && rate != sd.rate_hz)
-      exact_error =
-          "the scene's state-space controller is discrete at " + std::to_string(sd.rate_hz) + " Hz";
-    else
-      try {
-        exact = scene::build_loop_artefact(q, scene::sample_scene(q), artefact::PlantForm::kDense);
-      } catch (const std::exception& e) {
-        exact_error = e.what();
-      }
-    MatrixXd floor, step_ref, z_ref;
-    if (exact) {
-      floor = floor_samples(*exact, steps);
-      const KernelRuns k = kernel_runs<double>(*exact, floor, steps);
-      step_ref = k.step;
-      z_ref = k.z;
-    }
-
-    for (const Variant& v : plants)
-      for (const std::string& method : o.methods) {
-        scene::ScenePlant c = p;
-        c.plant = v.sys;
-        c.scene.discretisation = {method_of(method), rate,
-                                  method == "tustin-prewarp" ? result.prewarp_hz : 0.0};
-        std::optional<scene::SampledScene> sampled;
-        std::string why = !v.error.empty() ? v.error : exact_error;
-        if (why.empty()) try {
-            if (method == "tustin-prewarp" && !(result.prewarp_hz < rate / 2))
-              throw std::invalid_argument("the pre-warp frequency is above Nyquist");
-            sampled = scene::sample_scene(c);
-          } catch (const std::exception& e) {
-            why = e.what();
-          }
-        for (const artefact::PlantForm form : forms) {
-          std::optional<artefact::LoopArtefact> a;
-          std::string form_why = why;
-          if (form_why.empty()) try {
-              a = scene::build_loop_artefact(c, *sampled, form);
-            } catch (const std::exception& e) {
-              form_why = e.what();
-            }
-          for (const std::string& scalar : o.scalars) {
-            Measurement m;
-            m.config = {.method = method_of(method),
-                        .prewarp = method == "tustin-prewarp",
-                        .rate_hz = rate,
-                        .form = form,
-                        .scalar = scalar == "float" ? Scalar::kFloat : Scalar::kDouble,
-                        .reduction = reduction_of(v.reduction),
-                        .order = v.order};
-            m.reduction_bound = v.bound;
-            if (o.progress) o.progress(done, total, m.config);
-            ++done;
-            if (!form_why.empty()) {
-              m.skipped = form_why;
-              result.rows.push_back(m);
-              continue;
-            }
-            const bool single = m.config.scalar == Scalar::kFloat;
-            const lti::DiscreteStateSpace stored =
-                single ? stored_plant<float>(*a) : stored_plant<double>(*a);
-            try {
-              m.hinf_error =
-                  relative_error(lti::frequency_response(stored, ref.f), ref.g, ref.peak);
-            } catch (const std::domain_error&) {
-              m.hinf_error = INFINITY;
-            }
-            m.dc_error = NAN;
-            if (ref.dc.size() > 0) try {
-                m.dc_error =
-                    relative_error(lti::frequency_response(stored, {0.0}), {ref.dc}, ref.peak);
-              } catch (const std::domain_error&) {
-                m.dc_error = INFINITY;
-              }
-            // The runtime plant refuses what its scalar cannot hold (pole_precision.hpp): the
-            // row says why, as a user's run would.
-            KernelRuns k;
-            try {
-              k = single ? kernel_runs<float>(*a, floor, steps)
-                         : kernel_runs<double>(*a, floor, steps);
-            } catch (const std::invalid_argument& e) {
-              m.skipped = e.what();
-              result.rows.push_back(m);
-              continue;
-            }
-            m.kernel = k.kernel;
-            m.closed_loop_radius = scene::has_controller(c) ? sampled->closed_loop.spectral_radius
-                                                            : sampled->plant.spectral_radius;
-            m.step_error = worst_row_error(k.step, step_ref, false);
-            m.closed_loop_error = worst_row_error(k.z, z_ref, true);
-            m.closed_loop_rms_error = worst_rms_ratio(k.z, z_ref);
-            timers.push_back({result.rows.size(), std::move(k.timed)});
-            result.rows.push_back(m);
-          }
-        }
-      }
-  }
-  // The timing, round-robin: each pass times every configuration once, so that the VM's slow
-  // and fast phases (tens of seconds) fall on all of them alike, not on whichever was measured
-  // then.
-  total = done + static_cast<std::size_t>(o.repeats) * timers.size();
-  std::vector<std::vector<double>> ns(timers.size());
-  for (int pass = 0; pass < o.repeats; ++pass)
-    for (std::size_t k = 0; k < timers.size(); ++k) {
-      if (o.progress) o.progress(done, total, result.rows[timers[k].row].config);
-      ++done;
-      ns[k].push_back(timers[k].timed(o.bench_steps));
-    }
-  for (std::size_t k = 0; k < timers.size(); ++k) {
-    Measurement& m = result.rows[timers[k].row];
-    std::sort(ns[k].begin(), ns[k].end());
-    m.ns_per_step = ns[k].empty() ? NAN : ns[k][ns[k].size() / 2];
-    m.ns_min = ns[k].empty() ? NAN : ns[k].front();
-    m.ns_max = ns[k].empty() ? NAN : ns[k].back();
-    m.period_share = m.ns_per_step * 1e-9 * m.config.rate_hz;
-  }
-  if (o.progress) o.progress(total, total, {});
+      plants.size() * sweep.rates.size() * o.methods.size() * o.forms.size() * o.scalars.size();
+  SweepState s{result, {}, 0, configurations * static_cast<std::size_t>(1 + o.repeats)};
+  for (const double rate : sweep.rates) sweep_rate(p, o, plants, sweep.forms, rate, s);
+  time_round_robin(o, s);
   return result;
 }
 

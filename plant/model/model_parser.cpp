@@ -14,6 +14,39 @@
 
 namespace flexloop::plant::model {
 
+int Model::coordinate_index(const std::string& label) const {
+  auto it = std::find(coordinate_labels.begin(), coordinate_labels.end(), label);
+  return it == coordinate_labels.end() ? -1 : static_cast<int>(it - coordinate_labels.begin());
+}
+
+int Model::deformation_index(const std::string& label) const {
+  auto it = std::find(deformation_labels.begin(), deformation_labels.end(), label);
+  return it == deformation_labels.end() ? -1 : static_cast<int>(it - deformation_labels.begin());
+}
+
+void mark_inert_deformations(Model& m) {
+  // Rigid deformations that involve fixed coordinates only are identities, not equations.
+  for (auto& role : m.deformation_roles)
+    if (role == DeformationRole::kInert) role = DeformationRole::kRigid;
+  auto all_fixed = [&](const Node& n, int first, int count) {
+    for (int c = first; c < first + count; ++c)
+      if (m.coordinate_roles[n.first_coordinate + c] != CoordinateRole::kFixed) return false;
+    return true;
+  };
+  for (const auto& n : m.nodes)
+    if (n.euler_deformation >= 0 && all_fixed(n, 3, 4) &&
+        m.deformation_roles[n.euler_deformation] == DeformationRole::kRigid)
+      m.deformation_roles[n.euler_deformation] = DeformationRole::kInert;
+  for (const auto& el : m.elements) {
+    const Node& p = m.nodes[el.nodes[0]];
+    const Node& q = m.nodes[el.nodes[1]];
+    if (!all_fixed(p, 0, p.coordinate_count) || !all_fixed(q, 0, q.coordinate_count)) continue;
+    for (int k = 0; k < el.deformation_count(); ++k)
+      if (m.deformation_roles[el.first_deformation + k] == DeformationRole::kRigid)
+        m.deformation_roles[el.first_deformation + k] = DeformationRole::kInert;
+  }
+}
+
 namespace {
 
 DeformationKind parse_kind(const common::TomlReader& r, const std::string& s, const toml::node* n) {
@@ -64,123 +97,104 @@ void read_modes_and_damping(const common::TomlReader& r, Element& el, int n) {
   }
 }
 
-}  // namespace
+// The readers of a model file's tables, one per table, in the order parse_model runs them (each
+// needs what the ones before it read: the elements the nodes, the partition both).
 
-int Model::coordinate_index(const std::string& label) const {
-  auto it = std::find(coordinate_labels.begin(), coordinate_labels.end(), label);
-  return it == coordinate_labels.end() ? -1 : static_cast<int>(it - coordinate_labels.begin());
-}
+using NodeIndex = std::map<std::string, int>;  // node id -> its index in Model::nodes
 
-int Model::deformation_index(const std::string& label) const {
-  auto it = std::find(deformation_labels.begin(), deformation_labels.end(), label);
-  return it == deformation_labels.end() ? -1 : static_cast<int>(it - deformation_labels.begin());
-}
-
-void mark_inert_deformations(Model& m) {
-  // Rigid deformations that involve fixed coordinates only are identities, not equations.
-  for (auto& role : m.deformation_roles)
-    if (role == DeformationRole::kInert) role = DeformationRole::kRigid;
-  auto all_fixed = [&](const Node& n, int first, int count) {
-    for (int c = first; c < first + count; ++c)
-      if (m.coordinate_roles[n.first_coordinate + c] != CoordinateRole::kFixed) return false;
-    return true;
-  };
-  for (const auto& n : m.nodes)
-    if (n.euler_deformation >= 0 && all_fixed(n, 3, 4) &&
-        m.deformation_roles[n.euler_deformation] == DeformationRole::kRigid)
-      m.deformation_roles[n.euler_deformation] = DeformationRole::kInert;
-  for (const auto& el : m.elements) {
-    const Node& p = m.nodes[el.nodes[0]];
-    const Node& q = m.nodes[el.nodes[1]];
-    if (!all_fixed(p, 0, p.coordinate_count) || !all_fixed(q, 0, q.coordinate_count)) continue;
-    for (int k = 0; k < el.deformation_count(); ++k)
-      if (m.deformation_roles[el.first_deformation + k] == DeformationRole::kRigid)
-        m.deformation_roles[el.first_deformation + k] = DeformationRole::kInert;
-  }
-}
-
-Model parse_model(const std::string& text, const std::string& file) {
-  const toml::table root = common::parse_toml(text, file);
-  common::TomlReader top(root, file, "model file");
-  top.allow_only({"model", "node", "element", "coordinates", "configuration"});
-
-  Model m;
-  m.file = file;
+// [model]: name, dimension (2 or 3) and gravity.
+void read_model_table(const toml::table& root, const common::TomlReader& top, Model& m) {
   const auto* model_tbl = root["model"].as_table();
   if (!model_tbl) top.fail("missing [model] table");
-  common::TomlReader mr(*model_tbl, file, "[model]");
+  common::TomlReader mr(*model_tbl, m.file, "[model]");
   mr.allow_only({"name", "dimension", "gravity"});
   m.name = mr.string("name", std::string("unnamed"));
   const double dim = mr.number("dimension", 3.0);
   if (dim != 2.0 && dim != 3.0) mr.fail("'dimension' must be 2 or 3", mr.get("dimension"));
   m.dim = static_cast<int>(dim);
   m.gravity = mr.has("gravity") ? mr.vector("gravity", m.dim) : Eigen::VectorXd::Zero(m.dim);
-  const char* axes = "xyz";
+}
 
-  // Nodes and their coordinates.
-  std::map<std::string, int> node_index;
+// A node's rotational inertia: 2-D the scalar about z; 3-D [Ixx, Iyy, Izz] or the full tensor
+// [Ixx, Iyy, Izz, Ixy, Ixz, Iyz]; positive semi-definite either way.
+void read_inertia(const common::TomlReader& r, int dim, Node& n) {
+  if (dim == 2) {
+    n.inertia(2, 2) = r.number("inertia");
+  } else {
+    const auto* in = r.get("inertia");
+    const auto* arr = in->as_array();
+    if (arr && arr->size() == 3) {
+      n.inertia.diagonal() = r.vector("inertia", 3);
+    } else if (arr && arr->size() == 6) {  // Ixx Iyy Izz Ixy Ixz Iyz
+      Eigen::VectorXd v = r.vector("inertia", 6);
+      n.inertia << v(0), v(3), v(4), v(3), v(1), v(5), v(4), v(5), v(2);
+    } else {
+      r.fail("'inertia' must be [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz]", in);
+    }
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(n.inertia);
+  if (es.eigenvalues().minCoeff() < 0)
+    r.fail("'inertia' must be positive semi-definite", r.get("inertia"));
+}
+
+// One [[node]]: position, orientation (an angle in 2-D, unit Euler parameters in 3-D), mass,
+// inertia and applied force.
+Node read_node(const common::TomlReader& r, const Model& m, const NodeIndex& node_index) {
+  r.allow_only(
+      {"id", "position", "rotational", "angle", "orientation", "mass", "inertia", "force"});
+  Node n;
+  n.id = r.string("id");
+  n.source = r.source();
+  if (const auto first = node_index.find(n.id); first != node_index.end())
+    r.fail("duplicate node id '" + n.id + "' (first at " + m.nodes[first->second].source.str() +
+           ")");
+  n.position = r.vector("position", m.dim);
+  n.rotational =
+      r.boolean("rotational", r.has("angle") || r.has("orientation") || r.has("inertia"));
+  n.phi = r.number("angle", 0.0);
+  if (r.has("orientation")) {
+    if (m.dim != 3)
+      r.fail("'orientation' (Euler parameters) is for 3-D models; use 'angle' in 2-D",
+             r.get("orientation"));
+    n.lambda = r.vector("orientation", 4);
+    if (std::abs(n.lambda.norm() - 1.0) > 1e-9)
+      r.fail("'orientation' Euler parameters must have unit norm", r.get("orientation"));
+  }
+  n.mass = r.number("mass", 0.0);
+  if (n.mass < 0) r.fail("'mass' must not be negative", r.get("mass"));
+  if (r.has("inertia")) read_inertia(r, m.dim, n);
+  n.force = r.has("force") ? r.vector("force", m.dim) : Eigen::VectorXd::Zero(m.dim);
+  return n;
+}
+
+// The node's coordinates in x: its translations x, y (, z), then phi (2-D) or l0..l3 (3-D).
+void add_node(Model& m, Node n, NodeIndex& node_index) {
+  static const char* const axes = "xyz";
+  n.first_coordinate = static_cast<int>(m.coordinate_labels.size());
+  for (int a = 0; a < m.dim; ++a)
+    m.coordinate_labels.push_back(std::string(1, axes[a]) + "." + n.id);
+  if (n.rotational) {
+    if (m.dim == 2) {
+      m.coordinate_labels.push_back("phi." + n.id);
+    } else {
+      for (int a = 0; a < 4; ++a)
+        m.coordinate_labels.push_back("l" + std::to_string(a) + "." + n.id);
+    }
+  }
+  n.coordinate_count = static_cast<int>(m.coordinate_labels.size()) - n.first_coordinate;
+  node_index[n.id] = static_cast<int>(m.nodes.size());
+  m.nodes.push_back(std::move(n));
+}
+
+// [[node]]: the nodes, their coordinates and the reference configuration x_reference.
+NodeIndex read_nodes(const toml::table& root, const common::TomlReader& top, Model& m) {
+  NodeIndex node_index;
   const auto* nodes = root["node"].as_array();
   if (!nodes || nodes->empty()) top.fail("no [[node]] entries");
   for (const auto& item : *nodes) {
     const auto* t = item.as_table();
     if (!t) top.fail("[[node]] entries must be tables", &item);
-    common::TomlReader r(*t, file, "node");
-    r.allow_only(
-        {"id", "position", "rotational", "angle", "orientation", "mass", "inertia", "force"});
-    Node n;
-    n.id = r.string("id");
-    n.source = r.source();
-    if (node_index.count(n.id))
-      r.fail("duplicate node id '" + n.id + "' (first at " +
-             m.nodes[node_index[n.id]].source.str() + ")");
-    n.position = r.vector("position", m.dim);
-    n.rotational =
-        r.boolean("rotational", r.has("angle") || r.has("orientation") || r.has("inertia"));
-    n.phi = r.number("angle", 0.0);
-    if (r.has("orientation")) {
-      if (m.dim != 3)
-        r.fail("'orientation' (Euler parameters) is for 3-D models; use 'angle' in 2-D",
-               r.get("orientation"));
-      n.lambda = r.vector("orientation", 4);
-      if (std::abs(n.lambda.norm() - 1.0) > 1e-9)
-        r.fail("'orientation' Euler parameters must have unit norm", r.get("orientation"));
-    }
-    n.mass = r.number("mass", 0.0);
-    if (n.mass < 0) r.fail("'mass' must not be negative", r.get("mass"));
-    if (r.has("inertia")) {
-      if (m.dim == 2) {
-        n.inertia(2, 2) = r.number("inertia");
-      } else {
-        const auto* in = r.get("inertia");
-        const auto* arr = in->as_array();
-        if (arr && arr->size() == 3) {
-          n.inertia.diagonal() = r.vector("inertia", 3);
-        } else if (arr && arr->size() == 6) {  // Ixx Iyy Izz Ixy Ixz Iyz
-          Eigen::VectorXd v = r.vector("inertia", 6);
-          n.inertia << v(0), v(3), v(4), v(3), v(1), v(5), v(4), v(5), v(2);
-        } else {
-          r.fail("'inertia' must be [Ixx, Iyy, Izz] or [Ixx, Iyy, Izz, Ixy, Ixz, Iyz]", in);
-        }
-      }
-      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es(n.inertia);
-      if (es.eigenvalues().minCoeff() < 0)
-        r.fail("'inertia' must be positive semi-definite", r.get("inertia"));
-    }
-    n.force = r.has("force") ? r.vector("force", m.dim) : Eigen::VectorXd::Zero(m.dim);
-    n.first_coordinate = static_cast<int>(m.coordinate_labels.size());
-    for (int a = 0; a < m.dim; ++a)
-      m.coordinate_labels.push_back(std::string(1, axes[a]) + "." + n.id);
-    if (n.rotational) {
-      if (m.dim == 2) {
-        m.coordinate_labels.push_back("phi." + n.id);
-      } else {
-        for (int a = 0; a < 4; ++a)
-          m.coordinate_labels.push_back("l" + std::to_string(a) + "." + n.id);
-      }
-    }
-    n.coordinate_count = static_cast<int>(m.coordinate_labels.size()) - n.first_coordinate;
-    node_index[n.id] = static_cast<int>(m.nodes.size());
-    m.nodes.push_back(std::move(n));
+    add_node(m, read_node(common::TomlReader(*t, m.file, "node"), m, node_index), node_index);
   }
   m.x_reference.resize(m.nx());
   for (const auto& n : m.nodes) {
@@ -192,126 +206,165 @@ Model parse_model(const std::string& text, const std::string& file) {
         m.x_reference.segment<4>(n.first_coordinate + 3) = n.lambda;
     }
   }
+  return node_index;
+}
 
-  // Elements.
+// A truss: e1 = |l| - l0 with stiffness k and damping d; flexible when it has either (or an
+// actuator), else rigid, unless 'mode' says otherwise.
+void read_truss(const common::TomlReader& r, Element& el) {
+  r.allow_only(
+      {"id", "type", "nodes", "stiffness", "damping", "actuator", "mode", "mass", "mass_model"});
+  el.type = ElementType::kTruss;
+  el.stiffness = Eigen::MatrixXd::Constant(1, 1, r.number("stiffness", 0.0));
+  el.damping = Eigen::MatrixXd::Constant(1, 1, r.number("damping", 0.0));
+  if (el.stiffness(0, 0) < 0 || el.damping(0, 0) < 0)
+    r.fail("'stiffness' and 'damping' must not be negative");
+  const std::string def =
+      el.stiffness(0, 0) > 0 || el.damping(0, 0) > 0 || r.boolean("actuator", false) ? "flexible"
+                                                                                     : "rigid";
+  el.kinds = {parse_kind(r, r.string("mode", def), r.get("mode"))};
+  el.actuated = {r.boolean("actuator", false)};
+  el.mass = r.number("mass", 0.0);
+}
+
+// A planar beam (2-D, rotational nodes): S of E, A, I (element_properties.hpp), mass rho A l0.
+void read_planar_beam(const common::TomlReader& r, int dim, const Node& p, const Node& q,
+                      Element& el) {
+  r.allow_only(
+      {"id", "type", "nodes", "E", "A", "I", "rho", "modes", "damping", "actuated", "mass_model"});
+  if (dim != 2) r.fail("planar_beam needs a 2-D model (dimension = 2)", r.get("type"));
+  if (!p.rotational || !q.rotational)
+    r.fail("planar_beam nodes must be rotational (give them 'rotational = true')");
+  el.type = ElementType::kPlanarBeam;
+  const double E = r.number("E"), A = r.number("A"), I = r.number("I");
+  require_positive(r, "E", E), require_positive(r, "A", A), require_positive(r, "I", I);
+  read_modes_and_damping(r, el, 3);
+  el.stiffness = planar_beam_stiffness(E, A, I, el.length);
+  el.mass = r.number("rho", 0.0) * A * el.length;
+  el.rho_Iz = r.number("rho", 0.0) * I;
+  el.planar_ref = make_planar_beam_reference(p.position, p.phi, q.position, q.phi);
+}
+
+// A spatial beam's section. A parameter is required only when a mode that uses it is flexible
+// (e1: E A; e2: G J; e3..e6: E Iy, E Iz); the others default to 1 and carry no stiffness.
+BeamSection read_beam_section(const common::TomlReader& r, const Element& el) {
+  auto flexible = [&](std::initializer_list<int> ks) {
+    return std::any_of(ks.begin(), ks.end(),
+                       [&](int k) { return el.kinds[k] == DeformationKind::kFlexible; });
+  };
+  auto param = [&](const char* key, bool needed) {
+    return needed ? r.number(key) : r.number(key, 1.0);
+  };
+  BeamSection s{};
+  s.E = param("E", flexible({0, 2, 3, 4, 5}));
+  s.A = param("A", flexible({0}));
+  s.G = param("G", flexible({1}));
+  s.J = param("J", flexible({1}));
+  s.Iy = param("Iy", flexible({2, 3, 4, 5}));
+  s.Iz = param("Iz", flexible({2, 3, 4, 5}));
+  s.rho = r.number("rho", 0.0);
+  for (double v : {s.E, s.A, s.G, s.J, s.Iy, s.Iz})
+    if (!(v > 0)) r.fail("section properties E, G, A, Iy, Iz, J must be positive");
+  return s;
+}
+
+// A spatial beam (3-D, rotational nodes): S of its section, mass rho A l0 (with the section's
+// rotary inertia rho Iy, rho Iz for mass_model = "beam"), and the section axes from 'y_axis' (any
+// axis not parallel to the beam when not given).
+void read_spatial_beam(const common::TomlReader& r, int dim, const Node& p, const Node& q,
+                       Element& el) {
+  r.allow_only({"id", "type", "nodes", "E", "G", "A", "Iy", "Iz", "J", "rho", "modes", "damping",
+                "actuated", "y_axis", "mass_model"});
+  if (dim != 3) r.fail("beam needs a 3-D model; use planar_beam in 2-D", r.get("type"));
+  if (!p.rotational || !q.rotational)
+    r.fail("beam nodes must be rotational (give them 'rotational = true')");
+  el.type = ElementType::kSpatialBeam;
+  read_modes_and_damping(r, el, 6);
+  const BeamSection s = read_beam_section(r, el);
+  el.stiffness = spatial_beam_stiffness(s, el.length);
+  el.mass = s.rho * (r.has("A") ? s.A : 0.0) * el.length;
+  if (el.mass_model == MassModel::kBeam) {  // the section's rotation needs its inertia
+    if (!r.has("A") || !r.has("Iy") || !r.has("Iz"))
+      r.fail("mass_model = \"beam\" needs the section's A, Iy and Iz", r.get("mass_model"));
+    el.rho_Iy = s.rho * s.Iy;
+    el.rho_Iz = s.rho * s.Iz;
+  }
+  Eigen::Vector3d hint =
+      r.has("y_axis") ? Eigen::Vector3d(r.vector("y_axis", 3)) : Eigen::Vector3d::Zero();
+  const Eigen::Vector3d axis = (q.position - p.position).normalized();
+  if (!r.has("y_axis")) {  // any axis not parallel to the beam
+    hint = std::abs(axis.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
+    hint = hint.cross(axis);
+  }
+  try {
+    el.spatial_ref = make_spatial_beam_reference(p.position, p.lambda, q.position, q.lambda, hint);
+  } catch (const std::exception& e) {
+    r.fail(e.what(), r.get("y_axis"));
+  }
+}
+
+// What every element has: id, two known nodes at a distance (l0 > 0), a mass model.
+void read_element_common(const common::TomlReader& r, const Model& m, const NodeIndex& node_index,
+                         const std::string& type, Element& el) {
+  const auto node_refs = r.strings("nodes");
+  if (node_refs.size() != 2) r.fail("'nodes' must list two node ids", r.get("nodes"));
+  for (const auto& [id, n] : node_refs) {
+    auto it = node_index.find(id);
+    if (it == node_index.end()) r.fail("unknown node '" + id + "'", n);
+    el.nodes.push_back(it->second);
+  }
+  const Node& p = m.nodes[el.nodes[0]];
+  const Node& q = m.nodes[el.nodes[1]];
+  el.length = (q.position - p.position).norm();
+  if (!(el.length > 1e-12))
+    r.fail("zero-length element: nodes '" + p.id + "' and '" + q.id + "' coincide");
+  const std::string mass_model = r.string("mass_model", std::string("lumped"));
+  if (mass_model != "lumped" && mass_model != "consistent" && mass_model != "beam")
+    r.fail("'mass_model' must be lumped, consistent or beam", r.get("mass_model"));
+  el.mass_model = mass_model == "beam"         ? MassModel::kBeam
+                  : mass_model == "consistent" ? MassModel::kConsistent
+                                               : MassModel::kLumped;
+  if (el.mass_model == MassModel::kBeam && type == "truss")
+    r.fail("mass_model = \"beam\" is the mass of a beam element; a truss has lumped or consistent",
+           r.get("mass_model"));
+}
+
+// One [[element]]: what every element has, then what its type reads.
+Element read_element(const common::TomlReader& r, const Model& m, const NodeIndex& node_index,
+                     std::set<std::string>& element_ids) {
+  Element el;
+  el.id = r.string("id");
+  el.source = r.source();
+  if (!element_ids.insert(el.id).second)
+    r.fail("duplicate element id '" + el.id + "'", r.get("id"));
+  const std::string type = r.string("type");
+  read_element_common(r, m, node_index, type, el);
+  const Node& p = m.nodes[el.nodes[0]];
+  const Node& q = m.nodes[el.nodes[1]];
+  if (type == "truss")
+    read_truss(r, el);
+  else if (type == "planar_beam")
+    read_planar_beam(r, m.dim, p, q, el);
+  else if (type == "beam")
+    read_spatial_beam(r, m.dim, p, q, el);
+  else
+    r.fail("unknown element type '" + type + "' (truss, planar_beam or beam)", r.get("type"));
+  if (el.mass < 0) r.fail("'mass' must not be negative", r.get("mass"));
+  mask_modes(el);
+  return el;
+}
+
+// [[element]] (optional): the elements and their deformations e1.<id>, e2.<id>, ... in e; then
+// the always-rigid euler.<node> of each 3-D rotational node (lambda . lambda - 1).
+void read_elements(const toml::table& root, const common::TomlReader& top, Model& m,
+                   const NodeIndex& node_index) {
   std::set<std::string> element_ids;
-  const auto* elements = root["element"].as_array();
-  if (elements) {
+  if (const auto* elements = root["element"].as_array()) {
     for (const auto& item : *elements) {
       const auto* t = item.as_table();
       if (!t) top.fail("[[element]] entries must be tables", &item);
-      common::TomlReader r(*t, file, "element");
-      Element el;
-      el.id = r.string("id");
-      el.source = r.source();
-      if (!element_ids.insert(el.id).second)
-        r.fail("duplicate element id '" + el.id + "'", r.get("id"));
-      const std::string type = r.string("type");
-      auto node_refs = r.strings("nodes");
-      if (node_refs.size() != 2) r.fail("'nodes' must list two node ids", r.get("nodes"));
-      for (const auto& [id, n] : node_refs) {
-        auto it = node_index.find(id);
-        if (it == node_index.end()) r.fail("unknown node '" + id + "'", n);
-        el.nodes.push_back(it->second);
-      }
-      const Node& p = m.nodes[el.nodes[0]];
-      const Node& q = m.nodes[el.nodes[1]];
-      el.length = (q.position - p.position).norm();
-      if (!(el.length > 1e-12))
-        r.fail("zero-length element: nodes '" + p.id + "' and '" + q.id + "' coincide");
-      const std::string mass_model = r.string("mass_model", std::string("lumped"));
-      if (mass_model != "lumped" && mass_model != "consistent" && mass_model != "beam")
-        r.fail("'mass_model' must be lumped, consistent or beam", r.get("mass_model"));
-      el.mass_model = mass_model == "beam"         ? MassModel::kBeam
-                      : mass_model == "consistent" ? MassModel::kConsistent
-                                                   : MassModel::kLumped;
-      if (el.mass_model == MassModel::kBeam && type == "truss")
-        r.fail(
-            "mass_model = \"beam\" is the mass of a beam element; a truss has lumped or "
-            "consistent",
-            r.get("mass_model"));
-
-      if (type == "truss") {
-        r.allow_only({"id", "type", "nodes", "stiffness", "damping", "actuator", "mode", "mass",
-                      "mass_model"});
-        el.type = ElementType::kTruss;
-        el.stiffness = Eigen::MatrixXd::Constant(1, 1, r.number("stiffness", 0.0));
-        el.damping = Eigen::MatrixXd::Constant(1, 1, r.number("damping", 0.0));
-        if (el.stiffness(0, 0) < 0 || el.damping(0, 0) < 0)
-          r.fail("'stiffness' and 'damping' must not be negative");
-        const std::string def =
-            el.stiffness(0, 0) > 0 || el.damping(0, 0) > 0 || r.boolean("actuator", false)
-                ? "flexible"
-                : "rigid";
-        el.kinds = {parse_kind(r, r.string("mode", def), r.get("mode"))};
-        el.actuated = {r.boolean("actuator", false)};
-        el.mass = r.number("mass", 0.0);
-      } else if (type == "planar_beam") {
-        r.allow_only({"id", "type", "nodes", "E", "A", "I", "rho", "modes", "damping", "actuated",
-                      "mass_model"});
-        if (m.dim != 2) r.fail("planar_beam needs a 2-D model (dimension = 2)", r.get("type"));
-        if (!p.rotational || !q.rotational)
-          r.fail("planar_beam nodes must be rotational (give them 'rotational = true')");
-        el.type = ElementType::kPlanarBeam;
-        const double E = r.number("E"), A = r.number("A"), I = r.number("I");
-        require_positive(r, "E", E), require_positive(r, "A", A), require_positive(r, "I", I);
-        read_modes_and_damping(r, el, 3);
-        el.stiffness = planar_beam_stiffness(E, A, I, el.length);
-        el.mass = r.number("rho", 0.0) * A * el.length;
-        el.rho_Iz = r.number("rho", 0.0) * I;
-        el.planar_ref = make_planar_beam_reference(p.position, p.phi, q.position, q.phi);
-      } else if (type == "beam") {
-        r.allow_only({"id", "type", "nodes", "E", "G", "A", "Iy", "Iz", "J", "rho", "modes",
-                      "damping", "actuated", "y_axis", "mass_model"});
-        if (m.dim != 3) r.fail("beam needs a 3-D model; use planar_beam in 2-D", r.get("type"));
-        if (!p.rotational || !q.rotational)
-          r.fail("beam nodes must be rotational (give them 'rotational = true')");
-        el.type = ElementType::kSpatialBeam;
-        read_modes_and_damping(r, el, 6);
-        BeamSection s{};
-        // A section parameter is required only when a mode that uses it is flexible.
-        auto flexible = [&](std::initializer_list<int> ks) {
-          return std::any_of(ks.begin(), ks.end(),
-                             [&](int k) { return el.kinds[k] == DeformationKind::kFlexible; });
-        };
-        auto param = [&](const char* key, bool needed) {
-          return needed ? r.number(key) : r.number(key, 1.0);
-        };
-        s.E = param("E", flexible({0, 2, 3, 4, 5}));
-        s.A = param("A", flexible({0}));
-        s.G = param("G", flexible({1}));
-        s.J = param("J", flexible({1}));
-        s.Iy = param("Iy", flexible({2, 3, 4, 5}));
-        s.Iz = param("Iz", flexible({2, 3, 4, 5}));
-        s.rho = r.number("rho", 0.0);
-        for (double v : {s.E, s.A, s.G, s.J, s.Iy, s.Iz})
-          if (!(v > 0)) r.fail("section properties E, G, A, Iy, Iz, J must be positive");
-        el.stiffness = spatial_beam_stiffness(s, el.length);
-        el.mass = s.rho * (r.has("A") ? s.A : 0.0) * el.length;
-        if (el.mass_model == MassModel::kBeam) {  // the section's rotation needs its inertia
-          if (!r.has("A") || !r.has("Iy") || !r.has("Iz"))
-            r.fail("mass_model = \"beam\" needs the section's A, Iy and Iz", r.get("mass_model"));
-          el.rho_Iy = s.rho * s.Iy;
-          el.rho_Iz = s.rho * s.Iz;
-        }
-        Eigen::Vector3d hint =
-            r.has("y_axis") ? Eigen::Vector3d(r.vector("y_axis", 3)) : Eigen::Vector3d::Zero();
-        const Eigen::Vector3d axis = (q.position - p.position).normalized();
-        if (!r.has("y_axis")) {  // any axis not parallel to the beam
-          hint = std::abs(axis.z()) < 0.9 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX();
-          hint = hint.cross(axis);
-        }
-        try {
-          el.spatial_ref =
-              make_spatial_beam_reference(p.position, p.lambda, q.position, q.lambda, hint);
-        } catch (const std::exception& e) {
-          r.fail(e.what(), r.get("y_axis"));
-        }
-      } else {
-        r.fail("unknown element type '" + type + "' (truss, planar_beam or beam)", r.get("type"));
-      }
-      if (el.mass < 0) r.fail("'mass' must not be negative", r.get("mass"));
-      mask_modes(el);
+      Element el =
+          read_element(common::TomlReader(*t, m.file, "element"), m, node_index, element_ids);
       el.first_deformation = static_cast<int>(m.deformation_labels.size());
       for (int k = 0; k < el.deformation_count(); ++k)
         m.deformation_labels.push_back("e" + std::to_string(k + 1) + "." + el.id);
@@ -324,8 +377,11 @@ Model parse_model(const std::string& text, const std::string& file) {
       m.deformation_labels.push_back("euler." + n.id);
     }
   }
+}
 
-  // Partition.
+// The partition before [coordinates]: every nodal coordinate dependent, every deformation
+// dependent but the rigid modes and the Euler constraints.
+void initial_roles(Model& m) {
   m.coordinate_roles.assign(m.nx(), CoordinateRole::kDependent);
   m.deformation_roles.assign(m.ne(), DeformationRole::kDependent);
   for (const auto& el : m.elements)
@@ -335,16 +391,20 @@ Model parse_model(const std::string& text, const std::string& file) {
   for (const auto& n : m.nodes)
     if (n.euler_deformation >= 0)
       m.deformation_roles[n.euler_deformation] = DeformationRole::kRigid;
+}
 
-  const auto* coords = root["coordinates"].as_table();
-  if (!coords)
-    top.fail("missing [coordinates] table (which coordinates are fixed, dynamic, prescribed)");
-  common::TomlReader cr(*coords, file, "[coordinates]");
-  cr.allow_only({"fixed", "fixed_nodes", "dynamic", "prescribed"});
+// Each coordinate is listed once in [coordinates].
+struct Claims {
+  const common::TomlReader& cr;
   std::set<std::string> assigned;
-  auto claim = [&](const std::string& label, const toml::node* n) {
+  void operator()(const std::string& label, const toml::node* n) {
     if (!assigned.insert(label).second) cr.fail("'" + label + "' is listed twice", n);
-  };
+  }
+};
+
+// [coordinates] fixed_nodes and fixed: the coordinates x(o) held at their reference.
+void read_fixed(const common::TomlReader& cr, Model& m, const NodeIndex& node_index,
+                Claims& claim) {
   for (const auto& [id, n] : cr.strings("fixed_nodes")) {
     auto it = node_index.find(id);
     if (it == node_index.end()) cr.fail("unknown node '" + id + "'", n);
@@ -363,6 +423,11 @@ Model parse_model(const std::string& text, const std::string& file) {
     claim(label, n);
     m.coordinate_roles[i] = CoordinateRole::kFixed;
   }
+}
+
+// [coordinates] dynamic and prescribed: the generalised coordinates q = (q_d, q_r), each a nodal
+// coordinate x(m) or a flexible or released deformation e(m).
+void read_generalised(const common::TomlReader& cr, Model& m, Claims& claim) {
   std::vector<std::string> prescribed;
   for (const char* key : {"dynamic", "prescribed"}) {
     const bool dynamic = std::string(key) == "dynamic";
@@ -386,47 +451,82 @@ Model parse_model(const std::string& text, const std::string& file) {
   m.dynamic_count = static_cast<int>(m.generalised.size());
   m.generalised.insert(m.generalised.end(), prescribed.begin(), prescribed.end());
   if (m.dynamic_count == 0) cr.fail("no dynamic coordinates: list at least one in 'dynamic'");
+}
 
-  mark_inert_deformations(m);
+// [coordinates]: the partition x = (x(o) fixed, x(c) dependent, x(m) generalised), each
+// coordinate listed once.
+void read_coordinates(const toml::table& root, const common::TomlReader& top, Model& m,
+                      const NodeIndex& node_index) {
+  const auto* coords = root["coordinates"].as_table();
+  if (!coords)
+    top.fail("missing [coordinates] table (which coordinates are fixed, dynamic, prescribed)");
+  common::TomlReader cr(*coords, m.file, "[coordinates]");
+  cr.allow_only({"fixed", "fixed_nodes", "dynamic", "prescribed"});
+  Claims claim{cr, {}};
+  read_fixed(cr, m, node_index, claim);
+  read_generalised(cr, m, claim);
+}
 
-  // Operating point (optional): { label = value } tables for q, qd, qdd.
-  if (const auto* cfg = root["configuration"].as_table()) {
-    common::TomlReader fr(*cfg, file, "[configuration]");
-    fr.allow_only({"q", "qd", "qdd"});
-    for (const auto& [key, out] :
-         {std::pair{"q", &m.op_q}, std::pair{"qd", &m.op_qd}, std::pair{"qdd", &m.op_qdd}}) {
-      const auto* n = fr.get(key);
-      if (!n) continue;
-      const auto* t = n->as_table();
-      if (!t)
-        fr.fail("'" + std::string(key) + "' must be a table of generalised coordinate = value", n);
-      for (const auto& [label, value] : *t) {
-        const std::string l(label.str());
-        if (std::find(m.generalised.begin(), m.generalised.end(), l) == m.generalised.end())
-          fr.fail("'" + l + "' is not a generalised coordinate (dynamic or prescribed)", &value);
-        const auto v = value.value<double>();
-        if (!v || !std::isfinite(*v)) fr.fail("'" + l + "' must be a finite number", &value);
-        out->emplace_back(l, *v);
-      }
+// [configuration] (optional): the operating point, { label = value } tables for q, qd, qdd.
+void read_configuration(const toml::table& root, Model& m) {
+  const auto* cfg = root["configuration"].as_table();
+  if (!cfg) return;
+  common::TomlReader fr(*cfg, m.file, "[configuration]");
+  fr.allow_only({"q", "qd", "qdd"});
+  for (const auto& [key, out] :
+       {std::pair{"q", &m.op_q}, std::pair{"qd", &m.op_qd}, std::pair{"qdd", &m.op_qdd}}) {
+    const auto* n = fr.get(key);
+    if (!n) continue;
+    const auto* t = n->as_table();
+    if (!t)
+      fr.fail("'" + std::string(key) + "' must be a table of generalised coordinate = value", n);
+    for (const auto& [label, value] : *t) {
+      const std::string l(label.str());
+      if (std::find(m.generalised.begin(), m.generalised.end(), l) == m.generalised.end())
+        fr.fail("'" + l + "' is not a generalised coordinate (dynamic or prescribed)", &value);
+      const auto v = value.value<double>();
+      if (!v || !std::isfinite(*v)) fr.fail("'" + l + "' must be a finite number", &value);
+      out->emplace_back(l, *v);
     }
   }
+}
 
-  // Count check: the dependent coordinates are solved from the rigid and generalised deformations.
+// The dependent coordinates x(c) are solved from [D_o(x); D_m(x)] = [0; e_m(q)]: as many rigid
+// and generalised deformations as dependent coordinates. Reported at [coordinates], where the
+// fix goes.
+void check_dependent_count(const toml::table& root, const Model& m) {
   int n_dependent = 0, n_equations = 0;
   for (auto r : m.coordinate_roles) n_dependent += r == CoordinateRole::kDependent;
   for (auto r : m.deformation_roles)
     n_equations += r == DeformationRole::kRigid || r == DeformationRole::kDynamic ||
                    r == DeformationRole::kPrescribed;
-  if (n_dependent != n_equations) {
-    std::ostringstream os;
-    os << n_dependent << " dependent nodal coordinates but " << n_equations
-       << " rigid or generalised deformations determine them; "
-       << (n_dependent > n_equations ? "the mechanism has free coordinates: fix them, make them "
-                                       "generalised, or make more deformations rigid"
-                                     : "it is over-constrained: release or free some rigid "
-                                       "deformations, or make fewer deformations generalised");
-    cr.fail(os.str());
-  }
+  if (n_dependent == n_equations) return;
+  std::ostringstream os;
+  os << n_dependent << " dependent nodal coordinates but " << n_equations
+     << " rigid or generalised deformations determine them; "
+     << (n_dependent > n_equations ? "the mechanism has free coordinates: fix them, make them "
+                                     "generalised, or make more deformations rigid"
+                                   : "it is over-constrained: release or free some rigid "
+                                     "deformations, or make fewer deformations generalised");
+  common::TomlReader(*root["coordinates"].as_table(), m.file, "[coordinates]").fail(os.str());
+}
+
+}  // namespace
+
+Model parse_model(const std::string& text, const std::string& file) {
+  const toml::table root = common::parse_toml(text, file);
+  common::TomlReader top(root, file, "model file");
+  top.allow_only({"model", "node", "element", "coordinates", "configuration"});
+  Model m;
+  m.file = file;
+  read_model_table(root, top, m);
+  const NodeIndex node_index = read_nodes(root, top, m);
+  read_elements(root, top, m, node_index);
+  initial_roles(m);
+  read_coordinates(root, top, m, node_index);
+  mark_inert_deformations(m);
+  read_configuration(root, m);
+  check_dependent_count(root, m);
   return m;
 }
 

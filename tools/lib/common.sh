@@ -9,7 +9,7 @@ FLEXLOOP_PACKAGES=(
   libssl-dev iproute2 util-linux bsdutils rt-tests gnuplot-nox python3 python3-matplotlib valgrind
   libcjson-dev libmatio-dev python3-numpy python3-scipy python3-mpmath python3-openturns libslicot-dev
   liblapack-dev libblas-dev gfortran libzip-dev libpugixml-dev clang libclang-rt-14-dev libxml2-utils
-  slurm-wlm slurmctld slurmd slurm-client munge
+  slurm-wlm slurmctld slurmd slurm-client munge universal-ctags
 )
 
 say() { printf '\033[1m[flexloop]\033[0m %s\n' "$*"; }
