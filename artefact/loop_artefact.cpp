@@ -198,10 +198,8 @@ void read_command_limits(const common::JsonReader& co, std::size_t nc, Eigen::Ve
                          Eigen::VectorXd& u_max) {
   u_min = co.vector("u_min");
   u_max = co.vector("u_max");
-  // As read before the split: key[2] is 'm' in both names, so u_min was checked twice and u_max
-  // never (the next commit checks u_max).
   for (const auto& [key, limit] :
-       {std::pair<const char*, const Eigen::VectorXd&>{"u_min", u_min}, {"u_max", u_min}}) {
+       {std::pair<const char*, const Eigen::VectorXd&>{"u_min", u_min}, {"u_max", u_max}}) {
     const auto n = static_cast<std::size_t>(limit.size());
     require(n == 0 || n == 1 || n == nc, co.place(key),
             "has " + std::to_string(n) + " values; expected none, one, or one per actuator (" +

@@ -126,6 +126,17 @@ TEST_CASE("loop artefact: bad artefacts name the file, the key and what is wrong
   CHECK_THAT(error_of([](json& j) { j["effects"]["transport_delay_samples"] = 40; }),
              Contains("key 'transport_delay_samples': is 40, must be 0 .. 32"));
   CHECK_THAT(error_of([](json& j) { j["rate_hz"] = -10; }), Contains("key 'rate_hz': must be > 0"));
+  // Both command limits are sized against the actuators (6 here), u_max as u_min.
+  CHECK_THAT(error_of([](json& j) {
+               j["controller"]["u_max"] = {100.0, 100.0};
+             }),
+             Contains("key 'controller': key 'u_max': has 2 values; expected none, one, or one "
+                      "per actuator (6)"));
+  CHECK_THAT(error_of([](json& j) {
+               j["controller"]["u_min"] = {-100.0, -100.0};
+             }),
+             Contains("key 'controller': key 'u_min': has 2 values; expected none, one, or one "
+                      "per actuator (6)"));
   CHECK_THAT(error_of([](json& j) { j.erase("floor"); }), Contains("key 'floor': is missing"));
   // A start covariance a hand edit broke: not symmetric, not positive semidefinite.
   CHECK_THAT(error_of([](json& j) {
