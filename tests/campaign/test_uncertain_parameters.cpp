@@ -1,0 +1,212 @@
+// The uncertain parameters file (offline/campaign/uncertain_parameters.hpp) and its planning on a
+// machine (planned_parameters.hpp): every refusal names the file and line of the entry; unknown
+// paths come with the nearest valid names; globs take the elements that have the key;
+// unphysical draws are refused at planning unless truncated.
+#include <catch2/catch.hpp>
+
+#include <string>
+
+#include "common/input_error.hpp"
+#include "offline/campaign/parameter_paths.hpp"
+#include "offline/campaign/planned_parameters.hpp"
+#include "offline/campaign/uncertain_parameters.hpp"
+
+namespace {
+
+using namespace flexloop::campaign;
+using Catch::Matchers::Contains;
+using flexloop::common::InputError;
+
+const char* kStrutScene = "tests/fixtures/one_strut_campaign.toml";
+const char* kFrameScene = "tools/scenes/metrology_frame.toml";
+
+std::string refusal(const std::string& text) {
+  try {
+    parse_uncertain_parameters(text, "U.toml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  FAIL("not refused: " << text);
+  return "";
+}
+
+std::string planning_refusal(const std::string& text, const char* scene,
+                             const std::string& controller = "frozen") {
+  const UncertainParameters u = parse_uncertain_parameters(text, "U.toml");
+  const MachineDocuments docs(scene);
+  try {
+    plan_columns(u, docs, controller);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  FAIL("not refused at planning: " << text);
+  return "";
+}
+
+std::string parameter(const std::string& path, const std::string& rest) {
+  return "[[parameter]]\npath = \"" + path + "\"\n" + rest;
+}
+
+}  // namespace
+
+TEST_CASE("the fixture U.toml reads as written", "[campaign][uncertain]") {
+  const UncertainParameters u =
+      load_uncertain_parameters("tests/fixtures/one_strut_uncertain.toml");
+  REQUIRE(u.parameters.size() == 3);
+  CHECK(u.controller == "frozen");
+  CHECK(u.parameters[0].path == "element.strut.stiffness");
+  CHECK(u.parameters[0].kind == DistributionKind::kUniform);
+  CHECK(*u.parameters[0].low == 3.0e6);
+  CHECK(*u.parameters[0].high == 8.0e6);
+  CHECK(u.parameters[1].kind == DistributionKind::kNormal);
+  CHECK(*u.parameters[1].relative_sd == 0.02);
+  CHECK_FALSE(u.parameters[1].mean);
+  CHECK(u.parameters[2].kind == DistributionKind::kTruncatedNormal);
+  CHECK(u.parameters[0].place == "tests/fixtures/one_strut_uncertain.toml:8");
+}
+
+TEST_CASE("bad U.toml entries are refused with file:line", "[campaign][uncertain]") {
+  CHECK_THAT(refusal("x = 1\n"), Contains("unknown key 'x'"));
+  CHECK_THAT(refusal("[campaign]\ncontroller = \"frozen\"\n"),
+             Contains("no [[parameter]] entries"));
+  CHECK_THAT(refusal("[campaign]\ncontroller = \"sometimes\"\n" +
+                     parameter("node.mass.mass", "distribution = \"normal\"\nsd = 1\n")),
+             Contains("U.toml:2: [campaign]: 'controller' must be"));
+  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"gauss\"\nsd = 1\n")),
+             Contains("U.toml:3: [[parameter]]: distribution 'gauss' is not one of"));
+  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"normal\"\n")),
+             Contains("give exactly one of 'sd' (absolute) and 'relative_sd'"));
+  CHECK_THAT(refusal(parameter("node.mass.mass",
+                               "distribution = \"normal\"\nsd = 1\nrelative_sd = "
+                               "0.1\n")),
+             Contains("U.toml:4: [[parameter]]: give exactly one of"));
+  CHECK_THAT(
+      refusal(parameter("node.mass.mass", "distribution = \"uniform\"\nlow = 2\nhigh = 1\n")),
+      Contains("U.toml:5: [[parameter]]: 'low' must be below 'high'"));
+  CHECK_THAT(refusal(parameter("node.mass.mass",
+                               "distribution = \"uniform\"\nlow = 1\nhigh = 2\n"
+                               "sd = 3\n")),
+             Contains("U.toml:6: [[parameter]]: unknown key 'sd'"));
+  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"normal\"\nsd = -1\n")),
+             Contains("'sd' must be positive"));
+  CHECK_THAT(refusal(parameter("node.mass.mass",
+                               "distribution = \"normal\"\nsd = 1\ndraw = "
+                               "\"all\"\n")),
+             Contains("U.toml:5: [[parameter]]: 'draw' must be \"each\""));
+  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"truncated_normal\"\nsd = 1\n")),
+             Contains("a truncated_normal needs 'low' or 'high'"));
+  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"lognormal\"\nmedian = 3\n")),
+             Contains("missing key 'relative_sd'"));
+}
+
+TEST_CASE("an unknown path exits with its line and the nearest valid names",
+          "[campaign][uncertain]") {
+  const std::string e = planning_refusal(
+      parameter("node.mass.mass", "distribution = \"normal\"\nrelative_sd = 0.01\n") +
+          parameter("element.strut.stifness", "distribution = \"normal\"\nrelative_sd = 0.01\n"),
+      kStrutScene);
+  CHECK_THAT(e, Contains("U.toml:5: [[parameter]] 'element.strut.stifness': names no number"));
+  CHECK_THAT(e, Contains("nearest valid names: element.strut.stiffness"));
+  // A glob that matches nothing says so, with the nearest names too.
+  CHECK_THAT(planning_refusal(parameter("element.*.E", "distribution = \"normal\"\nsd = 1\n"),
+                              kStrutScene),
+             Contains("'element.*.E': matches no number of the model or the scene; nearest"));
+  // A scene key that is not written in the scene is not a parameter (the defaults are not).
+  CHECK_THAT(planning_refusal(parameter("controller.leak_hz",
+                                        "distribution = \"uniform\"\nlow = "
+                                        "0\nhigh = 1\n"),
+                              kStrutScene, "redesigned"),
+             Contains("names no number"));
+}
+
+TEST_CASE("a glob takes the elements that have the key, one column each or one shared",
+          "[campaign][uncertain]") {
+  const MachineDocuments docs(kFrameScene);
+  // The rigid frame beams 1..3 have no stiffness: only the six struts 4..9 match.
+  const std::vector<std::string> struts = docs.expand("element.*.stiffness");
+  REQUIRE(struts.size() == 6);
+  CHECK(struts.front() == "element.4.stiffness");
+  CHECK(struts.back() == "element.9.stiffness");
+  const auto each = plan_columns(
+      parse_uncertain_parameters(
+          parameter("element.*.stiffness", "distribution = \"normal\"\nrelative_sd = 0.05\n"), "U"),
+      docs, "frozen");
+  CHECK(each.size() == 6);
+  const auto shared =
+      plan_columns(parse_uncertain_parameters(parameter("element.*.stiffness",
+                                                        "distribution = \"normal\"\n"
+                                                        "relative_sd = 0.05\ndraw = "
+                                                        "\"shared\"\n"),
+                                              "U"),
+                   docs, "frozen");
+  REQUIRE(shared.size() == 1);
+  CHECK(shared[0].name == "element.*.stiffness");
+  CHECK(shared[0].paths == struts);
+  // Relative to each match's own nominal value.
+  CHECK(shared[0].distributions[0].mean == 5263789.013914328);
+  CHECK(shared[0].distributions[0].sd == Approx(0.05 * 5263789.013914328).epsilon(1e-15));
+  // The reference machine's U.toml plans: 6 + 1 + 6 + 1 + 1 dimensions.
+  CHECK(plan_columns(load_uncertain_parameters("tools/scenes/metrology_frame_uncertain.toml"), docs,
+                     "frozen")
+            .size() == 15);
+}
+
+TEST_CASE("an unphysical draw is refused at planning unless truncated", "[campaign][uncertain]") {
+  // 20 %: the 1e-9 quantile (-6 sd) is negative.
+  CHECK_THAT(planning_refusal(parameter("element.strut.stiffness",
+                                        "distribution = \"normal\"\nrelative_sd = 0.2\n"),
+                              kStrutScene),
+             Contains("U.toml:1: [[parameter]] 'element.strut.stiffness': element.strut.stiffness "
+                      "can be drawn at"));
+  CHECK_THAT(planning_refusal(parameter("element.strut.stiffness",
+                                        "distribution = \"normal\"\nrelative_sd = 0.2\n"),
+                              kStrutScene),
+             Contains("use distribution = \"truncated_normal\" with low = 0"));
+  CHECK_THAT(planning_refusal(
+                 parameter("node.mass.mass", "distribution = \"uniform\"\nlow = -1\nhigh = 200\n"),
+                 kStrutScene),
+             Contains("must not be negative; set 'low' to 0 or above"));
+  CHECK_THAT(planning_refusal(parameter("effects.force_sensor.noise_rms_n",
+                                        "distribution = \"normal\"\nsd = 0.002\n"),
+                              kStrutScene),
+             Contains("a sensor noise must not be negative"));
+  CHECK_THAT(planning_refusal(parameter("effects.actuator.gain",
+                                        "distribution = \"truncated_"
+                                        "normal\"\nsd = 1\nlow = -0.5\n"),
+                              kStrutScene),
+             Contains("the actuator gain (it keeps its sign) must be positive; set its 'low'"));
+  const MachineDocuments docs(kStrutScene);
+  // The same spreads truncated at the physical bound, and 10 % (-6 sd > 0): accepted.
+  CHECK(plan_columns(parse_uncertain_parameters(parameter("element.strut.stiffness",
+                                                          "distribution = \"truncated_normal\""
+                                                          "\nrelative_sd = 0.2\nlow = 0\n"),
+                                                "U"),
+                     docs, "frozen")
+            .size() == 1);
+  CHECK(plan_columns(
+            parse_uncertain_parameters(parameter("element.strut.stiffness",
+                                                 "distribution = \"normal\"\nrelative_sd = 0.1\n"),
+                                       "U"),
+            docs, "frozen")
+            .size() == 1);
+}
+
+TEST_CASE("a number drawn twice and PI keys under a frozen controller are refused",
+          "[campaign][uncertain]") {
+  CHECK_THAT(planning_refusal(parameter("element.*.stiffness",
+                                        "distribution = \"normal\"\nrelative_"
+                                        "sd = 0.01\n") +
+                                  parameter("element.6.stiffness",
+                                            "distribution = \"normal\"\nrelative_sd = 0.01\n"),
+                              kFrameScene),
+             Contains("U.toml:5: [[parameter]] 'element.6.stiffness': element.6.stiffness is drawn "
+                      "already by the entry at U.toml:1"));
+  const std::string zeta = parameter("controller.zeta",
+                                     "distribution = \"uniform\"\nlow = 0.3\n"
+                                     "high = 0.7\n");
+  CHECK_THAT(planning_refusal(zeta, kStrutScene, "frozen"),
+             Contains("set [campaign] controller = \"redesigned\""));
+  CHECK(plan_columns(parse_uncertain_parameters(zeta, "U"), MachineDocuments(kStrutScene),
+                     "redesigned")
+            .size() == 1);
+}
