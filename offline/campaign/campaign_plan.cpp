@@ -14,7 +14,7 @@ namespace flexloop::campaign {
 
 namespace {
 
-std::string absolute(const std::string& path) {
+std::string absolute_path(const std::string& path) {
   return std::filesystem::absolute(path).lexically_normal().string();
 }
 
@@ -53,11 +53,11 @@ nlohmann::json make_plan(const PlanRequest& r) {
   const std::vector<PlannedColumn> columns = plan_columns(u, docs, controller);
 
   nlohmann::json plan{{"format", kPlanFormat}, {"version", kPlanVersion}};
-  plan["scene"] = absolute(r.scene);
+  plan["scene"] = absolute_path(r.scene);
   plan["scene_sha256"] = scene::file_sha256(r.scene);
-  plan["model"] = absolute(docs.model_file());
+  plan["model"] = absolute_path(docs.model_file());
   plan["model_sha256"] = scene::file_sha256(docs.model_file());
-  plan["uncertain"] = absolute(r.uncertain);
+  plan["uncertain"] = absolute_path(r.uncertain);
   plan["uncertain_sha256"] = scene::file_sha256(r.uncertain);
   plan["nominal_artefact_sha256"] = nominal_artefact_sha256(r.scene);
   plan["controller"] = controller;

@@ -7,13 +7,15 @@
 #include <stdexcept>
 
 #include "common/toml_reader.hpp"
+#include "offline/scene/scene_from_toml.hpp"
+#include "plant/model/model_from_toml.hpp"
 #include "plant/model/model_parser.hpp"
 
 namespace flexloop::campaign {
 
 namespace {
 
-constexpr double kNoBound = -std::numeric_limits<double>::infinity();
+constexpr double kUnbounded = -std::numeric_limits<double>::infinity();
 
 PhysicalBound at_least_zero(const std::string& what) {
   return {0.0, true, what + " must not be negative"};
@@ -56,12 +58,12 @@ const std::vector<SceneKey>& scene_keys() {
   return keys;
 }
 
-std::optional<double> number_of(const toml::node* n) {
+std::optional<double> toml_number(const toml::node* n) {
   if (!n || !(n->is_floating_point() || n->is_integer())) return std::nullopt;
   return n->value<double>();
 }
 
-std::string id_of(const toml::table& t) {
+std::string toml_id(const toml::table& t) {
   const auto* n = t.get("id");
   if (!n) return "";
   if (auto s = n->value<std::string>()) return *s;
@@ -69,7 +71,7 @@ std::string id_of(const toml::table& t) {
   return "";
 }
 
-std::vector<std::string> split(const std::string& s, char sep) {
+std::vector<std::string> split_path(const std::string& s, char sep) {
   std::vector<std::string> out;
   std::string part;
   std::istringstream in(s);
@@ -78,17 +80,17 @@ std::vector<std::string> split(const std::string& s, char sep) {
 }
 
 // Whole-string glob: '*' matches any run of characters, everything else itself.
-bool glob(const char* p, const char* s) {
+bool glob_match(const char* p, const char* s) {
   if (*p == '\0') return *s == '\0';
-  if (*p == '*') return glob(p + 1, s) || (*s != '\0' && glob(p, s + 1));
-  return *s == *p && glob(p + 1, s + 1);
+  if (*p == '*') return glob_match(p + 1, s) || (*s != '\0' && glob_match(p, s + 1));
+  return *s == *p && glob_match(p + 1, s + 1);
 }
 
 // The site of a number (or of each entry of an array of numbers) at `key` of `t`.
 void add_number_sites(const toml::table& t, ParameterSite site, const std::string& prefix,
                       std::vector<ParameterSite>& out) {
   const toml::node* n = t.get(site.key);
-  if (const auto v = number_of(n)) {
+  if (const auto v = toml_number(n)) {
     site.path = prefix + site.key;
     site.nominal = *v;
     out.push_back(site);
@@ -97,7 +99,7 @@ void add_number_sites(const toml::table& t, ParameterSite site, const std::strin
   const auto* arr = n ? n->as_array() : nullptr;
   if (!arr) return;
   for (std::size_t k = 0; k < arr->size(); ++k) {
-    const auto v = number_of(arr->get(k));
+    const auto v = toml_number(arr->get(k));
     if (!v) continue;
     ParameterSite s = site;
     s.path = prefix + site.key + "[" + std::to_string(k) + "]";
@@ -135,7 +137,7 @@ void MachineDocuments::collect_model_sites() {
     for (std::size_t i = 0; i < arr->size(); ++i) {
       const auto* t = arr->get(i)->as_table();
       if (!t) continue;
-      const std::string prefix = std::string(array) + "." + id_of(*t) + ".";
+      const std::string prefix = std::string(array) + "." + toml_id(*t) + ".";
       const std::vector<std::string> keys =
           element ? kElementKeys : std::vector<std::string>{"mass", "inertia"};
       for (const auto& key : keys) {
@@ -149,7 +151,7 @@ void MachineDocuments::collect_model_sites() {
         add_number_sites(*t, site, prefix, found);
         // Products of inertia (entries 3..5 of a 3-D inertia) may have either sign.
         for (auto& s : found)
-          if (key == "inertia" && s.entry >= 3) s.bound = {kNoBound, false, ""};
+          if (key == "inertia" && s.entry >= 3) s.bound = {kUnbounded, false, ""};
         sites_.insert(sites_.end(), found.begin(), found.end());
       }
     }
@@ -159,12 +161,12 @@ void MachineDocuments::collect_model_sites() {
 void MachineDocuments::collect_scene_sites() {
   for (const auto& k : scene_keys()) {
     const toml::table* t = &scene_doc_;
-    const std::vector<std::string> tables = split(k.table, '.');
+    const std::vector<std::string> tables = split_path(k.table, '.');
     for (const auto& name : tables) {
       const auto* n = t ? t->get(name) : nullptr;
       t = n ? n->as_table() : nullptr;
     }
-    if (!t || !number_of(t->get(k.key))) continue;
+    if (!t || !toml_number(t->get(k.key))) continue;
     ParameterSite site;
     site.model = false;
     site.tables = tables;
@@ -221,8 +223,9 @@ Machine MachineDocuments::apply(const ParameterValues& values) const {
   for (const auto& [path, value] : values) (site(path).model ? model : scene) = true;
   Machine m;
   // A document without drawn values is the nominal one: not read again.
-  m.model = model ? plant::model::parse_model(model_text(values), model_file_) : nominal_.model;
-  m.scene = scene ? scene::parse_scene(scene_text(values), scene_file_) : nominal_.scene;
+  m.model =
+      model ? plant::model::model_from_toml(document(true, values), model_file_) : nominal_.model;
+  m.scene = scene ? scene::scene_from_toml(document(false, values), scene_file_) : nominal_.scene;
   return m;
 }
 
@@ -237,7 +240,7 @@ bool is_model_path(const std::string& path) {
 }
 
 bool path_matches(const std::string& pattern, const std::string& path) {
-  return glob(pattern.c_str(), path.c_str());
+  return glob_match(pattern.c_str(), path.c_str());
 }
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {

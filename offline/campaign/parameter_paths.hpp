@@ -11,9 +11,10 @@
 // A path names a number written in the file (a default that is not written is not a parameter:
 // write it to vary it). A '*' in a segment matches any run of characters (element.*.stiffness:
 // the elements that have the key). A machine with drawn values is made on the TOML documents:
-// the value is set at its path and the result goes through the project's own strict readers
-// (plant::model::parse_model, scene::parse_scene), so every sample passes the checks a user's
-// file passes.
+// the value is set at its path and the document goes through the project's own strict readers
+// (the second halves of plant::model::parse_model and scene::parse_scene: model_from_toml and
+// scene_from_toml, on the document as toml++ holds it, not written and parsed again), so every
+// sample passes the checks a user's file passes.
 #include <string>
 #include <utility>
 #include <vector>

@@ -10,14 +10,14 @@ namespace flexloop::campaign {
 
 namespace {
 
-std::string number_text(double v) {
+std::string short_number(double v) {
   std::ostringstream os;
   os.precision(6);
   os << v;
   return os.str();
 }
 
-[[noreturn]] void fail(const UncertainParameter& p, const std::string& what) {
+[[noreturn]] void refuse_parameter(const UncertainParameter& p, const std::string& what) {
   throw common::InputError(p.place, "[[parameter]] '" + p.path + "': " + what);
 }
 
@@ -26,11 +26,11 @@ std::vector<std::string> matches_of(const UncertainParameter& p, const MachineDo
   if (!matches.empty()) return matches;
   std::string near;
   for (const auto& n : nearest_names(p.path, docs.paths())) near += (near.empty() ? "" : ", ") + n;
-  fail(p, std::string(p.path.find('*') != std::string::npos ? "matches" : "names") +
-              " no number of the model or the scene" +
-              (near.empty() ? std::string(" (the machine has none to vary)")
-                            : "; nearest valid names: " + near) +
-              " (doc/campaign.md lists the paths)");
+  refuse_parameter(p, std::string(p.path.find('*') != std::string::npos ? "matches" : "names") +
+                          " no number of the model or the scene" +
+                          (near.empty() ? std::string(" (the machine has none to vary)")
+                                        : "; nearest valid names: " + near) +
+                          " (doc/campaign.md lists the paths)");
 }
 
 // Every draw of `d` must satisfy the bound: a distribution with an unbounded tail is judged at
@@ -42,14 +42,15 @@ void require_physical(const UncertainParameter& p, const std::string& path, cons
   if (lowest > b.lower || (b.lower_inclusive && lowest == b.lower)) return;
   std::string remedy;
   if (d.kind == DistributionKind::kNormal)
-    remedy = "; its " + number_text(kTailProbability) +
+    remedy = "; its " + short_number(kTailProbability) +
              " quantile is there: use distribution = \"truncated_normal\" with low = " +
-             number_text(b.lower) + ", or a smaller spread";
+             short_number(b.lower) + ", or a smaller spread";
   else if (d.kind == DistributionKind::kTruncatedNormal)
-    remedy = "; set its 'low' to " + number_text(b.lower) + " or above";
+    remedy = "; set its 'low' to " + short_number(b.lower) + " or above";
   else if (d.kind == DistributionKind::kUniform)
-    remedy = "; set 'low' to " + number_text(b.lower) + " or above";
-  fail(p, path + " can be drawn at " + number_text(lowest) + ", but " + b.reason + remedy);
+    remedy = "; set 'low' to " + short_number(b.lower) + " or above";
+  refuse_parameter(
+      p, path + " can be drawn at " + short_number(lowest) + ", but " + b.reason + remedy);
 }
 
 }  // namespace
@@ -62,18 +63,20 @@ std::vector<PlannedColumn> plan_columns(const UncertainParameters& u, const Mach
     const UncertainParameter& p = u.parameters[entry];
     const std::vector<std::string> matches = matches_of(p, docs);
     if (controller == "frozen" && p.path.rfind("controller.", 0) == 0)
-      fail(p,
-           "a controller.* key varies the PI design, but the controller is frozen (designed "
-           "once on the nominal machine): set [campaign] controller = \"redesigned\" (or "
-           "--controller redesigned) to design it per machine");
+      refuse_parameter(
+          p,
+          "a controller.* key varies the PI design, but the controller is frozen (designed "
+          "once on the nominal machine): set [campaign] controller = \"redesigned\" (or "
+          "--controller redesigned) to design it per machine");
     PlannedColumn shared{p.path, entry, {}, {}};
     for (const auto& path : matches) {
       if (const auto [it, fresh] = drawn_by.emplace(path, p.place); !fresh)
-        fail(p, path + " is drawn already by the entry at " + it->second);
+        refuse_parameter(p, path + " is drawn already by the entry at " + it->second);
       const ParameterSite& site = docs.site(path);
       const Distribution d = distribution_at(p, site.nominal);
       if (d.kind == DistributionKind::kTruncatedNormal && !(highest_draw(d) > lowest_draw(d)))
-        fail(p, "the truncation [low, high] holds no probability of the normal at " + path);
+        refuse_parameter(
+            p, "the truncation [low, high] holds no probability of the normal at " + path);
       require_physical(p, path, d, site.bound);
       if (p.draw == DrawMode::kEach) {
         columns.push_back({path, entry, {path}, {d}});

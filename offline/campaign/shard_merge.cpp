@@ -11,12 +11,13 @@ namespace flexloop::campaign {
 
 namespace {
 
-struct Line {
+struct ShardLine {
   std::string text, place;
   nlohmann::json json;
 };
 
-void read_shard(const std::string& file, const nlohmann::json& plan, std::map<long, Line>& lines) {
+void read_shard(const std::string& file, const nlohmann::json& plan,
+                std::map<long, ShardLine>& lines) {
   const std::string text = common::read_input_file(file, "shard file");
   const std::string plan_id = plan.at("plan_id").get<std::string>();
   const long evaluations = plan.at("evaluations").get<long>();
@@ -29,8 +30,8 @@ void read_shard(const std::string& file, const nlohmann::json& plan, std::map<lo
       throw common::InputError(place,
                                "a torn last line (its run was killed): run the shard again "
                                "(`flexloop campaign run` completes it)");
-    Line line{text.substr(start, end - start + 1), place,
-              plan_line(text.substr(start, end - start), place, plan_id)};
+    ShardLine line{text.substr(start, end - start + 1), place,
+                   plan_line(text.substr(start, end - start), place, plan_id)};
     const long index = line.json.value("index", -1L);
     if (index < 0 || index >= evaluations)
       throw common::InputError(place, "index " + std::to_string(index) +
@@ -60,7 +61,7 @@ std::string index_ranges(const std::vector<long>& sorted, std::size_t at_most) {
 }
 
 MergedSamples merge_shards(const nlohmann::json& plan, const std::vector<std::string>& files) {
-  std::map<long, Line> lines;
+  std::map<long, ShardLine> lines;
   for (const auto& f : files) read_shard(f, plan, lines);
   const long evaluations = plan.at("evaluations").get<long>();
   std::vector<long> missing;

@@ -11,7 +11,7 @@ namespace flexloop::campaign {
 
 namespace {
 
-double number_or(const nlohmann::json& j, const char* key, double fallback) {
+double json_number_or(const nlohmann::json& j, const char* key, double fallback) {
   return j.contains(key) && j[key].is_number() ? j[key].get<double>() : fallback;
 }
 
@@ -21,7 +21,7 @@ double worst_rms_ratio(const nlohmann::json& sample, const nlohmann::json& nomin
   if (!sample.contains("rms") || !sample["rms"].is_object() || !nominal.contains("rms"))
     return worst;
   for (const auto& [channel, value] : sample["rms"].items()) {
-    const double n = number_or(nominal["rms"], channel.c_str(), 0.0);
+    const double n = json_number_or(nominal["rms"], channel.c_str(), 0.0);
     if (value.is_number() && n > 0) worst = std::max(worst, value.get<double>() / n);
   }
   return worst;
@@ -54,7 +54,7 @@ std::vector<std::size_t> worst_samples(const std::vector<nlohmann::json>& sample
   auto key = [&](std::size_t i) {
     const auto& s = samples[i];
     return any_unstable ? std::pair{s.value("status", std::string()) == "unstable" ? 1.0 : 0.0,
-                                    number_or(s, "spectral_radius", none)}
+                                    json_number_or(s, "spectral_radius", none)}
                         : std::pair{0.0, worst_rms_ratio(s, nominal)};
   };
   std::stable_sort(machines.begin(), machines.end(),

@@ -23,7 +23,7 @@ namespace {
 using namespace flexloop;
 using namespace flexloop::campaign;
 
-const char* kStrutScene = "tests/fixtures/one_strut_campaign.toml";
+const char* kPathsScene = "tests/fixtures/one_strut_campaign.toml";
 
 // The test's own unit points: a regular grid shifted per column (the product's come from the
 // design, offline/campaign/designs.hpp).
@@ -44,7 +44,7 @@ double value_of(const ParameterValues& v, const std::string& path) {
 }  // namespace
 
 TEST_CASE("the paths of a machine are the numbers written in its files", "[campaign][paths]") {
-  const MachineDocuments docs(kStrutScene);
+  const MachineDocuments docs(kPathsScene);
   CHECK(docs.paths() == std::vector<std::string>{
                             "element.strut.stiffness", "element.strut.damping", "node.mass.mass",
                             "controller.omega_d_hz", "controller.zeta", "floor.rms_mps2",
@@ -59,7 +59,7 @@ TEST_CASE("the paths of a machine are the numbers written in its files", "[campa
 }
 
 TEST_CASE("a drawn value is the value the project's readers read", "[campaign][paths]") {
-  const MachineDocuments docs(kStrutScene);
+  const MachineDocuments docs(kPathsScene);
   const double k = 4.123456789012345e6, m = 97.31234567890123, gain = 0.8765432109876543;
   const Machine machine = docs.apply(
       {{"element.strut.stiffness", k}, {"node.mass.mass", m}, {"effects.actuator.gain", gain}});
@@ -81,7 +81,7 @@ TEST_CASE("a drawn value is the value the project's readers read", "[campaign][p
 
 TEST_CASE("each sample's natural frequency of a one-mass spring is sqrt(k/m)/(2 pi)",
           "[campaign][paths]") {
-  const MachineDocuments docs(kStrutScene);
+  const MachineDocuments docs(kPathsScene);
   const auto columns = plan_columns(
       load_uncertain_parameters("tests/fixtures/one_strut_uncertain.toml"), docs, "frozen");
   REQUIRE(columns.size() == 3);
@@ -107,9 +107,9 @@ TEST_CASE("each sample's natural frequency of a one-mass spring is sqrt(k/m)/(2 
 
 TEST_CASE("the worst samples are written as a scene and its model that read back as drawn",
           "[campaign][worst]") {
-  const MachineDocuments docs(kStrutScene);
+  const MachineDocuments docs(kPathsScene);
   const nlohmann::json plan{{"plan_id", "0123abcd"},
-                            {"scene", kStrutScene},
+                            {"scene", kPathsScene},
                             {"nominal", {{"rms", {{"acc:y.mass", 1.0}}}}}};
   auto sample = [](long index, const char* status, double radius, double rms, double k) {
     return nlohmann::json{

@@ -55,7 +55,7 @@ struct TempDir {
   ~TempDir() { fs::remove_all(path); }
 };
 
-std::string refusal(const std::function<void()>& f) {
+std::string shard_refusal(const std::function<void()>& f) {
   try {
     f();
   } catch (const InputError& e) {
@@ -85,9 +85,9 @@ TEST_CASE("a shard killed mid-line and rerun gives the uninterrupted run's bytes
     return line_of("plan-a", i);
   };
   const ShardRunResult first = run_shard(whole.string(), "plan-a", shard, kEvaluations, f);
-  CHECK(first.computed == 7);  // 1, 4, ..., 19, 22
+  CHECK(first.computed == 8);  // 1, 4, ..., 19, 22
   const std::string reference = bytes_of(whole);
-  CHECK(complete_lines(whole.string()) == 7);
+  CHECK(complete_lines(whole.string()) == 8);
 
   // Killed while writing the fourth line: three lines and a torn one.
   const std::size_t third_end = [&] {
@@ -99,8 +99,8 @@ TEST_CASE("a shard killed mid-line and rerun gives the uninterrupted run's bytes
   calls = 0;
   const ShardRunResult rerun = run_shard(killed.string(), "plan-a", shard, kEvaluations, f);
   CHECK(rerun.already == 3);
-  CHECK(rerun.computed == 4);
-  CHECK(calls == 4);
+  CHECK(rerun.computed == 5);
+  CHECK(calls == 5);
   CHECK(bytes_of(killed) == reference);
 
   // Complete: a third run computes nothing and changes nothing.
@@ -116,16 +116,16 @@ TEST_CASE("a shard file of another plan or shard is refused with file:line", "[c
   run_shard(file.string(), "plan-a", parse_shard("0/2"), kEvaluations,
             [](long i) { return line_of("plan-a", i); });
   const std::string before = bytes_of(file);
-  CHECK_THAT(refusal([&] {
+  CHECK_THAT(shard_refusal([&] {
                run_shard(file.string(), "plan-b", parse_shard("0/2"), kEvaluations,
                          [](long i) { return line_of("plan-b", i); });
              }),
              Contains(file.string() + ":1: this line belongs to another plan (plan_id plan-a"));
-  CHECK_THAT(refusal([&] {
+  CHECK_THAT(shard_refusal([&] {
                completed_indices(file.string(), "plan-a", parse_shard("1/2"), kEvaluations);
              }),
              Contains(file.string() + ":1: index 0 is not one of shard 1/2"));
-  CHECK(bytes_of(file) == before);  // nothing written on refusal
+  CHECK(bytes_of(file) == before);  // nothing written on shard_refusal
 }
 
 TEST_CASE("merged shards are the same bytes whatever the sharding; missing samples are listed",
@@ -152,14 +152,14 @@ TEST_CASE("merged shards are the same bytes whatever the sharding; missing sampl
 
   std::vector<std::string> files = shards_of(5);
   files.erase(files.begin() + 3);  // shard 3/5: 3, 8, 13, 18
-  CHECK_THAT(refusal([&] { merge_shards(plan, files); }),
+  CHECK_THAT(shard_refusal([&] { merge_shards(plan, files); }),
              Contains("4 of 23 samples missing: 3, 8, 13, 18"));
   CHECK(index_ranges({0, 1, 2, 5, 7, 8}) == "0-2, 5, 7-8");
 
   const fs::path other = dir.path / "other.jsonl";
   run_shard(other.string(), "plan-b", {0, 1}, kEvaluations,
             [](long i) { return line_of("plan-b", i); });
-  CHECK_THAT(refusal([&] {
+  CHECK_THAT(shard_refusal([&] {
                merge_shards(plan, {shards_of(1)[0], other.string()});
              }),
              Contains(other.string() + ":1: this line belongs to another plan (plan_id plan-b"));
@@ -192,11 +192,11 @@ TEST_CASE("a plan's id is its content's hash; an edited plan and changed inputs 
   require_plan_inputs_unchanged(plan, path.string());
 
   std::ofstream(path) << other.dump(1);  // edited by hand: its id no longer matches
-  CHECK_THAT(refusal([&] { read_plan(path.string()); }),
+  CHECK_THAT(shard_refusal([&] { read_plan(path.string()); }),
              Contains("the plan's content does not match its plan_id"));
   std::ofstream(model, std::ios::app) << "# edited\n";
-  CHECK_THAT(refusal([&] { require_plan_inputs_unchanged(plan, path.string()); }),
+  CHECK_THAT(shard_refusal([&] { require_plan_inputs_unchanged(plan, path.string()); }),
              Contains("the model file " + model.string() + " changed since the plan was made"));
   std::ofstream(path) << "{\"format\": \"something else\"}";
-  CHECK_THAT(refusal([&] { read_plan(path.string()); }), Contains("not a campaign plan"));
+  CHECK_THAT(shard_refusal([&] { read_plan(path.string()); }), Contains("not a campaign plan"));
 }

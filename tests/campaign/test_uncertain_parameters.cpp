@@ -17,10 +17,10 @@ using namespace flexloop::campaign;
 using Catch::Matchers::Contains;
 using flexloop::common::InputError;
 
-const char* kStrutScene = "tests/fixtures/one_strut_campaign.toml";
-const char* kFrameScene = "tools/scenes/metrology_frame.toml";
+const char* kPlanningScene = "tests/fixtures/one_strut_campaign.toml";
+const char* kPlanningFrame = "tools/scenes/metrology_frame.toml";
 
-std::string refusal(const std::string& text) {
+std::string reader_refusal(const std::string& text) {
   try {
     parse_uncertain_parameters(text, "U.toml");
   } catch (const InputError& e) {
@@ -43,7 +43,7 @@ std::string planning_refusal(const std::string& text, const char* scene,
   return "";
 }
 
-std::string parameter(const std::string& path, const std::string& rest) {
+std::string u_entry(const std::string& path, const std::string& rest) {
   return "[[parameter]]\npath = \"" + path + "\"\n" + rest;
 }
 
@@ -62,66 +62,68 @@ TEST_CASE("the fixture U.toml reads as written", "[campaign][uncertain]") {
   CHECK(*u.parameters[1].relative_sd == 0.02);
   CHECK_FALSE(u.parameters[1].mean);
   CHECK(u.parameters[2].kind == DistributionKind::kTruncatedNormal);
-  CHECK(u.parameters[0].place == "tests/fixtures/one_strut_uncertain.toml:8");
+  CHECK(u.parameters[0].place == "tests/fixtures/one_strut_uncertain.toml:7");
 }
 
 TEST_CASE("bad U.toml entries are refused with file:line", "[campaign][uncertain]") {
-  CHECK_THAT(refusal("x = 1\n"), Contains("unknown key 'x'"));
-  CHECK_THAT(refusal("[campaign]\ncontroller = \"frozen\"\n"),
+  CHECK_THAT(reader_refusal("x = 1\n"), Contains("unknown key 'x'"));
+  CHECK_THAT(reader_refusal("[campaign]\ncontroller = \"frozen\"\n"),
              Contains("no [[parameter]] entries"));
-  CHECK_THAT(refusal("[campaign]\ncontroller = \"sometimes\"\n" +
-                     parameter("node.mass.mass", "distribution = \"normal\"\nsd = 1\n")),
+  CHECK_THAT(reader_refusal("[campaign]\ncontroller = \"sometimes\"\n" +
+                            u_entry("node.mass.mass", "distribution = \"normal\"\nsd = 1\n")),
              Contains("U.toml:2: [campaign]: 'controller' must be"));
-  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"gauss\"\nsd = 1\n")),
+  CHECK_THAT(reader_refusal(u_entry("node.mass.mass", "distribution = \"gauss\"\nsd = 1\n")),
              Contains("U.toml:3: [[parameter]]: distribution 'gauss' is not one of"));
-  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"normal\"\n")),
+  CHECK_THAT(reader_refusal(u_entry("node.mass.mass", "distribution = \"normal\"\n")),
              Contains("give exactly one of 'sd' (absolute) and 'relative_sd'"));
-  CHECK_THAT(refusal(parameter("node.mass.mass",
-                               "distribution = \"normal\"\nsd = 1\nrelative_sd = "
-                               "0.1\n")),
+  CHECK_THAT(reader_refusal(u_entry("node.mass.mass",
+                                    "distribution = \"normal\"\nsd = 1\nrelative_sd = "
+                                    "0.1\n")),
              Contains("U.toml:4: [[parameter]]: give exactly one of"));
   CHECK_THAT(
-      refusal(parameter("node.mass.mass", "distribution = \"uniform\"\nlow = 2\nhigh = 1\n")),
+      reader_refusal(u_entry("node.mass.mass", "distribution = \"uniform\"\nlow = 2\nhigh = 1\n")),
       Contains("U.toml:5: [[parameter]]: 'low' must be below 'high'"));
-  CHECK_THAT(refusal(parameter("node.mass.mass",
-                               "distribution = \"uniform\"\nlow = 1\nhigh = 2\n"
-                               "sd = 3\n")),
+  CHECK_THAT(reader_refusal(u_entry("node.mass.mass",
+                                    "distribution = \"uniform\"\nlow = 1\nhigh = 2\n"
+                                    "sd = 3\n")),
              Contains("U.toml:6: [[parameter]]: unknown key 'sd'"));
-  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"normal\"\nsd = -1\n")),
+  CHECK_THAT(reader_refusal(u_entry("node.mass.mass", "distribution = \"normal\"\nsd = -1\n")),
              Contains("'sd' must be positive"));
-  CHECK_THAT(refusal(parameter("node.mass.mass",
-                               "distribution = \"normal\"\nsd = 1\ndraw = "
-                               "\"all\"\n")),
+  CHECK_THAT(reader_refusal(u_entry("node.mass.mass",
+                                    "distribution = \"normal\"\nsd = 1\ndraw = "
+                                    "\"all\"\n")),
              Contains("U.toml:5: [[parameter]]: 'draw' must be \"each\""));
-  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"truncated_normal\"\nsd = 1\n")),
-             Contains("a truncated_normal needs 'low' or 'high'"));
-  CHECK_THAT(refusal(parameter("node.mass.mass", "distribution = \"lognormal\"\nmedian = 3\n")),
-             Contains("missing key 'relative_sd'"));
+  CHECK_THAT(
+      reader_refusal(u_entry("node.mass.mass", "distribution = \"truncated_normal\"\nsd = 1\n")),
+      Contains("a truncated_normal needs 'low' or 'high'"));
+  CHECK_THAT(
+      reader_refusal(u_entry("node.mass.mass", "distribution = \"lognormal\"\nmedian = 3\n")),
+      Contains("missing key 'relative_sd'"));
 }
 
 TEST_CASE("an unknown path exits with its line and the nearest valid names",
           "[campaign][uncertain]") {
   const std::string e = planning_refusal(
-      parameter("node.mass.mass", "distribution = \"normal\"\nrelative_sd = 0.01\n") +
-          parameter("element.strut.stifness", "distribution = \"normal\"\nrelative_sd = 0.01\n"),
-      kStrutScene);
+      u_entry("node.mass.mass", "distribution = \"normal\"\nrelative_sd = 0.01\n") +
+          u_entry("element.strut.stifness", "distribution = \"normal\"\nrelative_sd = 0.01\n"),
+      kPlanningScene);
   CHECK_THAT(e, Contains("U.toml:5: [[parameter]] 'element.strut.stifness': names no number"));
   CHECK_THAT(e, Contains("nearest valid names: element.strut.stiffness"));
   // A glob that matches nothing says so, with the nearest names too.
-  CHECK_THAT(planning_refusal(parameter("element.*.E", "distribution = \"normal\"\nsd = 1\n"),
-                              kStrutScene),
+  CHECK_THAT(planning_refusal(u_entry("element.*.E", "distribution = \"normal\"\nsd = 1\n"),
+                              kPlanningScene),
              Contains("'element.*.E': matches no number of the model or the scene; nearest"));
-  // A scene key that is not written in the scene is not a parameter (the defaults are not).
-  CHECK_THAT(planning_refusal(parameter("controller.leak_hz",
-                                        "distribution = \"uniform\"\nlow = "
-                                        "0\nhigh = 1\n"),
-                              kStrutScene, "redesigned"),
+  // A scene key that is not written in the scene is not a u_entry (the defaults are not).
+  CHECK_THAT(planning_refusal(u_entry("controller.leak_hz",
+                                      "distribution = \"uniform\"\nlow = "
+                                      "0\nhigh = 1\n"),
+                              kPlanningScene, "redesigned"),
              Contains("names no number"));
 }
 
 TEST_CASE("a glob takes the elements that have the key, one column each or one shared",
           "[campaign][uncertain]") {
-  const MachineDocuments docs(kFrameScene);
+  const MachineDocuments docs(kPlanningFrame);
   // The rigid frame beams 1..3 have no stiffness: only the six struts 4..9 match.
   const std::vector<std::string> struts = docs.expand("element.*.stiffness");
   REQUIRE(struts.size() == 6);
@@ -129,16 +131,15 @@ TEST_CASE("a glob takes the elements that have the key, one column each or one s
   CHECK(struts.back() == "element.9.stiffness");
   const auto each = plan_columns(
       parse_uncertain_parameters(
-          parameter("element.*.stiffness", "distribution = \"normal\"\nrelative_sd = 0.05\n"), "U"),
+          u_entry("element.*.stiffness", "distribution = \"normal\"\nrelative_sd = 0.05\n"), "U"),
       docs, "frozen");
   CHECK(each.size() == 6);
-  const auto shared =
-      plan_columns(parse_uncertain_parameters(parameter("element.*.stiffness",
-                                                        "distribution = \"normal\"\n"
-                                                        "relative_sd = 0.05\ndraw = "
-                                                        "\"shared\"\n"),
-                                              "U"),
-                   docs, "frozen");
+  const auto shared = plan_columns(parse_uncertain_parameters(u_entry("element.*.stiffness",
+                                                                      "distribution = \"normal\"\n"
+                                                                      "relative_sd = 0.05\ndraw = "
+                                                                      "\"shared\"\n"),
+                                                              "U"),
+                                   docs, "frozen");
   REQUIRE(shared.size() == 1);
   CHECK(shared[0].name == "element.*.stiffness");
   CHECK(shared[0].paths == struts);
@@ -153,39 +154,39 @@ TEST_CASE("a glob takes the elements that have the key, one column each or one s
 
 TEST_CASE("an unphysical draw is refused at planning unless truncated", "[campaign][uncertain]") {
   // 20 %: the 1e-9 quantile (-6 sd) is negative.
-  CHECK_THAT(planning_refusal(parameter("element.strut.stiffness",
-                                        "distribution = \"normal\"\nrelative_sd = 0.2\n"),
-                              kStrutScene),
+  CHECK_THAT(planning_refusal(u_entry("element.strut.stiffness",
+                                      "distribution = \"normal\"\nrelative_sd = 0.2\n"),
+                              kPlanningScene),
              Contains("U.toml:1: [[parameter]] 'element.strut.stiffness': element.strut.stiffness "
                       "can be drawn at"));
-  CHECK_THAT(planning_refusal(parameter("element.strut.stiffness",
-                                        "distribution = \"normal\"\nrelative_sd = 0.2\n"),
-                              kStrutScene),
+  CHECK_THAT(planning_refusal(u_entry("element.strut.stiffness",
+                                      "distribution = \"normal\"\nrelative_sd = 0.2\n"),
+                              kPlanningScene),
              Contains("use distribution = \"truncated_normal\" with low = 0"));
   CHECK_THAT(planning_refusal(
-                 parameter("node.mass.mass", "distribution = \"uniform\"\nlow = -1\nhigh = 200\n"),
-                 kStrutScene),
+                 u_entry("node.mass.mass", "distribution = \"uniform\"\nlow = -1\nhigh = 200\n"),
+                 kPlanningScene),
              Contains("must not be negative; set 'low' to 0 or above"));
-  CHECK_THAT(planning_refusal(parameter("effects.force_sensor.noise_rms_n",
-                                        "distribution = \"normal\"\nsd = 0.002\n"),
-                              kStrutScene),
+  CHECK_THAT(planning_refusal(u_entry("effects.force_sensor.noise_rms_n",
+                                      "distribution = \"normal\"\nsd = 0.002\n"),
+                              kPlanningScene),
              Contains("a sensor noise must not be negative"));
-  CHECK_THAT(planning_refusal(parameter("effects.actuator.gain",
-                                        "distribution = \"truncated_"
-                                        "normal\"\nsd = 1\nlow = -0.5\n"),
-                              kStrutScene),
+  CHECK_THAT(planning_refusal(u_entry("effects.actuator.gain",
+                                      "distribution = \"truncated_"
+                                      "normal\"\nsd = 1\nlow = -0.5\n"),
+                              kPlanningScene),
              Contains("the actuator gain (it keeps its sign) must be positive; set its 'low'"));
-  const MachineDocuments docs(kStrutScene);
+  const MachineDocuments docs(kPlanningScene);
   // The same spreads truncated at the physical bound, and 10 % (-6 sd > 0): accepted.
-  CHECK(plan_columns(parse_uncertain_parameters(parameter("element.strut.stiffness",
-                                                          "distribution = \"truncated_normal\""
-                                                          "\nrelative_sd = 0.2\nlow = 0\n"),
+  CHECK(plan_columns(parse_uncertain_parameters(u_entry("element.strut.stiffness",
+                                                        "distribution = \"truncated_normal\""
+                                                        "\nrelative_sd = 0.2\nlow = 0\n"),
                                                 "U"),
                      docs, "frozen")
             .size() == 1);
   CHECK(plan_columns(
-            parse_uncertain_parameters(parameter("element.strut.stiffness",
-                                                 "distribution = \"normal\"\nrelative_sd = 0.1\n"),
+            parse_uncertain_parameters(u_entry("element.strut.stiffness",
+                                               "distribution = \"normal\"\nrelative_sd = 0.1\n"),
                                        "U"),
             docs, "frozen")
             .size() == 1);
@@ -193,20 +194,20 @@ TEST_CASE("an unphysical draw is refused at planning unless truncated", "[campai
 
 TEST_CASE("a number drawn twice and PI keys under a frozen controller are refused",
           "[campaign][uncertain]") {
-  CHECK_THAT(planning_refusal(parameter("element.*.stiffness",
-                                        "distribution = \"normal\"\nrelative_"
-                                        "sd = 0.01\n") +
-                                  parameter("element.6.stiffness",
-                                            "distribution = \"normal\"\nrelative_sd = 0.01\n"),
-                              kFrameScene),
+  CHECK_THAT(planning_refusal(u_entry("element.*.stiffness",
+                                      "distribution = \"normal\"\nrelative_"
+                                      "sd = 0.01\n") +
+                                  u_entry("element.6.stiffness",
+                                          "distribution = \"normal\"\nrelative_sd = 0.01\n"),
+                              kPlanningFrame),
              Contains("U.toml:5: [[parameter]] 'element.6.stiffness': element.6.stiffness is drawn "
                       "already by the entry at U.toml:1"));
-  const std::string zeta = parameter("controller.zeta",
-                                     "distribution = \"uniform\"\nlow = 0.3\n"
-                                     "high = 0.7\n");
-  CHECK_THAT(planning_refusal(zeta, kStrutScene, "frozen"),
+  const std::string zeta = u_entry("controller.zeta",
+                                   "distribution = \"uniform\"\nlow = 0.3\n"
+                                   "high = 0.7\n");
+  CHECK_THAT(planning_refusal(zeta, kPlanningScene, "frozen"),
              Contains("set [campaign] controller = \"redesigned\""));
-  CHECK(plan_columns(parse_uncertain_parameters(zeta, "U"), MachineDocuments(kStrutScene),
+  CHECK(plan_columns(parse_uncertain_parameters(zeta, "U"), MachineDocuments(kPlanningScene),
                      "redesigned")
             .size() == 1);
 }

@@ -88,6 +88,7 @@ void run_shard_command(const RunArgs& a) {
   require_plan_inputs_unchanged(plan, a.plan);
   const Shard shard = parse_shard(a.shard);
   const long evaluations = plan.at("evaluations").get<long>();
+  common::require_writable(a.output);
   // Refuse a file of another plan before the evaluator is built (seconds for a large machine).
   completed_indices(a.output, plan.at("plan_id").get<std::string>(), shard, evaluations);
   const PlanSamples samples(plan);
