@@ -76,6 +76,13 @@ SampleScene sample_scene(const MachineDocuments& docs, const nlohmann::json& pla
   for (const auto& [path, value] : values)
     header += " " + path + " = " + nlohmann::json(value).dump();
   header += "\n";
+  // A scene holds the PI's design targets, not its gains: whoever runs this scene designs the PI
+  // on this machine, where a frozen campaign ran the nominal machine's gains.
+  if (plan.value("controller", std::string()) == "frozen" &&
+      docs.nominal_machine().scene.controller.type == "pi_force_feedback")
+    header +=
+        "# the campaign froze the PI (the nominal machine's gains); run as it is, the PI is "
+        "designed on this machine from [controller]\n";
 
   toml::table scene = docs.document(false, values);
   const auto base = std::filesystem::path(docs.scene_file()).parent_path();
