@@ -75,7 +75,7 @@ out=$("$flexloop" campaign report "$tmp/plan.json" "$tmp/whole.jsonl" "$tmp/othe
 pass
 
 # The worst samples run as they are.
-n_worst=$(ls "$tmp"/three/worst/sample-*_model.toml | wc -l)
+n_worst=$(find "$tmp/three/worst" -name "sample-*_model.toml" | wc -l)
 [[ $n_worst -eq 2 ]] || fail "expected 2 worst samples, found $n_worst"
 for s in "$tmp"/three/worst/sample-[0-9]*.toml; do
   [[ "$s" == *_model.toml ]] && continue

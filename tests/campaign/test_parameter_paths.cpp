@@ -144,3 +144,32 @@ TEST_CASE("the worst samples are written as a scene and its model that read back
   CHECK(m.nodes[1].mass == 100.0);
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE(
+    "a shared draw over a body's inertia scales its entries alike; the plan's record of "
+    "the columns gives the same values",
+    "[campaign][paths]") {
+  const MachineDocuments frame("tools/scenes/metrology_frame.toml");
+  const UncertainParameters u = parse_uncertain_parameters(
+      "[[parameter]]\npath = \"node.1.inertia[*]\"\ndistribution = \"normal\"\nrelative_sd = "
+      "0.05\ndraw = \"shared\"\n\n[[parameter]]\npath = \"element.*.stiffness\"\ndistribution = "
+      "\"uniform\"\nlow = 4e6\nhigh = 6e6\n",
+      "U.toml");
+  const auto columns = plan_columns(u, frame, "frozen");
+  REQUIRE(columns.size() == 7);  // the inertia's one shared column, six struts
+  CHECK(columns[0].paths ==
+        std::vector<std::string>{"node.1.inertia[0]", "node.1.inertia[1]", "node.1.inertia[2]"});
+  const std::vector<double> point = grid_point(3, 10, columns.size());
+  const ParameterValues values = values_at(columns, point);
+  const Machine m = frame.apply(values);
+  const Eigen::Matrix3d nominal = frame.nominal_machine().model.nodes[0].inertia;
+  const double factor = m.model.nodes[0].inertia(0, 0) / nominal(0, 0);
+  CHECK(factor != 1.0);
+  for (int a = 1; a < 3; ++a)
+    CHECK(m.model.nodes[0].inertia(a, a) / nominal(a, a) == Approx(factor).epsilon(1e-14));
+
+  const nlohmann::json plan{{"parameters", parameters_json(u, columns)},
+                            {"columns", columns_json(columns)}};
+  const nlohmann::json reread = nlohmann::json::parse(plan.dump());
+  CHECK(values_at(columns_from_plan(reread), point) == values);
+}
