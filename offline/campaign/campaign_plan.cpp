@@ -49,17 +49,20 @@ nlohmann::json make_plan(const PlanRequest& r) {
   const UncertainParameters u = load_uncertain_parameters(r.uncertain);
   const std::string controller = r.controller.empty() ? u.controller : r.controller;
   const ControllerMode mode = controller_mode_from_name(controller);
-  const MachineDocuments docs(r.scene);
+  // Everything the plan holds by absolute path, so that its id does not depend on where the
+  // command ran (the nominal artefact's provenance names the scene as it was given).
+  const std::string scene_path = absolute_path(r.scene);
+  const MachineDocuments docs(scene_path);
   const std::vector<PlannedColumn> columns = plan_columns(u, docs, controller);
 
   nlohmann::json plan{{"format", kPlanFormat}, {"version", kPlanVersion}};
-  plan["scene"] = absolute_path(r.scene);
-  plan["scene_sha256"] = scene::file_sha256(r.scene);
+  plan["scene"] = scene_path;
+  plan["scene_sha256"] = scene::file_sha256(scene_path);
   plan["model"] = absolute_path(docs.model_file());
   plan["model_sha256"] = scene::file_sha256(docs.model_file());
   plan["uncertain"] = absolute_path(r.uncertain);
   plan["uncertain_sha256"] = scene::file_sha256(r.uncertain);
-  plan["nominal_artefact_sha256"] = nominal_artefact_sha256(r.scene);
+  plan["nominal_artefact_sha256"] = nominal_artefact_sha256(scene_path);
   plan["controller"] = controller;
   plan["design"] = design_name(design);
   plan["seed"] = r.seed;

@@ -96,7 +96,6 @@ nlohmann::json parameters_json(const UncertainParameters& u,
   for (std::size_t entry = 0; entry < u.parameters.size(); ++entry) {
     const UncertainParameter& p = u.parameters[entry];
     nlohmann::json j{{"path", p.path},
-                     {"place", p.place},
                      {"distribution", distribution_name(p.kind)},
                      {"draw", draw_name(p.draw)},
                      {"matches", nlohmann::json::array()},

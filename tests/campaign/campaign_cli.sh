@@ -37,6 +37,11 @@ pass
   fail "campaign plan"
 "$flexloop" campaign plan "$scene" -u "$u" -n 12 --design lhs --seed 8 -o "$tmp/other.json" >/dev/null ||
   fail "campaign plan (seed 8)"
+# The plan holds its inputs by absolute path: relative paths from elsewhere make the same plan.
+(cd "$root/tests" && "$flexloop" campaign plan fixtures/one_strut_campaign.toml \
+  -u fixtures/one_strut_uncertain.toml -n 12 --design lhs --seed 7 -o "$tmp/relative.json" >/dev/null) ||
+  fail "campaign plan with relative paths"
+cmp -s "$tmp/plan.json" "$tmp/relative.json" || fail "the plan depends on how its paths were given"
 pass
 
 # One shard, run whole; the same shard killed in its fifth line and run again: the same bytes.
