@@ -14,7 +14,16 @@
 
 namespace {
 
-using namespace flexloop::campaign;
+// Using-declarations, not directives: the area's test files share unity batches.
+using flexloop::campaign::Distribution;
+using flexloop::campaign::distribution_from_json;
+using flexloop::campaign::DistributionKind;
+using flexloop::campaign::highest_draw;
+using flexloop::campaign::inverse_cdf;
+using flexloop::campaign::kTailProbability;
+using flexloop::campaign::lognormal_sigma_from_relative_sd;
+using flexloop::campaign::lowest_draw;
+using flexloop::campaign::to_json;
 
 const std::vector<double> kUnits = {0.0, 1e-6, 0.001, 0.1, 0.37, 0.5, 0.9, 0.999, 1 - 1e-7};
 

@@ -20,8 +20,25 @@
 
 namespace {
 
-using namespace flexloop;
-using namespace flexloop::campaign;
+// Using-declarations, not directives: the area's test files share unity batches.
+namespace common = flexloop::common;
+namespace plant = flexloop::plant;
+namespace scene = flexloop::scene;
+using flexloop::campaign::columns_from_plan;
+using flexloop::campaign::columns_json;
+using flexloop::campaign::edit_distance;
+using flexloop::campaign::load_uncertain_parameters;
+using flexloop::campaign::Machine;
+using flexloop::campaign::MachineDocuments;
+using flexloop::campaign::nearest_names;
+using flexloop::campaign::parameters_json;
+using flexloop::campaign::ParameterValues;
+using flexloop::campaign::parse_uncertain_parameters;
+using flexloop::campaign::plan_columns;
+using flexloop::campaign::UncertainParameters;
+using flexloop::campaign::values_at;
+using flexloop::campaign::worst_samples;
+using flexloop::campaign::write_worst_samples;
 
 const char* kPathsScene = "tests/fixtures/one_strut_campaign.toml";
 

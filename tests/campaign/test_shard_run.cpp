@@ -19,8 +19,27 @@
 
 namespace {
 
-using namespace flexloop::campaign;
+// Using-declarations, not directives: the area's test files share unity batches.
 using Catch::Matchers::Contains;
+using flexloop::campaign::complete_lines;
+using flexloop::campaign::completed_indices;
+using flexloop::campaign::Distribution;
+using flexloop::campaign::DistributionKind;
+using flexloop::campaign::index_ranges;
+using flexloop::campaign::inverse_cdf;
+using flexloop::campaign::kPlanFormat;
+using flexloop::campaign::kPlanVersion;
+using flexloop::campaign::merge_shards;
+using flexloop::campaign::MergedSamples;
+using flexloop::campaign::parse_shard;
+using flexloop::campaign::plan_id_of;
+using flexloop::campaign::read_plan;
+using flexloop::campaign::require_plan_inputs_unchanged;
+using flexloop::campaign::run_shard;
+using flexloop::campaign::Shard;
+using flexloop::campaign::shard_indices;
+using flexloop::campaign::ShardRunResult;
+using flexloop::campaign::with_plan_id;
 using flexloop::common::InputError;
 namespace fs = std::filesystem;
 

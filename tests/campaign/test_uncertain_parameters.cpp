@@ -13,8 +13,14 @@
 
 namespace {
 
-using namespace flexloop::campaign;
+// Using-declarations, not directives: the area's test files share unity batches.
 using Catch::Matchers::Contains;
+using flexloop::campaign::DistributionKind;
+using flexloop::campaign::load_uncertain_parameters;
+using flexloop::campaign::MachineDocuments;
+using flexloop::campaign::parse_uncertain_parameters;
+using flexloop::campaign::plan_columns;
+using flexloop::campaign::UncertainParameters;
 using flexloop::common::InputError;
 
 const char* kPlanningScene = "tests/fixtures/one_strut_campaign.toml";
