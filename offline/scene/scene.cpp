@@ -9,6 +9,7 @@
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
 #include "offline/scene/scene_fmu.hpp"
+#include "offline/scene/scene_from_toml.hpp"
 
 namespace flexloop::scene {
 
@@ -56,7 +57,10 @@ const toml::table* table(const common::TomlReader& top, const toml::table& root,
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& file) {
-  const toml::table root = common::parse_toml(text, file);
+  return scene_from_toml(common::parse_toml(text, file), file);
+}
+
+Scene scene_from_toml(const toml::table& root, const std::string& file) {
   Scene s;
   s.file = file;
   common::TomlReader top(root, file, "scene file");
