@@ -126,7 +126,7 @@ void require_stable_sampled_loop(const ScenePlant& p);
 /// machine's gains on another machine).
 struct ScenePlantOptions {
   bool without_damping = false;
-  std::optional<controller::design::PiGains> pi_gains;
+  std::optional<controller::design::PiGains> pi_gains = std::nullopt;
 };
 
 /// @throws flexloop::InputError naming the scene (or model) file for bad channels or models.
