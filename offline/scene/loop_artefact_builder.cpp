@@ -101,9 +101,9 @@ artefact::FmuParameters fmu_parameters(const Scene& sc) {
   return f;
 }
 
-artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
-                                           artefact::PlantForm form,
-                                           const artefact::Provenance& provenance) {
+artefact::LoopArtefact loop_artefact_without_start(const ScenePlant& p, const SampledScene& sampled,
+                                                   artefact::PlantForm form,
+                                                   const artefact::Provenance& provenance) {
   const Scene& sc = p.scene;
   artefact::LoopArtefact a;
   a.name = sc.name;
@@ -156,6 +156,13 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
   a.effects = sc.effects;
   a.duration_s = sc.run.duration_s;
   artefact::validate(a);
+  return a;
+}
+
+artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
+                                           artefact::PlantForm form,
+                                           const artefact::Provenance& provenance) {
+  artefact::LoopArtefact a = loop_artefact_without_start(p, sampled, form, provenance);
   a.start = stationary_loop_start(a);
   return a;
 }

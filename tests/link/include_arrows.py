@@ -53,12 +53,6 @@ ALLOWED = {
     "offline/study": {"numeric", "common", "artefact", "plant/model", "plant/lti",
                       "controller/design", "plant/runtime", "controller/runtime", "online/sim",
                       "offline/scene", "offline/report"},
-    # Uncertainty campaigns: what the pipeline may include, and the pipeline (one code with
-    # `analyse` for the figures of each sample).
-    "offline/campaign": {"numeric", "common", "artefact", "plant/model", "plant/lti",
-                         "controller/design", "plant/runtime", "controller/runtime",
-                         "controller/fmu", "offline/scene", "offline/report", "online/plant_fmu",
-                         "offline/pipeline"},
 }
 TOOLS_MAY_NOT = {"tests"}
 SOURCES = (".cpp", ".hpp", ".h", ".c")
