@@ -243,7 +243,13 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
                   100 * unanswered_share, loop.rate_hz);
     verdict.reasons.push_back(text);
   }
-  if (report.contains("physical") && loop_cycles > 0) {
+  // A controller that crashed its process would crash this one in sim's loop (the same code).
+  const bool crashed = controller && !controller->killed_by().empty();
+  if (report.contains("physical") && loop_cycles > 0 && crashed) {
+    report["physical"]["sim_unavailable"] = "the controller process was killed by " +
+                                            controller->killed_by() +
+                                            ": its code is not run again in this process";
+  } else if (report.contains("physical") && loop_cycles > 0) {
     report["physical"]["sim"] =
         sim_prediction(loop, static_cast<double>(loop_cycles) / loop.rate_hz);
     if (controller && plant_json["divergence"].is_string())
