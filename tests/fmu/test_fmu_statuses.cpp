@@ -143,7 +143,7 @@ TEST_CASE("The FMU's log ring keeps its slots' worth, counts what overflowed, an
         std::string("FMU x.fmu (instance, ok, category): ").size() + FmuLogRing::kSlotChars - 1);
 }
 
-TEST_CASE("The first real-time cycle steps the FMU as initialised; a plant restart resets it",
+TEST_CASE("The first real-time cycle steps the FMU as initialised, and a plant restart resets it",
           "[fmu]") {
   auto s = pi_settings();
   s.outputs.push_back("reset_calls");
