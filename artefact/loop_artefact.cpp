@@ -378,6 +378,13 @@ LoopArtefact loop_artefact_from_json(const json& j, const std::string& place) {
         require(!out->unavailable.empty(), s.place("unavailable"), "must say why");
         continue;
       }
+      // An FMU's state cannot be set from outside (controller/fmu/fmu_controller.hpp): a drawn
+      // closed-loop start would reach it only in the loop, where nothing can refuse it.
+      require(a.controller != ControllerKind::kFmu || out != &a.start.closed_loop, s.place(),
+              "a start with the controller's state given, but the controller is an FMU, whose "
+              "state cannot be set from outside: a loop with a controller FMU starts at rest "
+              "(give \"unavailable\" with the reason here, as flexloop build writes it, or "
+              "rebuild the artefact with flexloop build)");
       out->unavailable.clear();
       out->delay = static_cast<int>(s.integer("delay", 0, 2 * kMaxDelaySamples));
       out->controller_states =

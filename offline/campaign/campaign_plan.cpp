@@ -3,6 +3,7 @@
 #include <filesystem>
 
 #include "common/input_error.hpp"
+#include "common/sha256.hpp"
 #include "offline/campaign/designs.hpp"
 #include "offline/campaign/plan_file.hpp"
 #include "offline/campaign/planned_parameters.hpp"
@@ -20,7 +21,7 @@ std::string absolute_path(const std::string& path) {
 
 // The nominal loop artefact as `flexloop build` makes it, by its JSON's SHA-256.
 std::string nominal_artefact_sha256(const std::string& scene_path) {
-  return scene::text_sha256(artefact::to_json(scene::load_loop(scene_path)).dump());
+  return common::text_sha256(artefact::to_json(scene::load_loop(scene_path)).dump());
 }
 
 std::vector<double> sigma_grid_hz(const PlanRequest& r, const Machine& nominal) {
@@ -57,11 +58,11 @@ nlohmann::json make_plan(const PlanRequest& r) {
 
   nlohmann::json plan{{"format", kPlanFormat}, {"version", kPlanVersion}};
   plan["scene"] = scene_path;
-  plan["scene_sha256"] = scene::file_sha256(scene_path);
+  plan["scene_sha256"] = common::file_sha256(scene_path);
   plan["model"] = absolute_path(docs.model_file());
-  plan["model_sha256"] = scene::file_sha256(docs.model_file());
+  plan["model_sha256"] = common::file_sha256(docs.model_file());
   plan["uncertain"] = absolute_path(r.uncertain);
-  plan["uncertain_sha256"] = scene::file_sha256(r.uncertain);
+  plan["uncertain_sha256"] = common::file_sha256(r.uncertain);
   plan["nominal_artefact_sha256"] = nominal_artefact_sha256(scene_path);
   plan["controller"] = controller;
   plan["design"] = design_name(design);

@@ -1,6 +1,7 @@
 #include "offline/campaign/plan_file.hpp"
 
 #include "common/input_error.hpp"
+#include "common/sha256.hpp"
 #include "common/toml_reader.hpp"
 #include "offline/scene/loop_input.hpp"
 
@@ -9,7 +10,7 @@ namespace flexloop::campaign {
 std::string plan_id_of(const nlohmann::json& plan) {
   nlohmann::json content = plan;
   content.erase("plan_id");
-  return scene::text_sha256(content.dump());
+  return common::text_sha256(content.dump());
 }
 
 nlohmann::json with_plan_id(nlohmann::json plan) {
@@ -43,7 +44,7 @@ void require_plan_inputs_unchanged(const nlohmann::json& plan, const std::string
        {std::pair{"scene", "scene_sha256"}, std::pair{"model", "model_sha256"},
         std::pair{"uncertain", "uncertain_sha256"}}) {
     const std::string path = plan.at(file).get<std::string>();
-    if (scene::file_sha256(path) != plan.at(hash).get<std::string>())
+    if (common::file_sha256(path) != plan.at(hash).get<std::string>())
       throw common::InputError(plan_path, std::string("the ") + file + " file " + path +
                                               " changed since the plan was made: its samples "
                                               "would not be the plan's; make a new plan");

@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/input_error.hpp"
+#include "common/sha256.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/pi_parameters.hpp"
 #include "offline/scene/schema_conversion.hpp"
@@ -87,7 +88,7 @@ artefact::FmuParameters fmu_parameters(const Scene& sc) {
   const auto& c = sc.controller;
   artefact::FmuParameters f;
   f.file = c.file;
-  f.sha256 = file_sha256(c.file);
+  f.sha256 = common::file_sha256(c.file);
   f.parameters = c.fmu_parameters;
   f.max_unpacked_mb = c.fmu_max_unpacked_mb;
   // Each channel's FMU variable: its own name unless the map says otherwise.

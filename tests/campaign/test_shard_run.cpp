@@ -11,6 +11,7 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "common/sha256.hpp"
 #include "offline/campaign/distributions.hpp"
 #include "offline/campaign/plan_file.hpp"
 #include "offline/campaign/shard_merge.hpp"
@@ -199,7 +200,7 @@ TEST_CASE("a plan's id is its content's hash; an edited plan and changed inputs 
                       {"seed", 1}};
   for (const auto& [key, f] : {std::pair{"scene_sha256", scene}, std::pair{"model_sha256", model},
                                std::pair{"uncertain_sha256", u}})
-    plan[key] = flexloop::scene::file_sha256(f.string());
+    plan[key] = flexloop::common::file_sha256(f.string());
   plan = with_plan_id(plan);
   const fs::path path = dir.path / "plan.json";
   std::ofstream(path) << plan.dump(1);
