@@ -429,7 +429,15 @@ void read_start(const common::JsonReader& r, LoopArtefact& a) {
   }
   const common::JsonReader st = r.object("start");
   read_stationary_start(st.object("open_loop"), a, a.start.open_loop);
-  read_stationary_start(st.object("closed_loop"), a, a.start.closed_loop);
+  const common::JsonReader closed = st.object("closed_loop");
+  // An FMU's state cannot be set from outside (controller/fmu/fmu_controller.hpp): a drawn
+  // closed-loop start would reach it only in the loop, where nothing can refuse it.
+  require(a.controller != ControllerKind::kFmu || closed.has("unavailable"), closed.place(),
+          "a start with the controller's state given, but the controller is an FMU, whose "
+          "state cannot be set from outside: a loop with a controller FMU starts at rest "
+          "(give \"unavailable\" with the reason here, as flexloop build writes it, or "
+          "rebuild the artefact with flexloop build)");
+  read_stationary_start(closed, a, a.start.closed_loop);
 }
 
 json provenance_json(const Provenance& p) {

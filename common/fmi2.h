@@ -72,6 +72,10 @@ typedef fmi2Status fmi2SetRealTYPE(fmi2Component c, const fmi2ValueReference vr[
 typedef fmi2Status fmi2DoStepTYPE(fmi2Component c, fmi2Real currentCommunicationPoint,
                                   fmi2Real communicationStepSize,
                                   fmi2Boolean noSetFMUStatePriorToCurrentPoint);
+/* Asked after fmi2DoStep returned fmi2Discard (FMI 2.0 section 4.2.3). */
+typedef fmi2Status fmi2GetRealStatusTYPE(fmi2Component c, const fmi2StatusKind s, fmi2Real* value);
+typedef fmi2Status fmi2GetBooleanStatusTYPE(fmi2Component c, const fmi2StatusKind s,
+                                            fmi2Boolean* value);
 
 #ifdef __cplusplus
 }

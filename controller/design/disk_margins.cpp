@@ -4,9 +4,11 @@
 #include <cmath>
 #include <complex>
 #include <limits>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
+#include "numeric/constants.hpp"
 #include "plant/lti/frequency_response.hpp"
 
 namespace flexloop::controller::design {
@@ -15,56 +17,92 @@ namespace {
 
 using Eigen::Index;
 
-// S - I/2 = I/2 + H at the frequencies given.
+// S - I/2 = I/2 + H at the frequencies given; H reduced once (plant/lti/frequency_response.hpp).
 class InputSensitivity {
  public:
-  explicit InputSensitivity(const SampledLoopModel& loop) {
+  explicit InputSensitivity(const SampledLoopModel& loop)
+      : channels_(loop.command.rows()), h_(transfer(loop)), dt_(loop.dt) {}
+
+  std::vector<Eigen::MatrixXcd> centred(const std::vector<double>& f_hz) const {
+    std::vector<Eigen::MatrixXcd> s;
+    s.reserve(f_hz.size());
+    for (const double f : f_hz) s.push_back(centred(f));
+    return s;
+  }
+  // As frequency_response of the discrete system: z = e^{j 2 pi f dt}.
+  Eigen::MatrixXcd centred(double f_hz) const {
+    if (!std::isfinite(f_hz))
+      throw std::invalid_argument("disk margins: a frequency is not finite");
+    Eigen::MatrixXcd m;
+    const auto r = h_.evaluate(std::polar(1.0, numeric::kTwoPi * f_hz * dt_), m);
+    if (r != plant::lti::TransferFunction::Point::kFinite) {
+      std::ostringstream what;
+      what.precision(17);
+      what << "frequency_response: the point for " << f_hz << " Hz is "
+           << (r == plant::lti::TransferFunction::Point::kEigenvalue
+                   ? "an eigenvalue of A (the response is infinite)"
+                   : "next to an eigenvalue of A (the response is not finite)");
+      throw std::domain_error(what.str());
+    }
+    m.diagonal().array() += 0.5;
+    return m;
+  }
+
+  Index channels() const { return channels_; }
+  double nyquist_hz() const { return 0.5 / dt_; }
+
+ private:
+  // H: the perturbation added to the command -> the command.
+  static plant::lti::TransferFunction transfer(const SampledLoopModel& loop) {
     const Index n = loop.A.rows(), nc = loop.command.rows();
     if (loop.A.cols() != n || loop.perturbation.rows() != n || loop.perturbation.cols() != nc ||
         loop.command.cols() != n || !(loop.dt > 0))
       throw std::invalid_argument("disk margins: the loop model's sizes do not close");
-    h_.sys.A = loop.A;
-    h_.sys.B = loop.perturbation;
-    h_.sys.C = loop.command;
-    h_.sys.D = Eigen::MatrixXd::Zero(nc, nc);
-    for (Index i = 0; i < n; ++i) h_.sys.states.push_back("x" + std::to_string(i + 1));
+    plant::lti::StateSpace h{
+        loop.A, loop.perturbation, loop.command, Eigen::MatrixXd::Zero(nc, nc), {}, {}, {}};
+    for (Index i = 0; i < n; ++i) h.states.push_back("x" + std::to_string(i + 1));
     for (Index i = 0; i < nc; ++i) {
-      h_.sys.inputs.push_back("e" + std::to_string(i + 1));
-      h_.sys.outputs.push_back("u" + std::to_string(i + 1));
+      h.inputs.push_back("e" + std::to_string(i + 1));
+      h.outputs.push_back("u" + std::to_string(i + 1));
     }
-    h_.dt = loop.dt;
+    return plant::lti::TransferFunction(h);
   }
 
-  std::vector<Eigen::MatrixXcd> centred(const std::vector<double>& f_hz) const {
-    auto s = plant::lti::frequency_response(h_, f_hz);
-    for (auto& m : s) m.diagonal().array() += 0.5;
-    return s;
-  }
-
-  Index channels() const { return h_.sys.D.rows(); }
-  double nyquist_hz() const { return 0.5 / h_.dt; }
-
- private:
-  plant::lti::DiscreteStateSpace h_{{}, 0, plant::lti::DiscretisationMethod::kZeroOrderHold, 0, 0};
+  Index channels_;
+  plant::lti::TransferFunction h_;
+  double dt_;
 };
 
 double largest_singular_value(const Eigen::MatrixXcd& m) {
   return Eigen::JacobiSVD<Eigen::MatrixXcd>(m).singularValues()(0);
 }
 
-// The peak of `measure` (of S - I/2 at one frequency) over the grid, refined by golden-section
-// search in log f between the neighbours of the largest grid point.
+// sigma_max at each grid point that can hold the grid's largest, -1 elsewhere: the largest
+// column norm <= sigma_max <= the Frobenius norm, so a point whose Frobenius norm lies below some
+// point's largest column norm cannot (the factor covers their rounding). Lightly damped loops
+// peak narrowly: most of the grid is passed over without its SVD.
+std::vector<double> largest_singular_values_near_peak(const std::vector<Eigen::MatrixXcd>& grid) {
+  double floor = 0;
+  for (const auto& m : grid) floor = std::max(floor, m.colwise().norm().maxCoeff());
+  std::vector<double> v(grid.size(), -1);
+  for (std::size_t k = 0; k < grid.size(); ++k)
+    if (grid[k].norm() * (1 + 1e-9) >= floor) v[k] = largest_singular_value(grid[k]);
+  return v;
+}
+
+// The peak of `measure` (of S - I/2 at one frequency) over the grid (its values there given),
+// refined by golden-section search in log f between the neighbours of the largest grid point.
 template <class Measure>
 std::pair<double, double> peak(const InputSensitivity& s, const std::vector<double>& f,
-                               const std::vector<Eigen::MatrixXcd>& grid, Measure measure) {
+                               const std::vector<double>& values, Measure measure) {
   std::size_t best = 0;
   double best_value = -1;
   for (std::size_t k = 0; k < f.size(); ++k)
-    if (const double v = measure(grid[k]); v > best_value) best_value = v, best = k;
+    if (const double v = values[k]; v > best_value) best_value = v, best = k;
   double lo = std::log(f[best == 0 ? 0 : best - 1]);
   double hi = std::log(f[std::min(best + 1, f.size() - 1)]);
   const double r = (std::sqrt(5.0) - 1) / 2;
-  auto at = [&](double log_f) { return measure(s.centred({std::exp(log_f)})[0]); };
+  auto at = [&](double log_f) { return measure(s.centred(std::exp(log_f))); };
   double a = hi - r * (hi - lo), b = lo + r * (hi - lo), va = at(a), vb = at(b);
   for (int i = 0; i < 60 && hi - lo > 1e-12; ++i) {
     if (va > vb) {
@@ -103,10 +141,14 @@ InputDiskMargins input_disk_margins(const SampledLoopModel& loop,
   const auto f = plant::lti::log_frequency_grid_hz(1e-6 * nyquist, nyquist, options.points);
   const auto grid = s.centred(f);
   InputDiskMargins r;
-  for (Index i = 0; i < s.channels(); ++i)
-    r.loops.push_back(margin_at_peak(
-        peak(s, f, grid, [i](const Eigen::MatrixXcd& m) { return std::abs(m(i, i)); })));
-  r.all_loops = margin_at_peak(peak(s, f, grid, largest_singular_value));
+  std::vector<double> values(f.size());
+  for (Index i = 0; i < s.channels(); ++i) {
+    const auto loop_i = [i](const Eigen::MatrixXcd& m) { return std::abs(m(i, i)); };
+    for (std::size_t k = 0; k < f.size(); ++k) values[k] = loop_i(grid[k]);
+    r.loops.push_back(margin_at_peak(peak(s, f, values, loop_i)));
+  }
+  r.all_loops =
+      margin_at_peak(peak(s, f, largest_singular_values_near_peak(grid), largest_singular_value));
   return r;
 }
 

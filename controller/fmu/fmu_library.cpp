@@ -131,6 +131,10 @@ FmuLibrary::FmuLibrary(const fs::path& dir, const FmuDescription& description,
     resolve(handle_, "fmi2SetReal", calls_.set_real, fmu);
     resolve(handle_, "fmi2GetReal", calls_.get_real, fmu);
     resolve(handle_, "fmi2DoStep", calls_.do_step, fmu);
+    calls_.get_real_status =
+        reinterpret_cast<fmi2GetRealStatusTYPE*>(dlsym(handle_, "fmi2GetRealStatus"));
+    calls_.get_boolean_status =
+        reinterpret_cast<fmi2GetBooleanStatusTYPE*>(dlsym(handle_, "fmi2GetBooleanStatus"));
   } catch (...) {
     dlclose(handle_);
     throw;

@@ -26,6 +26,9 @@ struct Fmi2Calls {
   fmi2SetRealTYPE* set_real = nullptr;
   fmi2GetRealTYPE* get_real = nullptr;
   fmi2DoStepTYPE* do_step = nullptr;
+  // Optional (nullptr when the library does not export them): asked after an fmi2Discard.
+  fmi2GetRealStatusTYPE* get_real_status = nullptr;
+  fmi2GetBooleanStatusTYPE* get_boolean_status = nullptr;
 };
 
 class FmuLibrary {

@@ -7,8 +7,11 @@
 //   kPiForceFeedback  the PI force feedback: PiController<Scalar, NC> on the fixed-size kernels
 //                     of NC channels, or GeneralPiController<Scalar>, sized at start-up
 //   kStateSpace       the user's StateSpaceController<Scalar>, sized at start-up
-//   kFmu              the user's compiled controller, controller::fmu::FmuController (double
-//                     only: the FMI's fmi2Real), sized at start-up
+//   kFmu              the user's compiled controller: foreign code, which this header does not
+//                     load (controller/runtime links no FMU loader, libzip or pugixml). A caller
+//                     that runs it names how as the Foreign policy, controller/fmu's FmuCode
+//                     (controller/fmu/fmu_from_artefact.hpp: FmuController, double only, sized at
+//                     start-up); with NoForeignCode, the default, the artefact is refused.
 //
 // Which channel counts run on fixed-size kernels is the caller's to say (the compiled loops of
 // plant/runtime/compiled_loops.hpp, which the controller does not see): it asks with compiled
@@ -21,12 +24,18 @@
 
 #include "artefact/loop_artefact.hpp"
 #include "common/input_error.hpp"
-#include "controller/fmu/fmu_artefact_settings.hpp"
 #include "controller/runtime/general_pi_controller.hpp"
 #include "controller/runtime/pi_controller.hpp"
 #include "controller/runtime/state_space_controller.hpp"
 
 namespace flexloop::controller::runtime {
+
+/// The Foreign policy of a caller that runs only flexloop's own kernels: a controller FMU is
+/// refused. A policy that runs foreign code has kRuns = true and make(artefact), which returns
+/// the controller (a LoopController sized at start-up, in double).
+struct NoForeignCode {
+  static constexpr bool kRuns = false;
+};
 
 /// True for a kind with fixed-size kernels (the PI force feedback), which with_controller builds
 /// for compiled channel counts; every other kind runs sized at start-up.
@@ -43,13 +52,12 @@ constexpr bool has_compiled_kernels(artefact::ControllerKind kind) {
 /// @throws std::invalid_argument as the controller's from_parameters, for parameters it refuses.
 /// @throws std::logic_error for compiled counts with a kind sized at start-up (the caller's
 /// dispatch is wrong), or a controller FMU in float.
-/// fmu_failure: where a controller FMU records a call that fails in the loop (the run consumes
-/// the controller; the caller asks afterwards). Optional.
-/// kForeignCode false: a caller that runs only flexloop's own kernels (the trade-off study);
-/// a controller FMU is then refused (flexloop::InputError) and f is never instantiated for it.
-template <typename Scalar, int NC = Eigen::Dynamic, int NS = NC, bool kForeignCode = true, class F>
-decltype(auto) with_controller(const artefact::LoopArtefact& a, F&& f,
-                               fmu::FmuFailure* fmu_failure = nullptr) {
+/// Foreign: how a controller FMU runs (NoForeignCode: it is refused with flexloop::InputError
+/// and f is never instantiated for it); see NoForeignCode. Whatever the controller reports of its
+/// run (loop_controller.hpp: report()) f asks it, after the run.
+template <typename Scalar, int NC = Eigen::Dynamic, int NS = NC, class Foreign = NoForeignCode,
+          class F>
+decltype(auto) with_controller(const artefact::LoopArtefact& a, F&& f) {
   using artefact::ControllerKind;
   constexpr bool kSizedAtStartUp = NC == Eigen::Dynamic && NS == Eigen::Dynamic;
   switch (a.controller) {
@@ -77,12 +85,13 @@ decltype(auto) with_controller(const artefact::LoopArtefact& a, F&& f,
         return f(StateSpaceController<Scalar>::from_parameters(a.state_space));
       break;
     case ControllerKind::kFmu:
-      if constexpr (!kForeignCode)
+      if constexpr (!Foreign::kRuns)
         throw common::InputError(a.source,
-                                 "[controller]: a controller FMU is foreign code; this command "
-                                 "compares flexloop's own kernels (run the FMU with flexloop sim)");
+                                 "[controller]: a controller FMU is foreign code, which this "
+                                 "command does not load; it runs in flexloop sim, hil, analyse "
+                                 "and the controller process");
       else if constexpr (kSizedAtStartUp && std::is_same_v<Scalar, double>)
-        return f(fmu::FmuController::from_settings(fmu::fmu_settings(a, fmu_failure)));
+        return f(Foreign::make(a));
       break;
   }
   throw std::logic_error("with_controller: the controller \"" + artefact::to_string(a.controller) +

@@ -14,6 +14,7 @@
 
 #include "artefact/pi_parameters.hpp"
 #include "controller/runtime/command_history.hpp"
+#include "controller/runtime/loop_controller.hpp"
 #include "controller/runtime/pi_step_gains.hpp"
 #include "numeric/channel_limits.hpp"
 #include "numeric/dynamic_product.hpp"
@@ -69,6 +70,8 @@ class GeneralPiController {
   /// The actuator applied u instead of the last answer (a held or safe command): u's force is
   /// what the next measurement contains.
   void set_previous_command(const Vector& u) noexcept { history_.replace_last(u); }
+  /// Nothing to report: flexloop's own kernels cannot fail (loop_controller.hpp).
+  ControllerReport report() const { return {}; }
   /// The command sent `back` samples before the last (a run's start; 0: the last).
   void set_earlier_command(int back, const Vector& u) noexcept { history_.set_earlier(back, u); }
   const Vector& previous_command() const noexcept { return history_.last(); }

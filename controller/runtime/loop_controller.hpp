@@ -12,16 +12,40 @@
 //   set_previous_command(u)  the actuator applied u instead of the last answer (a held or safe
 //                            command): the next measurement contains u's force
 //   sensors(), actuators()   the channel counts
+//   report()                 after the run (not in the loop): how the controller's own calls went
+//                            (ControllerReport; always empty for flexloop's own kernels, which
+//                            cannot fail; a controller FMU's failed call, warnings and log)
 //
 // step, start, reset and set_previous_command run in the real-time loop: the concept requires
-// them noexcept (a controller that can fail, e.g. foreign code, reports it another way).
+// them noexcept (a controller that can fail, e.g. foreign code, answers with the safe command from
+// its failure on and says so in report()).
 //
 // The safe command, which the plant applies when answers stop coming, is zero force: the
 // controller does not choose it (the plant holds it without a controller to ask).
 #include <Eigen/Core>
 #include <concepts>
+#include <string>
+#include <vector>
 
 namespace flexloop::controller::runtime {
+
+/// What a controller says of its run, asked after it (allocates; never in the loop).
+struct ControllerReport {
+  /// Empty while the controller answered every sample itself; else its first failure (e.g.
+  /// "fmi2DoStep returned fmi2Discard at sample 12 (t = 0.0012 s)"): from there on it answered
+  /// with the safe command.
+  std::string failure;
+  /// The failure was the controller refusing its input (an FMU's fmi2Error or fmi2Fatal: the
+  /// user's code or its parameters, an input error); false for a run the controller could not
+  /// complete (fmi2Discard, fmi2Pending).
+  bool refused = false;
+  /// Warnings of calls that still answered (an FMU's fmi2Warning): how many, and the first.
+  long warnings = 0;
+  std::string first_warning;
+  /// The controller's own log messages, in order, and how many did not fit its buffer.
+  std::vector<std::string> messages;
+  long messages_lost = 0;
+};
 
 template <class C>
 concept LoopController = requires(C c, const C cc, const typename C::Vector v) {
@@ -36,6 +60,7 @@ concept LoopController = requires(C c, const C cc, const typename C::Vector v) {
   noexcept;
   { c.set_previous_command(v) }
   noexcept;
+  { c.report() } -> std::same_as<ControllerReport>;
 };
 
 }  // namespace flexloop::controller::runtime

@@ -48,6 +48,7 @@
 #include <string>
 
 #include "artefact/pi_parameters.hpp"
+#include "controller/runtime/loop_controller.hpp"
 #include "controller/runtime/pi_step_gains.hpp"
 #include "numeric/column_product.hpp"
 #include "numeric/fixed_size_matrix.hpp"
@@ -123,6 +124,10 @@ class PiController {
   /// what the next measurement contains.
   void set_previous_command(const Vector& u) noexcept {
     history_[head_] = pad(u);
+  }
+  /// Nothing to report: flexloop's own kernels cannot fail (loop_controller.hpp).
+  ControllerReport report() const {
+    return {};
   }
   /// The command sent `back` samples before the last (a run's start; 0: the last).
   void set_earlier_command(int back, const Vector& u) noexcept {

@@ -15,6 +15,7 @@
 #include "controller/design/disk_margins.hpp"
 #include "numeric/constants.hpp"
 #include "offline/pipeline/closed_loop_by_simulation.hpp"
+#include "offline/pipeline/loop_figures.hpp"
 #include "offline/pipeline/numerical_health.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "offline/report/csv_writer.hpp"
@@ -100,7 +101,7 @@ nlohmann::json disk_margin_json(const controller::design::DiskMargin& m) {
 
 // Disk margins of the sampled loop at the actuator commands (controller/design/disk_margins.hpp).
 nlohmann::json print_disk_margins(const scene::ScenePlant& p) {
-  const auto margins = controller::design::input_disk_margins(scene::sampled_loop_model(p));
+  const auto margins = loop_disk_margins(p);
   std::printf(
       "disk margins at the actuator commands (sampled loop, balanced disk):\n  all at once: ");
   nlohmann::json j = {{"all_loops", disk_margin_json(margins.all_loops)}};
@@ -116,13 +117,11 @@ nlohmann::json print_disk_margins(const scene::ScenePlant& p) {
   return j;
 }
 
-// The PI design, the continuous loop's poles and stability, and the loop as it runs (sampled):
-// printed and put into j. Returns the sampled loop's stability when it was formed.
-std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlohmann::json& j) {
-  std::optional<SampledLoopStability> sampled;
+// The controller: the PI design (its gains), or the user's state space (its size and poles).
+void print_controller(const scene::ScenePlant& p, nlohmann::json& j) {
   const auto& c = p.scene.controller;
-  const bool pi = scene::has_pi_controller(p), continuous = scene::has_continuous_loop(p);
-  if (pi) {
+  const bool continuous = scene::has_continuous_loop(p);
+  if (scene::has_pi_controller(p)) {
     std::printf("PI force feedback: omega_d = 2 pi x %g Hz, zeta = %g, leak %s\n", c.omega_d_hz,
                 c.zeta, c.leak_hz > 0 ? (std::to_string(c.leak_hz) + " Hz").c_str() : "none");
     print_matrix("K_P", p.gains.K_P);
@@ -131,27 +130,29 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
     j["K_I"] = lti::matrix_to_json(p.gains.K_I);
     j["controller_settings"] = {
         {"omega_d_hz", c.omega_d_hz}, {"zeta", c.zeta}, {"leak_hz", c.leak_hz}};
-  } else {
-    const auto& d = p.state_space->discrete;
-    std::printf(
-        "state-space controller %s: %ld states, %ld sensors -> %ld actuators, %s%s, "
-        "anti-windup %s\n",
-        c.file.c_str(), static_cast<long>(d.sys.nx()), static_cast<long>(d.sys.nu()),
-        static_cast<long>(d.sys.ny()),
-        continuous ? "continuous, discretised with " : "discrete at ",
-        continuous ? lti::to_string(d.method).c_str() : rate_text(1 / d.dt).c_str(),
-        c.anti_windup.c_str());
-    std::printf("controller poles (discrete, at the scene's rate): spectral radius %.6g\n",
-                d.spectral_radius);
-    j["controller_settings"] = {{"file", c.file},
-                                {"states", d.sys.nx()},
-                                {"time", continuous ? "continuous" : "discrete"},
-                                {"anti_windup", c.anti_windup},
-                                {"spectral_radius", d.spectral_radius}};
+    return;
   }
+  const auto& d = p.state_space->discrete;
+  std::printf(
+      "state-space controller %s: %ld states, %ld sensors -> %ld actuators, %s%s, "
+      "anti-windup %s\n",
+      c.file.c_str(), static_cast<long>(d.sys.nx()), static_cast<long>(d.sys.nu()),
+      static_cast<long>(d.sys.ny()), continuous ? "continuous, discretised with " : "discrete at ",
+      continuous ? lti::to_string(d.method).c_str() : rate_text(1 / d.dt).c_str(),
+      c.anti_windup.c_str());
+  std::printf("controller poles (discrete, at the scene's rate): spectral radius %.6g\n",
+              d.spectral_radius);
+  j["controller_settings"] = {{"file", c.file},
+                              {"states", d.sys.nx()},
+                              {"time", continuous ? "continuous" : "discrete"},
+                              {"anti_windup", c.anti_windup},
+                              {"spectral_radius", d.spectral_radius}};
+}
 
-  // The loop's poles: the closed loop's without the floor's integrator states (at s = 0, driven
-  // by the floor only, untouched by the controller).
+// The continuous loop's poles: the closed loop's without the floor's integrator states (at s = 0,
+// driven by the floor only, untouched by the controller).
+void print_closed_loop_poles(const scene::ScenePlant& p, nlohmann::json& j) {
+  const bool continuous = scene::has_continuous_loop(p);
   const Eigen::VectorXcd& poles = p.loop.poles;
   const Eigen::Index floor_states = continuous ? p.closed_loop.nx() - poles.size() : 0;
   // A pole within round-off of s = 0 is an integrator (the pure PI's): printed as one, without
@@ -178,7 +179,15 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
                   std::abs(s) / kTwoPi, lti::damping_ratio(s, at_zero));
     pj.push_back({s.real(), s.imag()});
   }
-  // Stability, and the leak that would give it (or the margin the present one has).
+  j["floor_integrator_states"] = floor_states;
+  j["closed_loop_poles"] = pj;
+}
+
+// The continuous loop's stability, and the leak that would give it (or the margin the present
+// one has).
+void print_continuous_stability(const scene::ScenePlant& p, nlohmann::json& j) {
+  const auto& c = p.scene.controller;
+  const bool pi = scene::has_pi_controller(p), continuous = scene::has_continuous_loop(p);
   const auto min_leak = pi ? scene::minimum_stable_leak_hz(p) : std::optional<double>();
   if (!continuous)
     std::printf("continuous loop: none (the controller is given in discrete time)\n");
@@ -204,14 +213,53 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
   else if (pi)
     std::printf(p.loop.stable() ? " (no leak up to omega_d would be)\n"
                                 : "; no leak up to omega_d makes it stable\n");
-  // The loop as it runs: sampled at the scene's rate (controller/design/sampled_loop_stability).
-  nlohmann::json sj = nullptr;
-  bool sampled_stable = false;
+  j["continuous_loop_stable"] =
+      continuous ? nlohmann::json(p.loop.stable()) : nlohmann::json(nullptr);
+  j["minimum_stable_leak_hz"] = min_leak ? nlohmann::json(*min_leak) : nlohmann::json(nullptr);
+}
+
+// The sampled loop's figures as analysis.json has them.
+nlohmann::json sampled_loop_json(const scene::SampledLoop& s) {
+  const auto& st = s.stability;
+  nlohmann::json sj = {{"rate_hz", s.rate_hz},
+                       {"method", lti::to_string(s.method)},
+                       {"feedthrough_delay_samples", s.hardware.feedthrough_delay},
+                       {"spectral_radius", st.spectral_radius},
+                       {"largest_inner_radius", st.largest_inner_radius},
+                       {"unit_circle_tolerance", st.tolerance},
+                       {"unstable_poles", st.unstable},
+                       {"marginal_poles", st.marginal},
+                       {"stable", st.stable()}};
+  nlohmann::json zp = nlohmann::json::array();
+  for (const auto& z : st.poles) zp.push_back({z.real(), z.imag()});
+  sj["poles"] = zp;
+  return sj;
+}
+
+// An unstable sampled loop: how many poles outside, and the rate or omega_d that would hold.
+void print_sampled_loop_remedy(const scene::ScenePlant& p, const scene::SampledLoop& s,
+                               nlohmann::json& sj) {
+  const auto& st = s.stability;
+  std::printf(": UNSTABLE, %d pole%s outside the unit circle", st.unstable,
+              st.unstable == 1 ? "" : "s");
+  const scene::SampledLoopRemedy r = scene::stable_sampled_loop_remedy(p);
+  if (r.rate_hz) std::printf("; stable at rate_hz = %g", *r.rate_hz);
+  if (r.omega_d_hz)
+    std::printf("%s omega_d_hz <= %g at %g Hz", r.rate_hz ? " or with" : "; stable with",
+                *r.omega_d_hz, s.rate_hz);
+  std::printf("\n");
+  sj["stable_rate_hz"] = r.rate_hz ? nlohmann::json(*r.rate_hz) : nlohmann::json(nullptr);
+  sj["stable_omega_d_hz"] = r.omega_d_hz ? nlohmann::json(*r.omega_d_hz) : nlohmann::json(nullptr);
+}
+
+// The loop as it runs: sampled at the scene's rate (controller/design/sampled_loop_stability),
+// printed and put into j["sampled_loop"] (null when the discretisation is refused).
+std::optional<SampledLoopStability> print_sampled_loop(const scene::ScenePlant& p,
+                                                       nlohmann::json& j) {
+  j["sampled_loop"] = nullptr;
   try {
     const scene::SampledLoop s = scene::sampled_loop(p);
     const auto& st = s.stability;
-    sampled_stable = st.stable();
-    sampled = st;
     const int delay = s.hardware.feedthrough_delay;
     std::printf(
         "sampled loop at %g Hz (%s, the controller as it runs, the held command%s): spectral "
@@ -223,46 +271,38 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
             : "",
         st.spectral_radius);
     if (st.marginal > 0)
-      std::printf(
-          " (%d pole%s on the unit circle%s; the poles inside it within |z| <= %.6g)", st.marginal,
-          st.marginal == 1 ? "" : "s",
-          pi && c.leak_hz == 0 ? ", marginal: the pure integrator's at z = 1" : ", marginal",
-          st.largest_inner_radius);
-    sj = {{"rate_hz", s.rate_hz},
-          {"method", lti::to_string(s.method)},
-          {"feedthrough_delay_samples", delay},
-          {"spectral_radius", st.spectral_radius},
-          {"largest_inner_radius", st.largest_inner_radius},
-          {"unit_circle_tolerance", st.tolerance},
-          {"unstable_poles", st.unstable},
-          {"marginal_poles", st.marginal},
-          {"stable", st.stable()}};
-    nlohmann::json zp = nlohmann::json::array();
-    for (const auto& z : st.poles) zp.push_back({z.real(), z.imag()});
-    sj["poles"] = zp;
-    if (st.stable()) {
+      std::printf(" (%d pole%s on the unit circle%s; the poles inside it within |z| <= %.6g)",
+                  st.marginal, st.marginal == 1 ? "" : "s",
+                  scene::has_pi_controller(p) && p.scene.controller.leak_hz == 0
+                      ? ", marginal: the pure integrator's at z = 1"
+                      : ", marginal",
+                  st.largest_inner_radius);
+    nlohmann::json sj = sampled_loop_json(s);
+    if (st.stable())
       std::printf(": stable\n");
-    } else {
-      std::printf(": UNSTABLE, %d pole%s outside the unit circle", st.unstable,
-                  st.unstable == 1 ? "" : "s");
-      const scene::SampledLoopRemedy r = scene::stable_sampled_loop_remedy(p);
-      if (r.rate_hz) std::printf("; stable at rate_hz = %g", *r.rate_hz);
-      if (r.omega_d_hz)
-        std::printf("%s omega_d_hz <= %g at %g Hz", r.rate_hz ? " or with" : "; stable with",
-                    *r.omega_d_hz, s.rate_hz);
-      std::printf("\n");
-      sj["stable_rate_hz"] = r.rate_hz ? nlohmann::json(*r.rate_hz) : nlohmann::json(nullptr);
-      sj["stable_omega_d_hz"] =
-          r.omega_d_hz ? nlohmann::json(*r.omega_d_hz) : nlohmann::json(nullptr);
-    }
+    else
+      print_sampled_loop_remedy(p, s, sj);
+    j["sampled_loop"] = sj;
+    return st;
   } catch (const common::InputError& e) {
     std::printf("sampled loop: not formed: %s\n", e.what());
   }
-  const bool stable = p.loop.stable() && sampled_stable;
+  return std::nullopt;
+}
+
+// The PI design, the continuous loop's poles and stability, and the loop as it runs (sampled):
+// printed and put into j. Returns the sampled loop's stability when it was formed.
+std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlohmann::json& j) {
+  print_controller(p, j);
+  print_closed_loop_poles(p, j);
+  print_continuous_stability(p, j);
+  const std::optional<SampledLoopStability> sampled = print_sampled_loop(p, j);
+  const bool stable = closed_loop_stable(p, sampled);
   std::printf("closed loop: %s\n",
-              stable ? (continuous ? "stable (continuous, and sampled as it runs)"
-                                   : "stable (sampled as it runs)")
-                     : "UNSTABLE as it runs: sim, plant, controller and hil refuse this scene");
+              stable
+                  ? (scene::has_continuous_loop(p) ? "stable (continuous, and sampled as it runs)"
+                                                   : "stable (sampled as it runs)")
+                  : "UNSTABLE as it runs: sim, plant, controller and hil refuse this scene");
   j["closed_loop_stable"] = stable;
   if (stable) {
     try {
@@ -271,12 +311,6 @@ std::optional<SampledLoopStability> analyse_loop(const scene::ScenePlant& p, nlo
       std::printf("disk margins: not formed: %s\n", e.what());
     }
   }
-  j["continuous_loop_stable"] =
-      continuous ? nlohmann::json(p.loop.stable()) : nlohmann::json(nullptr);
-  j["sampled_loop"] = sj;
-  j["floor_integrator_states"] = floor_states;
-  j["minimum_stable_leak_hz"] = min_leak ? nlohmann::json(*min_leak) : nlohmann::json(nullptr);
-  j["closed_loop_poles"] = pj;
   return sampled;
 }
 
@@ -357,22 +391,11 @@ std::vector<Eigen::MatrixXcd> closed_loop_of_fmu(const scene::ScenePlant& p,
 
 }  // namespace
 
-void analyse_scene(const std::string& scene_path, const std::string& out_dir,
-                   const FrequencyGrid& grid) {
-  const scene::Scene sc = scene::load_scene(scene_path);
-  const scene::ScenePlant p = scene::build_scene_plant(sc);
-  std::filesystem::create_directories(out_dir);
-  const std::string dir = out_dir + "/";
+namespace {
 
-  std::printf("scene %s: model %s, %ld states, %ld inputs, %ld outputs\n", sc.name.c_str(),
-              sc.model_path.c_str(), static_cast<long>(p.plant.nx()),
-              static_cast<long>(p.plant.nu()), static_cast<long>(p.plant.ny()));
-  nlohmann::json j;
-  const auto write_analysis_json = [&] {
-    j["provenance"] = make_provenance(scene_path, "flexloop analyse");
-    j["provenance"]["model"] = make_provenance(sc.model_path, "flexloop analyse");
-    lti::write_json_atomically(dir + "analysis.json", j);
-  };
+// The passive machine: its natural frequencies (and what the preload does to each), its statics.
+void print_passive_machine(const scene::ScenePlant& p, nlohmann::json& j) {
+  const scene::Scene& sc = p.scene;
   std::printf("passive natural frequencies%s [Hz]:",
               sc.gravity_preload ? " with the gravity preload" : "");
   for (Eigen::Index i = 0; i < p.natural_frequencies_hz.size(); ++i)
@@ -393,6 +416,183 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
     j["gravity_frequency_shift_hz"] = to_vector(shift);
   }
   j["static_stability"] = static_stability_json(p.statics);
+}
+
+// The controller's and the closed loop's matrices into analysis.json: continuous where the loop
+// has a continuous form, else sampled (`sampled`: the scene at its rate).
+void put_loop_matrices(const scene::ScenePlant& p,
+                       const std::optional<scene::SampledScene>& sampled, nlohmann::json& j) {
+  if (!scene::has_controller(p)) return;
+  if (scene::has_continuous_loop(p)) {
+    j["controller"] = lti::to_json(p.controller);
+    j["closed_loop"] = lti::to_json(p.closed_loop);
+  } else {
+    j["controller"] = lti::to_json(p.state_space->discrete);
+    j["closed_loop"] = lti::to_json(sampled->closed_loop);
+  }
+}
+
+void print_numerical_health(const scene::ScenePlant& p,
+                            const std::optional<SampledLoopStability>& sampled_loop,
+                            nlohmann::json& j) {
+  try {
+    const auto health = numerical_health(p, scene::sample_scene(p).plant, sampled_loop);
+    print_health(health);
+    j["numerical_health"] = health_json(health);
+  } catch (const common::InputError& e) {
+    std::printf("numerical health: the plant is not sampled: %s\n", e.what());
+  }
+}
+
+// The passive path floor -> frame G11 and the closed loop T on the grid f and at each passive
+// resonance fr (T empty without a closed loop), with their singular values.
+struct Responses {
+  std::vector<double> f, fr;
+  lti::StateSpace g11;
+  std::vector<Eigen::MatrixXcd> G, T, T_at_resonances;
+  Eigen::MatrixXd sv_open, sv_closed;
+  bool closed() const { return !T.empty(); }
+};
+
+// The closed loop's responses only when there is one (a scene without a controller: the passive
+// machine alone). A controller FMU's by simulation, at both sets of frequencies at once.
+Responses frequency_responses(const scene::ScenePlant& p,
+                              const std::optional<scene::SampledScene>& sampled,
+                              const FrequencyGrid& grid, nlohmann::json& j) {
+  Responses r;
+  r.f = lti::with_resonances(lti::log_frequency_grid_hz(grid.f_min_hz, grid.f_max_hz, grid.points),
+                             p.natural_frequencies_hz);
+  r.fr = to_vector(p.natural_frequencies_hz);
+  r.g11 = floor_to_performance(p);
+  r.G = lti::frequency_response(r.g11, r.f);
+  if (scene::has_controller(p)) {
+    const scene::SampledScene* s = sampled ? &*sampled : nullptr;
+    r.T = closed_loop_response(p, s, r.f);
+    r.T_at_resonances = closed_loop_response(p, s, r.fr);
+  } else if (scene::has_fmu_controller(p)) {
+    std::vector<double> both = r.f;
+    both.insert(both.end(), r.fr.begin(), r.fr.end());
+    r.T = closed_loop_of_fmu(p, both, j);
+    if (!r.T.empty()) {
+      r.T_at_resonances.assign(r.T.begin() + static_cast<std::ptrdiff_t>(r.f.size()), r.T.end());
+      r.T.resize(r.f.size());
+    }
+  }
+  r.sv_open = lti::singular_values(r.G);
+  r.sv_closed = r.closed() ? lti::singular_values(r.T) : Eigen::MatrixXd();
+  return r;
+}
+
+// singular_values.csv and .png: every singular value of G11 and of T over the grid.
+void write_singular_values(const Responses& r, const std::string& scene_name,
+                           const std::string& controller_name, const std::string& dir) {
+  std::vector<std::string> header{"frequency_hz"};
+  std::vector<std::vector<double>> cols{r.f};
+  for (const auto& [name, sv] : {std::pair{"open", &r.sv_open}, std::pair{"closed", &r.sv_closed}})
+    for (Eigen::Index k = 0; k < sv->cols(); ++k) {
+      header.push_back(std::string(name) + " sigma" + std::to_string(k + 1) + " [dB]");
+      std::vector<double> col;
+      for (Eigen::Index i = 0; i < sv->rows(); ++i) col.push_back(db((*sv)(i, k)));
+      cols.push_back(col);
+    }
+  report::write_csv_columns(dir + "singular_values.csv", header, cols);
+  std::vector<report::SigmaSeries> systems{
+      {"open loop (passive)", r.f, r.sv_open, "lines lw 2 dt 1"}};
+  if (r.closed())
+    systems.push_back(
+        {"closed loop (" + controller_name + ")", r.f, r.sv_closed, "lines lw 2 dt 2"});
+  report::plot_singular_values(
+      {scene_name + ": floor acceleration -> frame acceleration, singular values", "", "", true,
+       false},
+      systems, dir + "singular_values.png");
+}
+
+// transmissibility.csv and .png: per channel, disturbance i -> performance output i.
+void write_transmissibility(const Responses& r, const std::string& scene_name,
+                            const std::string& dir) {
+  const Eigen::Index n = std::min(r.g11.nu(), r.g11.ny());
+  std::vector<std::string> th{"frequency_hz"};
+  std::vector<std::vector<double>> tc{r.f};
+  std::vector<report::Series> series;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const std::string name = r.g11.outputs[i] + " / " + r.g11.inputs[i];
+    const std::string colour = " lc " + std::to_string(i + 1);
+    std::vector<double> open;
+    for (std::size_t k = 0; k < r.f.size(); ++k) open.push_back(db(std::abs(r.G[k](i, i))));
+    th.push_back(name + " open [dB]");
+    tc.push_back(open);
+    series.push_back({name + " open", r.f, open, "lines lw 2 dt 1" + colour});
+    if (!r.closed()) continue;
+    std::vector<double> closed_db;
+    for (std::size_t k = 0; k < r.f.size(); ++k) closed_db.push_back(db(std::abs(r.T[k](i, i))));
+    th.push_back(name + " closed [dB]");
+    tc.push_back(closed_db);
+    series.push_back({name + " closed", r.f, closed_db, "lines lw 2 dt 2" + colour});
+  }
+  report::write_csv_columns(dir + "transmissibility.csv", th, tc);
+  report::plot_lines({scene_name + (r.closed() ? ": per-channel floor -> frame transmissibility "
+                                                 "(solid open, dashed closed)"
+                                               : ": per-channel floor -> frame transmissibility"),
+                      "frequency [Hz]", "|T_ii| [dB]", true, false, 1200, 700},
+                     series, dir + "transmissibility.png");
+}
+
+// The largest singular value's peaks, and what the controller does at each passive resonance
+// (responses evaluated exactly there).
+void print_sigma_peaks(const Responses& r, nlohmann::json& j) {
+  const auto [open_peak, open_f] = peak(r.sv_open, r.f);
+  if (!r.closed()) {
+    std::printf("largest singular value: peak %.1f dB at %.2f Hz\n", db(open_peak), open_f);
+    j["sigma_max_peak"] = {{"open_db", db(open_peak)}, {"open_hz", open_f}};
+    return;
+  }
+  const Eigen::MatrixXd at_open = lti::singular_values(lti::frequency_response(r.g11, r.fr));
+  const Eigen::MatrixXd at_closed = lti::singular_values(r.T_at_resonances);
+  std::printf("at the passive resonances: largest singular value open -> closed loop\n");
+  nlohmann::json at = nlohmann::json::array();
+  for (std::size_t i = 0; i < r.fr.size(); ++i) {
+    const double o = db(at_open(static_cast<Eigen::Index>(i), 0)),
+                 cl = db(at_closed(static_cast<Eigen::Index>(i), 0));
+    std::printf("  %8.3f Hz  %7.1f dB -> %7.1f dB  (%+.1f dB)\n", r.fr[i], o, cl, cl - o);
+    at.push_back({{"frequency_hz", r.fr[i]}, {"open_db", o}, {"closed_db", cl}});
+  }
+  j["sigma_max_at_resonances"] = at;
+  const auto [closed_peak, closed_f] = peak(r.sv_closed, r.f);
+  std::printf(
+      "largest singular value: open loop peak %.1f dB at %.2f Hz, closed loop peak %.1f "
+      "dB at %.2f Hz\n",
+      db(open_peak), open_f, db(closed_peak), closed_f);
+  j["sigma_max_peak"] = {{"open_db", db(open_peak)},
+                         {"open_hz", open_f},
+                         {"closed_db", db(closed_peak)},
+                         {"closed_hz", closed_f}};
+}
+
+std::string controller_name(const scene::ScenePlant& p) {
+  if (scene::has_fmu_controller(p)) return "controller FMU, by simulation";
+  if (scene::has_pi_controller(p)) return "PI force feedback";
+  return scene::has_continuous_loop(p) ? "state space" : "state space, sampled";
+}
+
+}  // namespace
+
+void analyse_scene(const std::string& scene_path, const std::string& out_dir,
+                   const FrequencyGrid& grid) {
+  const scene::Scene sc = scene::load_scene(scene_path);
+  const scene::ScenePlant p = scene::build_scene_plant(sc);
+  std::filesystem::create_directories(out_dir);
+  const std::string dir = out_dir + "/";
+
+  std::printf("scene %s: model %s, %ld states, %ld inputs, %ld outputs\n", sc.name.c_str(),
+              sc.model_path.c_str(), static_cast<long>(p.plant.nx()),
+              static_cast<long>(p.plant.nu()), static_cast<long>(p.plant.ny()));
+  nlohmann::json j;
+  const auto write_analysis_json = [&] {
+    j["provenance"] = make_provenance(scene_path, "flexloop analyse");
+    j["provenance"]["model"] = make_provenance(sc.model_path, "flexloop analyse");
+    lti::write_json_atomically(dir + "analysis.json", j);
+  };
+  print_passive_machine(p, j);
   if (!p.statics.stable()) {
     // The loop commands refuse this plant (scene::require_stable_loop): no loop to analyse.
     std::printf("passive plant: UNSTABLE: %s\n", plant::lti::to_string(p.statics).c_str());
@@ -404,146 +604,24 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   }
   std::printf("passive plant: %s\n", plant::lti::to_string(p.statics).c_str());
 
-  const bool controlled = scene::has_controller(p), fmu = scene::has_fmu_controller(p);
+  const bool controlled = scene::has_controller(p);
   std::optional<SampledLoopStability> sampled_loop;
   if (controlled)
     sampled_loop = analyse_loop(p, j);
-  else if (!fmu)
+  else if (!scene::has_fmu_controller(p))
     std::printf("controller: none (the passive plant alone: no design, no closed loop)\n");
   j["open_loop"] = lti::to_json(p.plant);
   // A controller given in discrete time has the sampled closed loop only (z = e^{j w T}).
-  const bool continuous = scene::has_continuous_loop(p);
-  const std::optional<lti::DiscreteStateSpace> sampled_closed =
-      controlled && !continuous ? std::optional(scene::sample_scene(p).closed_loop) : std::nullopt;
-  const auto closed_response = [&](const std::vector<double>& fr) {
-    return continuous ? lti::frequency_response(p.closed_loop, fr)
-                      : lti::frequency_response(*sampled_closed, fr);
-  };
-  if (controlled && continuous) {
-    j["controller"] = lti::to_json(p.controller);
-    j["closed_loop"] = lti::to_json(p.closed_loop);
-  } else if (controlled) {
-    j["controller"] = lti::to_json(p.state_space->discrete);
-    j["closed_loop"] = lti::to_json(*sampled_closed);
-  }
-  const std::string controller_name =
-      fmu ? "controller FMU, by simulation"
-          : (scene::has_pi_controller(p) ? "PI force feedback"
-                                         : (continuous ? "state space" : "state space, sampled"));
-  try {
-    const auto health = numerical_health(p, scene::sample_scene(p).plant, sampled_loop);
-    print_health(health);
-    j["numerical_health"] = health_json(health);
-  } catch (const common::InputError& e) {
-    std::printf("numerical health: the plant is not sampled: %s\n", e.what());
-  }
+  const std::optional<scene::SampledScene> sampled = controlled && !scene::has_continuous_loop(p)
+                                                         ? std::optional(scene::sample_scene(p))
+                                                         : std::nullopt;
+  put_loop_matrices(p, sampled, j);
+  print_numerical_health(p, sampled_loop, j);
 
-  // Singular values of the passive floor -> frame path G11 and of the closed loop T.
-  const auto f =
-      lti::with_resonances(lti::log_frequency_grid_hz(grid.f_min_hz, grid.f_max_hz, grid.points),
-                           p.natural_frequencies_hz);
-  lti::StateSpace g11 = p.plant;
-  g11.B = p.plant.B.leftCols(p.partition.disturbances);
-  g11.D = p.plant.D.topLeftCorner(p.partition.performance, p.partition.disturbances);
-  g11.C = p.plant.C.topRows(p.partition.performance);
-  g11.inputs.resize(static_cast<std::size_t>(p.partition.disturbances));
-  g11.outputs.resize(static_cast<std::size_t>(p.partition.performance));
-  const auto G = lti::frequency_response(g11, f);
-  // The closed loop's responses only when there is one (a scene without a controller: the
-  // passive machine alone): on the grid f and at each passive resonance fr. A controller FMU's
-  // by simulation, at both at once.
-  const std::vector<double> fr(p.natural_frequencies_hz.data(),
-                               p.natural_frequencies_hz.data() + p.natural_frequencies_hz.size());
-  std::vector<Eigen::MatrixXcd> T, T_at_resonances;
-  if (controlled) {
-    T = closed_response(f);
-    T_at_resonances = closed_response(fr);
-  } else if (fmu) {
-    std::vector<double> both = f;
-    both.insert(both.end(), fr.begin(), fr.end());
-    T = closed_loop_of_fmu(p, both, j);
-    if (!T.empty()) {
-      T_at_resonances.assign(T.begin() + static_cast<std::ptrdiff_t>(f.size()), T.end());
-      T.resize(f.size());
-    }
-  }
-  const bool closed = !T.empty();
-  const Eigen::MatrixXd sv_open = lti::singular_values(G);
-  const Eigen::MatrixXd sv_closed = closed ? lti::singular_values(T) : Eigen::MatrixXd();
-
-  std::vector<std::string> header{"frequency_hz"};
-  std::vector<std::vector<double>> cols{f};
-  for (const auto& [name, sv] : {std::pair{"open", &sv_open}, std::pair{"closed", &sv_closed}})
-    for (Eigen::Index k = 0; k < sv->cols(); ++k) {
-      header.push_back(std::string(name) + " sigma" + std::to_string(k + 1) + " [dB]");
-      std::vector<double> col;
-      for (Eigen::Index i = 0; i < sv->rows(); ++i) col.push_back(db((*sv)(i, k)));
-      cols.push_back(col);
-    }
-  report::write_csv_columns(dir + "singular_values.csv", header, cols);
-  std::vector<report::SigmaSeries> systems{{"open loop (passive)", f, sv_open, "lines lw 2 dt 1"}};
-  if (closed)
-    systems.push_back({"closed loop (" + controller_name + ")", f, sv_closed, "lines lw 2 dt 2"});
-  report::plot_singular_values(
-      {sc.name + ": floor acceleration -> frame acceleration, singular values", "", "", true,
-       false},
-      systems, dir + "singular_values.png");
-
-  // Per channel: disturbance i -> performance output i.
-  const Eigen::Index n = std::min(p.partition.disturbances, p.partition.performance);
-  std::vector<std::string> th{"frequency_hz"};
-  std::vector<std::vector<double>> tc{f};
-  std::vector<report::Series> series;
-  nlohmann::json peaks = nlohmann::json::array();
-  for (Eigen::Index i = 0; i < n; ++i) {
-    const std::string name = g11.outputs[i] + " / " + g11.inputs[i];
-    const std::string colour = " lc " + std::to_string(i + 1);
-    std::vector<double> open;
-    for (std::size_t k = 0; k < f.size(); ++k) open.push_back(db(std::abs(G[k](i, i))));
-    th.push_back(name + " open [dB]");
-    tc.push_back(open);
-    series.push_back({name + " open", f, open, "lines lw 2 dt 1" + colour});
-    if (!closed) continue;
-    std::vector<double> closed_db;
-    for (std::size_t k = 0; k < f.size(); ++k) closed_db.push_back(db(std::abs(T[k](i, i))));
-    th.push_back(name + " closed [dB]");
-    tc.push_back(closed_db);
-    series.push_back({name + " closed", f, closed_db, "lines lw 2 dt 2" + colour});
-  }
-  report::write_csv_columns(dir + "transmissibility.csv", th, tc);
-  report::plot_lines({sc.name + (closed ? ": per-channel floor -> frame transmissibility "
-                                          "(solid open, dashed closed)"
-                                        : ": per-channel floor -> frame transmissibility"),
-                      "frequency [Hz]", "|T_ii| [dB]", true, false, 1200, 700},
-                     series, dir + "transmissibility.png");
-
-  const auto [open_peak, open_f] = peak(sv_open, f);
-  if (!closed) {
-    std::printf("largest singular value: peak %.1f dB at %.2f Hz\n", db(open_peak), open_f);
-    j["sigma_max_peak"] = {{"open_db", db(open_peak)}, {"open_hz", open_f}};
-  } else {
-    // What the controller does at each passive resonance (responses evaluated exactly there).
-    const Eigen::MatrixXd at_open = lti::singular_values(lti::frequency_response(g11, fr));
-    const Eigen::MatrixXd at_closed = lti::singular_values(T_at_resonances);
-    std::printf("at the passive resonances: largest singular value open -> closed loop\n");
-    nlohmann::json at = nlohmann::json::array();
-    for (std::size_t i = 0; i < fr.size(); ++i) {
-      const double o = db(at_open(static_cast<Eigen::Index>(i), 0)),
-                   cl = db(at_closed(static_cast<Eigen::Index>(i), 0));
-      std::printf("  %8.3f Hz  %7.1f dB -> %7.1f dB  (%+.1f dB)\n", fr[i], o, cl, cl - o);
-      at.push_back({{"frequency_hz", fr[i]}, {"open_db", o}, {"closed_db", cl}});
-    }
-    j["sigma_max_at_resonances"] = at;
-    const auto [closed_peak, closed_f] = peak(sv_closed, f);
-    std::printf(
-        "largest singular value: open loop peak %.1f dB at %.2f Hz, closed loop peak %.1f "
-        "dB at %.2f Hz\n",
-        db(open_peak), open_f, db(closed_peak), closed_f);
-    j["sigma_max_peak"] = {{"open_db", db(open_peak)},
-                           {"open_hz", open_f},
-                           {"closed_db", db(closed_peak)},
-                           {"closed_hz", closed_f}};
-  }
+  const Responses r = frequency_responses(p, sampled, grid, j);
+  write_singular_values(r, sc.name, controller_name(p), dir);
+  write_transmissibility(r, sc.name, dir);
+  print_sigma_peaks(r, j);
   write_analysis_json();
   std::printf(
       "wrote %s{analysis.json, singular_values.csv, singular_values.png, "

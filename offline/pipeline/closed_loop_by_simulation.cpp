@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
-#include "controller/fmu/fmu_controller.hpp"
-#include "controller/runtime/controller_from_artefact.hpp"
+#include "controller/fmu/fmu_from_artefact.hpp"
 #include "plant/lti/impulse_response_transform.hpp"
 
 namespace flexloop::pipeline {
@@ -127,30 +127,29 @@ ClosedLoopBySimulation closed_loop_by_simulation(
                                                  a.disturbances());
   ClosedLoopBySimulation result;
   result.decayed = true;
-  controller::fmu::FmuFailure failure;
-  controller::runtime::with_controller<double>(
-      a,
-      [&](auto&& c) {
-        for (Eigen::Index j = 0; j < a.disturbances(); ++j) {
-          const ChannelRun r = run_channel(p, c, j, transform, s, progress);
-          if (failure.call) {
-            result.controller_failure = controller::fmu::describe(failure, a.dt());
-            return;
-          }
-          result.samples = std::max(result.samples, r.samples);
-          result.decayed = result.decayed && r.settled;
-          result.diverged = result.diverged || r.diverged;
-          if (r.diverged) return;
-          result.tail = std::max(result.tail, r.spread);
-          result.constant_tail = std::max(result.constant_tail, r.constant);
-          result.decay_per_sample = std::max(result.decay_per_sample, r.decay_per_sample);
-          result.truncation_bound =
-              std::max(result.truncation_bound, r.decay_per_sample < 1
-                                                    ? r.spread / (1 - r.decay_per_sample)
-                                                    : std::numeric_limits<double>::infinity());
-        }
-      },
-      &failure);
+  controller::fmu::with_any_controller<double>(a, [&](auto&& c) {
+    for (Eigen::Index j = 0; j < a.disturbances(); ++j) {
+      const ChannelRun r = run_channel(p, c, j, transform, s, progress);
+      // A controller FMU's failure ends the measurement; its log goes to stderr.
+      const controller::runtime::ControllerReport report = c.report();
+      for (const std::string& m : report.messages) std::fprintf(stderr, "%s\n", m.c_str());
+      if (!report.failure.empty()) {
+        result.controller_failure = report.failure;
+        return;
+      }
+      result.samples = std::max(result.samples, r.samples);
+      result.decayed = result.decayed && r.settled;
+      result.diverged = result.diverged || r.diverged;
+      if (r.diverged) return;
+      result.tail = std::max(result.tail, r.spread);
+      result.constant_tail = std::max(result.constant_tail, r.constant);
+      result.decay_per_sample = std::max(result.decay_per_sample, r.decay_per_sample);
+      result.truncation_bound =
+          std::max(result.truncation_bound, r.decay_per_sample < 1
+                                                ? r.spread / (1 - r.decay_per_sample)
+                                                : std::numeric_limits<double>::infinity());
+    }
+  });
   if (result.controller_failure.empty() && !result.diverged) result.response = transform.response();
   return result;
 }

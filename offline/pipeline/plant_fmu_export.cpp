@@ -12,6 +12,7 @@
 
 #include "common/build_info.hpp"
 #include "common/input_error.hpp"
+#include "common/sha256.hpp"
 #include "offline/pipeline/si_unit.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "online/plant_fmu/plant_fmu_variables.hpp"
@@ -164,7 +165,7 @@ void export_plant_fmu(const artefact::LoopArtefact& a, const std::filesystem::pa
                              "the plant FMU library is not there (build the target "
                              "flexloop_plant)");
   const std::string loop = artefact::to_json(a).dump(1);
-  const std::string guid = "{flexloop-plant-" + scene::text_sha256(loop) + "}";
+  const std::string guid = "{flexloop-plant-" + common::text_sha256(loop) + "}";
   const std::string description = plant_fmu_description(a, guid);
 
   // A temporary archive beside the target, renamed over it when complete.

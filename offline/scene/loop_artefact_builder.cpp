@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "common/input_error.hpp"
+#include "common/sha256.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/pi_parameters.hpp"
 #include "offline/scene/schema_conversion.hpp"
@@ -87,7 +88,7 @@ artefact::FmuParameters fmu_parameters(const Scene& sc) {
   const auto& c = sc.controller;
   artefact::FmuParameters f;
   f.file = c.file;
-  f.sha256 = file_sha256(c.file);
+  f.sha256 = common::file_sha256(c.file);
   f.parameters = c.fmu_parameters;
   f.max_unpacked_mb = c.fmu_max_unpacked_mb;
   // Each channel's FMU variable: its own name unless the map says otherwise.
@@ -101,9 +102,9 @@ artefact::FmuParameters fmu_parameters(const Scene& sc) {
   return f;
 }
 
-artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
-                                           artefact::PlantForm form,
-                                           const artefact::Provenance& provenance) {
+artefact::LoopArtefact loop_artefact_without_start(const ScenePlant& p, const SampledScene& sampled,
+                                                   artefact::PlantForm form,
+                                                   const artefact::Provenance& provenance) {
   const Scene& sc = p.scene;
   artefact::LoopArtefact a;
   a.name = sc.name;
@@ -156,6 +157,13 @@ artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledSce
   a.effects = sc.effects;
   a.duration_s = sc.run.duration_s;
   artefact::validate(a);
+  return a;
+}
+
+artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,
+                                           artefact::PlantForm form,
+                                           const artefact::Provenance& provenance) {
+  artefact::LoopArtefact a = loop_artefact_without_start(p, sampled, form, provenance);
   a.start = stationary_loop_start(a);
   return a;
 }

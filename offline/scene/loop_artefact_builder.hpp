@@ -28,6 +28,13 @@ artefact::FmuParameters fmu_parameters(const Scene& sc);
 artefact::StateSpaceParameters state_space_parameters_with_hardware(const ScenePlant& p,
                                                                     const SampledScene& sampled);
 
+/// The artefact without its stationary starts (a.start left empty: what the loop's figures need,
+/// offline/pipeline/loop_figures.hpp, without the cost of the two covariances).
+/// @throws flexloop::InputError naming the scene when the modal form is refused.
+artefact::LoopArtefact loop_artefact_without_start(const ScenePlant& p, const SampledScene& sampled,
+                                                   artefact::PlantForm form,
+                                                   const artefact::Provenance& provenance = {});
+
 /// The modal form is computed here (a defective plant is refused).
 /// @throws flexloop::InputError naming the scene when the modal form is refused.
 artefact::LoopArtefact build_loop_artefact(const ScenePlant& p, const SampledScene& sampled,

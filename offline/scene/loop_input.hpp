@@ -3,7 +3,6 @@
 // artefact file, or built from a scene file by the offline pipeline (the scene's loop must be
 // stable) exactly as `flexloop build` writes it.
 #include <string>
-#include <string_view>
 
 #include "artefact/loop_artefact.hpp"
 
@@ -14,11 +13,6 @@ using LoopInputOptions = artefact::LoopOverrides;
 /// @throws flexloop::InputError naming the file: a bad scene, artefact or an override that an
 /// artefact cannot take (its rate and form are fixed: rebuild it).
 artefact::LoopArtefact load_loop(const std::string& path, const LoopInputOptions& o = {});
-
-/// SHA-256 of a file as lowercase hex (OpenSSL EVP). @throws flexloop::InputError if unreadable.
-std::string file_sha256(const std::string& path);
-/// SHA-256 of a text as lowercase hex.
-std::string text_sha256(std::string_view text);
 
 /// Provenance of an artefact built from `scene_path` (its model, both SHA-256, this build).
 artefact::Provenance loop_provenance(const std::string& scene_path, const std::string& model_path);

@@ -9,6 +9,7 @@
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
 #include "offline/scene/scene_fmu.hpp"
+#include "offline/scene/scene_from_toml.hpp"
 
 namespace flexloop::scene {
 
@@ -260,7 +261,10 @@ void read_run(const common::TomlReader& rr, RunSettings& run) {
 // wins. The controller is read after the plant (its checks use the channels), and the PI's
 // sensor count is checked once the controller's type is known.
 Scene parse_scene(const std::string& text, const std::string& file) {
-  const toml::table root = common::parse_toml(text, file);
+  return scene_from_toml(common::parse_toml(text, file), file);
+}
+
+Scene scene_from_toml(const toml::table& root, const std::string& file) {
   Scene s;
   s.file = file;
   const auto base = std::filesystem::path(file).parent_path();

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <utility>
 
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
@@ -65,10 +66,15 @@ controller::design::PiGains gains_at(const ScenePlant& p, double omega_d_hz) {
 }  // namespace
 
 ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& options) {
+  return build_scene_plant(scene, plant::model::load_model(scene.model_path), options);
+}
+
+ScenePlant build_scene_plant(const Scene& scene, plant::model::Model machine,
+                             const ScenePlantOptions& options) {
   namespace model = plant::model;
   ScenePlant p;
   p.scene = scene;
-  p.model = model::load_model(scene.model_path);
+  p.model = std::move(machine);
   model::Model& m = p.model;
   if (options.without_damping)
     for (auto& el : m.elements) el.damping.setZero();
@@ -129,7 +135,7 @@ ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& option
                              "coordinate (" +
                                  std::to_string(nd) + "), got " +
                                  std::to_string(scene.actuators.size()));
-  p.gains = gains_at(p, scene.controller.omega_d_hz);
+  p.gains = options.pi_gains ? *options.pi_gains : gains_at(p, scene.controller.omega_d_hz);
   p.controller = controller::design::pi_state_space(p.gains, scene.sensors, scene.actuators);
   p.closed_loop = plant::lti::close_loop(p.plant, p.controller, p.partition);
   // The floor held still: no prescribed inputs, so no floor integrator states.

@@ -121,13 +121,20 @@ void require_stable_loop(const ScenePlant& p);
 /// The second check alone (the sampled loop).
 void require_stable_sampled_loop(const ScenePlant& p);
 
-/// Overrides for studies and tests: zero every strut damper before linearising.
+/// Overrides for studies, campaigns and tests: zero every strut damper before linearising; the PI
+/// gains given instead of designed on this plant (a campaign's frozen controller: the nominal
+/// machine's gains on another machine).
 struct ScenePlantOptions {
   bool without_damping = false;
+  std::optional<controller::design::PiGains> pi_gains = std::nullopt;
 };
 
 /// @throws flexloop::InputError naming the scene (or model) file for bad channels or models.
 ScenePlant build_scene_plant(const Scene& scene, const ScenePlantOptions& options = {});
+/// The same with the model given (not loaded from scene.model_path: a campaign's machine with its
+/// drawn parameters).
+ScenePlant build_scene_plant(const Scene& scene, plant::model::Model machine,
+                             const ScenePlantOptions& options = {});
 
 /// The scene's [plant] reduction of the linearised plant G (plant/lti/model_reduction.hpp); the
 /// floor's position and velocity states, when G has them, stay states with their labels (modal

@@ -196,7 +196,7 @@ decltype(auto) with_controller_or_zero(const artefact::LoopArtefact& a, F&& f) {
   if (a.controller == artefact::ControllerKind::kNone)
     return f(ZeroCommand<Scalar>{Eigen::Matrix<Scalar, Eigen::Dynamic, 1>::Zero(a.actuators())});
   // Foreign code (a controller FMU) is refused: the study times flexloop's own kernels.
-  return controller::runtime::with_controller<Scalar, Eigen::Dynamic, Eigen::Dynamic, false>(a, f);
+  return controller::runtime::with_controller<Scalar, Eigen::Dynamic, Eigen::Dynamic>(a, f);
 }
 
 // What the runtime kernels of one configuration give: open-loop step, closed-loop z, and a timer

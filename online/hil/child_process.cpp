@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <stdexcept>
 
 #include "rt/monotonic_time.hpp"
@@ -135,7 +136,10 @@ std::string ChildProcess::finish(std::int64_t timeout_ns, const std::function<vo
   }
   reap(!eof);
   if (!eof) throw std::runtime_error("child process did not finish in time (killed)");
-  if (buffer_.empty()) throw std::runtime_error("child process ended without a result");
+  if (buffer_.empty())
+    throw std::runtime_error(killed_by_.empty()
+                                 ? "child process ended without a result"
+                                 : "child process killed by " + killed_by_ + " without a result");
   if (buffer_[0] == 'E') throw std::runtime_error(buffer_.substr(1));
   return buffer_.substr(1);
 }
@@ -144,6 +148,12 @@ void ChildProcess::reap(bool kill_first) {
   if (kill_first) kill(pid_, SIGKILL);
   int status = 0;
   while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+  }
+  // Not when this process killed it: the SIGKILL is ours, not the child's end.
+  if (!kill_first && WIFSIGNALED(status)) {
+    const char* abbrev = sigabbrev_np(WTERMSIG(status));
+    killed_by_ =
+        abbrev ? std::string("SIG") + abbrev : "signal " + std::to_string(WTERMSIG(status));
   }
   pid_ = -1;
 }

@@ -40,13 +40,16 @@ class ChildProcess {
   /// Sends a signal to the child (by its pid).
   void signal(int sig);
   /// Waits up to timeout_ns (not counting pauses) for the child's result and reaps it (SIGKILL
-  /// after the timeout); std::runtime_error carrying the child's error when it failed. tick, when
+  /// after the timeout); std::runtime_error carrying the child's error when it failed, or saying
+  /// how it ended (killed_by()) when it gave no result. tick, when
   /// given, is called about four times a second while waiting (a status line, forwarding a stop
   /// request); on_pause each time the child paused, which resumes when it returns.
   std::string finish(std::int64_t timeout_ns, const std::function<void()>& tick = {},
                      const std::function<void()>& on_pause = {});
 
   pid_t pid() const { return pid_; }
+  /// The signal that ended the child ("SIGSEGV"), once reaped; empty when it exited (or runs).
+  const std::string& killed_by() const { return killed_by_; }
 
  private:
   // Reads into buffer_ until EOF, the deadline or a 'R'/'P' at its start; true at EOF.
@@ -57,6 +60,7 @@ class ChildProcess {
   int fd_ = -1;         // from the child
   int resume_fd_ = -1;  // to the child: one byte per resume
   std::string buffer_;
+  std::string killed_by_;
 };
 
 }  // namespace flexloop::hil

@@ -84,7 +84,22 @@ nlohmann::json sim_prediction(const artefact::LoopArtefact& loop, double duratio
   if (r.controlled)
     j["controller_on"] = {{"performance_rms", values(r.on.rms_performance)},
                           {"command_rms", values(r.on.rms_command)}};
+  // A controller FMU that could not complete its run in sim either (fmi2Discard, fmi2Pending):
+  // sim's loop held the safe command from there on, as the real-time run did.
+  if (r.controlled && !r.on.controller.failure.empty())
+    j["controller_on"]["controller_failure"] = r.on.controller.failure;
   return j;
+}
+
+// Why the controller process gave no result: killed by a signal (a crash in the controller's
+// step: the sample it was answering, from the shared status), or its own error.
+std::string controller_process_failure(const ChildProcess& c, const loop::LoopStatus& status,
+                                       const std::exception& e) {
+  if (c.killed_by().empty()) return std::string("the controller process failed: ") + e.what();
+  const std::int64_t sample = status.controller_sample.load(std::memory_order_relaxed);
+  return "controller process killed by " + c.killed_by() +
+         (sample >= 0 ? " at sample " + std::to_string(sample) : " before its first answer") +
+         "; the plant applied the safe command from then on";
 }
 
 }  // namespace
@@ -108,8 +123,8 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   plant_options.lcm_log = o.lcm_log;  // the plant records what it sends and receives
   loop::LoopOptions controller_options = plant_options;
   controller_options.realtime.cpu = o.controller_cpu;
-  controller_options.duration_s = 0;  // until stopped, after the plant
-  controller_options.status = nullptr;
+  controller_options.duration_s = 0;         // until stopped, after the plant
+  controller_options.status = status.get();  // it writes only the sample in hand there
 
   // A1 B1 A2 B2 ...: baseline segments interleaved with the loop's (interleaved_baselines.hpp).
   const double duration_s = o.loop.duration_s > 0 ? o.loop.duration_s : loop.duration_s;
@@ -195,14 +210,16 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
       controller_json = nlohmann::json::parse(controller->finish(10 * rt::kNsPerSecond));
     } catch (const std::exception& e) {
       // Its failure fails the run; the plant's figures are still reported.
-      controller_json = {{"error", e.what()}, {"dropped_messages", nlohmann::json::object()}};
-      loop::add_failure(verdict, std::string("the controller process failed: ") + e.what());
+      const std::string what = controller_process_failure(*controller, *status.get(), e);
+      controller_json = {{"error", what}, {"dropped_messages", nlohmann::json::object()}};
+      loop::add_failure(verdict, what);
     }
     controller_json["kind"] = artefact::to_string(loop.controller);
     if (const auto f = controller_json.find("controller_failure");
         f != controller_json.end() && f->is_string())
       loop::add_failure(verdict, "the controller FMU failed: " + f->get<std::string>() +
-                                     "; its process answered with zero force from then on");
+                                     "; its process answered with the safe command (zero "
+                                     "force) from then on, which the plant applied");
   }
 
   report["baseline"] = baselines.totals_json();
@@ -226,7 +243,13 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
                   100 * unanswered_share, loop.rate_hz);
     verdict.reasons.push_back(text);
   }
-  if (report.contains("physical") && loop_cycles > 0) {
+  // A controller that crashed its process would crash this one in sim's loop (the same code).
+  const bool crashed = controller && !controller->killed_by().empty();
+  if (report.contains("physical") && loop_cycles > 0 && crashed) {
+    report["physical"]["sim_unavailable"] = "the controller process was killed by " +
+                                            controller->killed_by() +
+                                            ": its code is not run again in this process";
+  } else if (report.contains("physical") && loop_cycles > 0) {
     report["physical"]["sim"] =
         sim_prediction(loop, static_cast<double>(loop_cycles) / loop.rate_hz);
     if (controller && plant_json["divergence"].is_string())

@@ -5,7 +5,7 @@
 #include <utility>
 #include <vector>
 
-#include "controller/runtime/controller_from_artefact.hpp"
+#include "controller/fmu/fmu_from_artefact.hpp"
 #include "online/loop/controller_station.hpp"
 #include "online/loop/plant_station.hpp"
 #include "online/loop/station_start.hpp"
@@ -77,10 +77,14 @@ nlohmann::json replay_with(Hardware hw, Controller controller, const artefact::L
   if (plant.deadline_misses() != record.unapplied.count())
     return unavailable("the replay missed " + std::to_string(plant.deadline_misses()) +
                        " answers where the run missed " + std::to_string(record.unapplied.count()));
-  return {{"performance_rms", values(plant.rms_performance())},
-          {"command_rms", values(plant.rms_command())},
-          {"deadline_misses", plant.deadline_misses()},
-          {"safe_command_cycles", plant.safe_command_cycles()}};
+  nlohmann::json replay = {{"performance_rms", values(plant.rms_performance())},
+                           {"command_rms", values(plant.rms_command())},
+                           {"deadline_misses", plant.deadline_misses()},
+                           {"safe_command_cycles", plant.safe_command_cycles()}};
+  // A controller FMU that failed replays its failure (the same calls on the same samples) and
+  // the safe command after it, as the run did.
+  if (const auto c = station.report(); !c.failure.empty()) replay["controller_failure"] = c.failure;
+  return replay;
 }
 
 }  // namespace
@@ -93,22 +97,14 @@ nlohmann::json replay_run(const artefact::LoopArtefact& loop, const loop::LoopOp
     return unavailable("the run's record of misses is incomplete (more than " +
                        std::to_string(loop::SampleRanges::kCapacity) +
                        " ranges, or the controller answered another plant run)");
-  controller::fmu::FmuFailure failure;
   constexpr int kAny = Eigen::Dynamic;
-  nlohmann::json replay = plant::runtime::with_general_plant<double>(loop, [&](const auto& plant) {
+  return plant::runtime::with_general_plant<double>(loop, [&](const auto& plant) {
     return sim::with_hardware<kAny, kAny, kAny>(loop, plant, [&](auto hw) {
-      return controller::runtime::with_controller<double>(
-          loop,
-          [&](auto controller) {
-            return replay_with(std::move(hw), std::move(controller), loop, o, record);
-          },
-          &failure);
+      return controller::fmu::with_any_controller<double>(loop, [&](auto controller) {
+        return replay_with(std::move(hw), std::move(controller), loop, o, record);
+      });
     });
   });
-  if (failure.call != nullptr)
-    return unavailable("the controller FMU failed in the replay: " +
-                       controller::fmu::describe(failure, loop.dt()));
-  return replay;
 }
 
 }  // namespace flexloop::hil

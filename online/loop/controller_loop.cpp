@@ -23,7 +23,9 @@ namespace {
 template <class Controller>
 void answer_sample(ControllerStation<Controller>& station, const flexloop_msgs::sensor_sample_t& s,
                    rt::LcmPublisher<flexloop_msgs::actuator_command_t>& command,
-                   ControllerLoopResult& r) noexcept {
+                   ControllerLoopResult& r, LoopStatus* status) noexcept {
+  // For a watcher (hil): the sample being answered, so that a crash in the step is placed.
+  if (status) status->controller_sample.store(s.seq, std::memory_order_relaxed);
   const std::uint64_t a0 = rt::thread_allocations();
   const std::int64_t t0 = rt::monotonic_now_ns();
   flexloop_msgs::actuator_command_t& cmd = station.answer(s);
@@ -48,6 +50,20 @@ void record_unanswered(const flexloop_msgs::sensor_sample_t& s, std::int64_t& ep
   epoch = s.plant_epoch;
   unanswered.add(last_seq + 1, s.seq - 1);
   last_seq = s.seq;
+}
+
+// What the controller said of its run (a controller FMU's failure, warnings and log; nothing for
+// flexloop's own kernels): into the result, its log to stderr.
+void take_report(const controller::runtime::ControllerReport& c, ControllerLoopResult& r) {
+  r.controller_failure = c.failure;
+  r.controller_warnings = c.warnings;
+  r.first_warning = c.first_warning;
+  r.controller_messages = static_cast<std::int64_t>(c.messages.size());
+  r.controller_messages_lost = c.messages_lost;
+  for (const std::string& m : c.messages) std::fprintf(stderr, "%s\n", m.c_str());
+  if (c.messages_lost > 0)
+    std::fprintf(stderr, "(%ld more messages of the controller did not fit its log ring)\n",
+                 c.messages_lost);
 }
 
 template <class Controller>
@@ -98,7 +114,7 @@ ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
     lcm.handle_until(now + kLookNs < end ? now + kLookNs : end, receive, wake, spin_from);
     if (const flexloop_msgs::sensor_sample_t* s = station->samples().take()) {
       record_unanswered(*s, epoch, last_seq, r.unanswered);
-      answer_sample(*station, *s, command, r);
+      answer_sample(*station, *s, command, r, o.status);
       spin_from = s->t_ns + period_ns - spin_margin_ns;
     }
   }
@@ -109,9 +125,7 @@ ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
   r.followed = station->followed();
   r.drops = station->samples().drops();
   r.publish_failures = command.failures();
-  // Foreign code (a controller FMU) that failed in the loop: its first failing call and sample.
-  if constexpr (requires { station->controller().failure(); })
-    r.controller_failure = station->controller().failure();
+  take_report(station->report(), r);
   return r;
 }
 
@@ -134,6 +148,12 @@ nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopO
       {"publish_failures", r.publish_failures},
       {"controller_failure", r.controller_failure.empty() ? nlohmann::json(nullptr)
                                                           : nlohmann::json(r.controller_failure)},
+      {"controller_warnings",
+       {{"count", r.controller_warnings},
+        {"first",
+         r.first_warning.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.first_warning)}}},
+      {"controller_log",
+       {{"messages", r.controller_messages}, {"lost", r.controller_messages_lost}}},
       {"dropped_messages", drops_json(r.drops)},
       {"compute_ns", summary_json(*r.compute)},
       {"response_ns", summary_json(*r.response)},

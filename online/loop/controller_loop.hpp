@@ -32,9 +32,14 @@ struct ControllerLoopResult {
   std::int64_t resumes = 0;     ///< bumpless restarts after the plant went safe
   std::int64_t followed = 0;    ///< samples whose held command was not the last answer
   std::int64_t publish_failures = 0;
-  /// A controller FMU's first call that returned fmi2Error or fmi2Fatal, with its sample; empty
-  /// while none has (from then on the process answered with the safe command, zero force).
+  /// A controller FMU's first call that ended its run (fmi2Discard, fmi2Error, fmi2Fatal,
+  /// fmi2Pending), with its sample; empty while none has (from then on the process answered with
+  /// the safe command, zero force). What the controller reported (loop_controller.hpp).
   std::string controller_failure;
+  long controller_warnings = 0;               ///< calls that returned fmi2Warning
+  std::string first_warning;                  ///< the first of them, with the FMU's message
+  std::int64_t controller_messages = 0;       ///< the FMU's log messages (written to stderr)
+  std::int64_t controller_messages_lost = 0;  ///< not kept: its log ring was full
   /// Allocations made while answering (rt/thread_allocations.hpp), in all answers and the
   /// answers that made any; 0 where the program does not count (allocations_counted false).
   std::int64_t allocations = 0;

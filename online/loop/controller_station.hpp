@@ -6,7 +6,9 @@
 //
 // Resynchronisation, decided from the sample's (plant_epoch, seq) alone:
 //   - first sample, or a new plant_epoch (the plant restarted, its state and held command are
-//     zero again): reset() -- the controller starts afresh, exactly as the in-process loop does;
+//     zero again): reset() -- the controller starts afresh, exactly as the in-process loop does
+//     (a controller still as it was built is at rest already: a controller FMU then makes no
+//     call, so the first real-time cycle is an ordinary step);
 //   - a gap of `safe_after` or more unanswered samples within one epoch (this controller stopped
 //     or stalled and the plant has applied its safe command meanwhile, a ramp of the held answer
 //     to zero): bumpless start(y, applied) -- the first answer is exactly the command the plant
@@ -98,6 +100,8 @@ class ControllerStation {
   }
 
   const Controller& controller() const noexcept { return controller_; }
+  /// What the controller says of its run (loop_controller.hpp): after the run, not in it.
+  controller::runtime::ControllerReport report() { return controller_.report(); }
   std::int64_t answered() const noexcept { return cmd_.seq; }
   /// Plant restarts followed.
   std::int64_t resyncs() const noexcept { return resyncs_; }

@@ -4,7 +4,7 @@
 // loop's channel counts have a compiled loop (plant/runtime/compiled_loops.hpp) and the kind has
 // them, sized at start-up otherwise.
 #include "artefact/loop_artefact.hpp"
-#include "controller/runtime/controller_from_artefact.hpp"
+#include "controller/fmu/fmu_from_artefact.hpp"
 #include "plant/runtime/compiled_loops.hpp"
 
 namespace flexloop::loop {
@@ -14,16 +14,16 @@ namespace flexloop::loop {
 /// controller::runtime::with_controller.
 template <class F>
 decltype(auto) with_loop_controller(const artefact::LoopArtefact& a, F&& f) {
-  using controller::runtime::with_controller;
+  using controller::fmu::with_any_controller;
   if (!controller::runtime::has_compiled_kernels(a.controller))
-    return with_controller<double>(a, f);
+    return with_any_controller<double>(a, f);
   return plant::runtime::with_compiled_channels(
       a.actuators(), a.sensors(),
       [&](auto loop) -> decltype(auto) {
         using Loop = decltype(loop);
-        return with_controller<double, Loop::NC, Loop::NS>(a, f);
+        return with_any_controller<double, Loop::NC, Loop::NS>(a, f);
       },
-      [&]() -> decltype(auto) { return with_controller<double>(a, f); });
+      [&]() -> decltype(auto) { return with_any_controller<double>(a, f); });
 }
 
 }  // namespace flexloop::loop

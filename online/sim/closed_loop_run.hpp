@@ -45,6 +45,9 @@ struct RunResult {
   RunLog log;
   double loop_seconds = 0;  ///< wall time of the stepping alone
   Divergence divergence;    ///< the RMS values cover the samples up to it
+  /// What the controller said of its run (loop_controller.hpp: a controller FMU's failed call,
+  /// warnings and log); empty without a controller.
+  controller::runtime::ControllerReport controller;
 };
 
 /// Log columns of a run, for the header of a CSV file.
@@ -107,6 +110,7 @@ RunResult run_closed_loop(Hardware hw, Controller controller, const RunSettings&
       static_cast<double>(std::max(r.divergence.happened() ? r.divergence.step : s.steps, 1L));
   r.rms_performance = (sum_z2.template cast<double>() / n).cwiseSqrt();
   r.rms_command = (sum_u2.template cast<double>() / n).cwiseSqrt();
+  if constexpr (plant::runtime::kPresent<Controller>) r.controller = controller.report();
   return r;
 }
 

@@ -4,8 +4,11 @@
 // (controller/runtime/controller_from_artefact.hpp): the PI runs on compiled and general paths;
 // the state-space controller and a controller FMU, sized at start-up, on the general path only (one
 // more instantiation of every hardware composition per compiled loop, for a step that the
-// controller's own products dominate).
-#include "controller/runtime/controller_from_artefact.hpp"
+// controller's own products dominate). A controller FMU's refusal (fmi2Error, fmi2Fatal) is an
+// input error here; a run it could not complete (fmi2Discard, fmi2Pending) is in on.controller,
+// for the caller to judge (sim fails, hil reports it beside its own run).
+#include "common/input_error.hpp"
+#include "controller/fmu/fmu_from_artefact.hpp"
 #include "online/sim/loop_hardware.hpp"
 #include "online/sim/scene_runs.hpp"
 #include "plant/runtime/plant_from_artefact.hpp"
@@ -41,17 +44,13 @@ BothRuns run_both(const Plant& plant, const artefact::LoopArtefact& a, const Run
     // sized at start-up to run_general).
     const auto run_on = [&] {
       if (!r.controlled) return;
-      controller::fmu::FmuFailure fmu_failed;  // a controller FMU's call that failed in the run
-      controller::runtime::with_controller<double, NC, NS>(
-          a,
-          [&](auto controller) {
-            r.on = run_started(std::move(controller), a.start.closed_loop, on, "controller on");
-          },
-          &fmu_failed);
-      if (fmu_failed.call)
-        throw common::InputError(a.fmu.file,
-                                 controller::fmu::describe(fmu_failed, a.dt()) +
-                                     "; the controller-on run stopped commanding there");
+      controller::fmu::with_any_controller<double, NC, NS>(a, [&](auto controller) {
+        r.on = run_started(std::move(controller), a.start.closed_loop, on, "controller on");
+      });
+      if (r.on.controller.refused)
+        throw common::InputError(
+            a.fmu.file,
+            r.on.controller.failure + "; the controller-on run stopped commanding there");
     };
     const bool on_first = o.on_first && r.controlled;
     if (on_first) {

@@ -117,23 +117,10 @@ Eigen::VectorXd balancing_scaling(const Eigen::MatrixXd& A) {
   return t;
 }
 
-namespace {
-
-// C (pI - A)^-1 B + D at each point; `where(i)` names point i in the messages.
-template <class Where>
-std::vector<Eigen::MatrixXcd> evaluate(const StateSpace& sys, const std::vector<cd>& points,
-                                       const FrequencyResponseOptions& options, Where where) {
+TransferFunction::TransferFunction(const StateSpace& sys, const FrequencyResponseOptions& options) {
   sys.validate();
-
-  const Eigen::Index n = sys.nx(), m = sys.nu(), p = sys.ny();
-  const Eigen::MatrixXcd Dc = sys.D.cast<cd>();
-  std::vector<Eigen::MatrixXcd> out;
-  out.reserve(points.size());
-  if (n == 0) {  // static gain
-    out.assign(points.size(), Dc);
-    return out;
-  }
-
+  D_ = sys.D.cast<cd>();
+  if (sys.nx() == 0) return;  // static gain
   // Similarity A_b = T^-1 A T with exact power-of-two T.
   Eigen::MatrixXd Ab = sys.A, Bb = sys.B, Cb = sys.C;
   if (options.balance) {
@@ -142,38 +129,64 @@ std::vector<Eigen::MatrixXcd> evaluate(const StateSpace& sys, const std::vector<
     Bb = t.cwiseInverse().asDiagonal() * sys.B;
     Cb = sys.C * t.asDiagonal();
   }
-
   // A_b = Q H Q^T once.
   const Eigen::HessenbergDecomposition<Eigen::MatrixXd> hess(Ab);
   const Eigen::MatrixXd Q = hess.matrixQ();
-  const Eigen::MatrixXcd Hc = Eigen::MatrixXd(hess.matrixH()).cast<cd>();
-  const Eigen::MatrixXcd Bh = (Q.transpose() * Bb).cast<cd>();
-  const Eigen::MatrixXcd Ch = (Cb * Q).cast<cd>();
+  H_ = Eigen::MatrixXd(hess.matrixH()).cast<cd>();
+  B_ = (Q.transpose() * Bb).cast<cd>();
+  C_ = (Cb * Q).cast<cd>();
+}
 
-  Eigen::MatrixXcd W(n, n), X(n, m);  // workspace reused for every point
+TransferFunction::Point TransferFunction::evaluate(cd s, Eigen::MatrixXcd& g) const {
+  const Eigen::Index n = H_.rows();
+  if (n == 0) {
+    g = D_;
+    return Point::kFinite;
+  }
+  Eigen::MatrixXcd W = -H_, X = B_;
+  W.diagonal().array() += s;
+  // Givens QR of the Hessenberg matrix: one rotation per subdiagonal entry, applied to the
+  // trailing columns only (the leading ones are already zero in both rows).
+  for (Eigen::Index k = 0; k + 1 < n; ++k) {
+    Eigen::JacobiRotation<cd> r;
+    r.makeGivens(W(k, k), W(k + 1, k));
+    W.rightCols(n - k).applyOnTheLeft(k, k + 1, r.adjoint());
+    X.applyOnTheLeft(k, k + 1, r.adjoint());
+    W(k + 1, k) = 0.0;
+  }
+  if ((W.diagonal().array() == cd(0.0, 0.0)).any()) return Point::kEigenvalue;
+  W.triangularView<Eigen::Upper>().solveInPlace(X);
+  g = D_;
+  if (g.rows() > 0 && g.cols() > 0) g.noalias() += C_ * X;
+  return g.allFinite() ? Point::kFinite : Point::kNextToEigenvalue;
+}
+
+Eigen::MatrixXcd TransferFunction::at(cd p) const {
+  Eigen::MatrixXcd g;
+  const Point r = evaluate(p, g);
+  if (r == Point::kFinite) return g;
+  throw std::domain_error("transfer function: " + to_string_g(p.real()) + "+" +
+                          to_string_g(p.imag()) + "j is " +
+                          (r == Point::kEigenvalue ? "an eigenvalue of A (the response is infinite)"
+                                                   : "next to an eigenvalue of A (the response is "
+                                                     "not finite)"));
+}
+
+namespace {
+
+// C (pI - A)^-1 B + D at each point; `where(i)` names point i in the messages.
+template <class Where>
+std::vector<Eigen::MatrixXcd> evaluate(const StateSpace& sys, const std::vector<cd>& points,
+                                       const FrequencyResponseOptions& options, Where where) {
+  const TransferFunction tf(sys, options);
+  std::vector<Eigen::MatrixXcd> out(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
-    const cd s = points[i];
-    W = -Hc;
-    W.diagonal().array() += s;
-    X = Bh;
-    // Givens QR of the Hessenberg matrix: one rotation per subdiagonal entry, applied to the
-    // trailing columns only (the leading ones are already zero in both rows).
-    for (Eigen::Index k = 0; k + 1 < n; ++k) {
-      Eigen::JacobiRotation<cd> g;
-      g.makeGivens(W(k, k), W(k + 1, k));
-      W.rightCols(n - k).applyOnTheLeft(k, k + 1, g.adjoint());
-      X.applyOnTheLeft(k, k + 1, g.adjoint());
-      W(k + 1, k) = 0.0;
-    }
-    if ((W.diagonal().array() == cd(0.0, 0.0)).any())
+    const auto r = tf.evaluate(points[i], out[i]);
+    if (r == TransferFunction::Point::kEigenvalue)
       throw std::domain_error(where(i) + " is an eigenvalue of A (the response is infinite)");
-    W.triangularView<Eigen::Upper>().solveInPlace(X);
-    Eigen::MatrixXcd G = Dc;
-    if (p > 0 && m > 0) G.noalias() += Ch * X;
-    if (!G.allFinite())
+    if (r == TransferFunction::Point::kNextToEigenvalue)
       throw std::domain_error(where(i) +
                               " is next to an eigenvalue of A (the response is not finite)");
-    out.push_back(std::move(G));
   }
   return out;
 }

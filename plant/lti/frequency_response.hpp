@@ -68,6 +68,24 @@ std::vector<Eigen::MatrixXcd> transfer_at(const StateSpace& sys,
                                           const std::vector<std::complex<double>>& points,
                                           const FrequencyResponseOptions& options = {});
 
+/// C (pI - A)^-1 B + D with A reduced once (steps 1 and 2 above), evaluated one point at a time
+/// (step 3): for searches that ask for points one by one (a peak refined by golden section).
+/// The numbers are frequency_response's and transfer_at's, which use it.
+class TransferFunction {
+ public:
+  /// @throws std::invalid_argument when sys.validate() fails.
+  explicit TransferFunction(const StateSpace& sys, const FrequencyResponseOptions& options = {});
+  enum class Point { kFinite, kEigenvalue, kNextToEigenvalue };
+  /// G(p) into g; kEigenvalue when p is (numerically exactly) an eigenvalue of A, then
+  /// kNextToEigenvalue when G is not finite (g then undefined).
+  Point evaluate(std::complex<double> p, Eigen::MatrixXcd& g) const;
+  /// G(p). @throws std::domain_error when evaluate does not give kFinite.
+  Eigen::MatrixXcd at(std::complex<double> p) const;
+
+ private:
+  Eigen::MatrixXcd H_, B_, C_, D_;  // Hessenberg form of the balanced A, Q^T B_b, C_b Q, D
+};
+
 /// Singular values of each G: row k holds sigma_1 >= sigma_2 >= ... >= sigma_r of G[k],
 /// r = min(ny, nu). Computed by Eigen::BDCSVD (values only).
 /// @throws std::invalid_argument when the matrices do not all have the same size.

@@ -11,6 +11,7 @@
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
 #include "plant/model/element_properties.hpp"
+#include "plant/model/model_from_toml.hpp"
 
 namespace flexloop::plant::model {
 
@@ -514,7 +515,10 @@ void check_dependent_count(const toml::table& root, const Model& m) {
 }  // namespace
 
 Model parse_model(const std::string& text, const std::string& file) {
-  const toml::table root = common::parse_toml(text, file);
+  return model_from_toml(common::parse_toml(text, file), file);
+}
+
+Model model_from_toml(const toml::table& root, const std::string& file) {
   common::TomlReader top(root, file, "model file");
   top.allow_only({"model", "node", "element", "coordinates", "configuration"});
   Model m;

@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/sha256.hpp"
 #include "offline/pipeline/closed_loop_by_simulation.hpp"
 #include "offline/scene/loop_artefact_builder.hpp"
 #include "offline/scene/loop_input.hpp"
@@ -79,7 +80,7 @@ flexloop::artefact::LoopArtefact with_fmu(
     flexloop::artefact::LoopArtefact a, const flexloop::controller::fmu::FmuControllerSettings& s) {
   a.controller = flexloop::artefact::ControllerKind::kFmu;
   a.fmu.file = s.file;
-  a.fmu.sha256 = flexloop::scene::file_sha256(s.file);
+  a.fmu.sha256 = flexloop::common::file_sha256(s.file);
   a.fmu.inputs = s.inputs;
   a.fmu.outputs = s.outputs;
   a.fmu.parameters = s.parameters;

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "common/sha256.hpp"
 #include "controller/design/pi_force_feedback.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/scene.hpp"
@@ -154,7 +155,7 @@ TEST_CASE("sim with the PI as the fixture FMU equals sim with the built-in PI to
       flexloop::scene::load_loop(scene, {.rate_hz = 0, .form = {}, .duration_s = kDuration});
   REQUIRE(fmu.controller == ControllerKind::kFmu);
   CHECK(fmu.fmu.file == (dir / "pi_force_feedback.fmu").string());
-  CHECK(fmu.fmu.sha256 == flexloop::scene::file_sha256(flexloop::test::pi_fmu_path()));
+  CHECK(fmu.fmu.sha256 == flexloop::common::file_sha256(flexloop::test::pi_fmu_path()));
   CHECK(fmu.fmu.inputs.front() == "y1");
   CHECK(fmu.fmu.outputs.back() == "u6");
   CHECK(fmu.fmu.parameters.size() == 75);
@@ -194,7 +195,7 @@ TEST_CASE("sim with the shipped LQG as the state-space fixture FMU equals sim wi
   const auto fmu =
       flexloop::scene::load_loop(scene, {.rate_hz = 0, .form = {}, .duration_s = kDuration});
   REQUIRE(fmu.controller == ControllerKind::kFmu);
-  CHECK(fmu.fmu.sha256 == flexloop::scene::file_sha256(flexloop::test::state_space_fmu_path()));
+  CHECK(fmu.fmu.sha256 == flexloop::common::file_sha256(flexloop::test::state_space_fmu_path()));
   // A, B, C, D, D22, six limits each side, the anti-windup and the feedthrough delay.
   CHECK(fmu.fmu.parameters.size() == 144 + 72 + 72 + 36 + 36 + 6 + 6 + 1 + 1);
   CHECK(fmu.fmu.inputs.front() == "y1");

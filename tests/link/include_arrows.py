@@ -27,9 +27,10 @@ ALLOWED = {
     "plant/lti": {"numeric", "common", "plant/model"},
     "controller/design": {"numeric", "common", "plant/model", "plant/lti"},
     "plant/runtime": {"numeric", "common", "artefact"},
-    # A controller FMU is one of the runtime's kinds (controller_from_artefact.hpp builds it).
-    "controller/runtime": {"numeric", "common", "artefact", "controller/fmu"},
-    "controller/fmu": {"numeric", "common", "artefact"},
+    "controller/runtime": {"numeric", "common", "artefact"},
+    # A controller FMU is a LoopController and the FMU alternative of the runtime's
+    # controller_from_artefact.hpp (fmu_from_artefact.hpp); the runtime never includes the loader.
+    "controller/fmu": {"numeric", "common", "artefact", "controller/runtime"},
     "online/sim": {"numeric", "common", "artefact", "plant/runtime", "controller/runtime", "controller/fmu"},
     "online/loop": {"numeric", "common", "msgs", "rt", "artefact", "plant/runtime",
                     "controller/runtime", "controller/fmu", "online/sim"},

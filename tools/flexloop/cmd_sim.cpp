@@ -204,6 +204,26 @@ void require_bounded(const artefact::LoopArtefact& a, const sim::RunResult& r, c
                            plant::runtime::describe(d, a.channels) + "; nothing written");
 }
 
+// What the controller said of its run (controller/runtime/loop_controller.hpp: a controller FMU's
+// log, warnings and failure). Its log and warnings go to stderr; a run it could not complete
+// (fmi2Discard, fmi2Pending: the loop held the safe command from there) fails, and its RMS values
+// would be another loop's, so nothing is printed or written after it. (A refusal, fmi2Error or
+// fmi2Fatal, is an input error that sim::run_artefact threw already.)
+void report_controller(const artefact::LoopArtefact& a, const sim::RunResult& on) {
+  const controller::runtime::ControllerReport& c = on.controller;
+  for (const std::string& m : c.messages) std::fprintf(stderr, "%s\n", m.c_str());
+  if (c.messages_lost > 0)
+    std::fprintf(stderr, "(%ld more messages of the controller did not fit its log ring)\n",
+                 c.messages_lost);
+  if (c.warnings > 0)
+    std::fprintf(stderr, "warning: %s: fmi2Warning returned %ld times; the first: %s\n",
+                 a.fmu.file.c_str(), c.warnings, c.first_warning.c_str());
+  if (!c.failure.empty())
+    throw std::runtime_error(a.fmu.file + ": " + c.failure +
+                             "; the controller-on run answered with the safe command from there "
+                             "on; nothing written");
+}
+
 void run(const SimArgs& args) {
   const artefact::LoopArtefact a = scene::load_loop(
       args.scene, {.rate_hz = 0,
@@ -281,6 +301,7 @@ void run(const SimArgs& args) {
        .after_first_run = write_first});
   std::printf("start: controller off %s%s%s\n", r.start_off.c_str(),
               r.controlled ? "; controller on " : "", r.controlled ? r.start_on.c_str() : "");
+  if (r.controlled) report_controller(a, r.on);
   if (writer.joinable()) {
     writer.join();
     (on ? r.on : r.off).log = std::move(written);  // back for the plots

@@ -32,10 +32,13 @@ void run(const LoopArgs& a, const LoopSource& source) {
   std::printf(
       "%s\n",
       loop::real_time_promises_json(loop::answer_watch(r))["summary"].get<std::string>().c_str());
+  if (r.controller_warnings > 0)
+    std::printf("warning: the controller FMU returned fmi2Warning %ld times; the first: %s\n",
+                r.controller_warnings, r.first_warning.c_str());
   if (!r.controller_failure.empty())
     throw loop::VerdictFailure{3,
                                "verdict fail: the controller FMU failed: " + r.controller_failure +
-                                   "; answered with zero force from then on"};
+                                   "; answered with the safe command (zero force) from then on"};
 }
 
 }  // namespace

@@ -14,7 +14,10 @@
  *
  * Value references: 0..5 y, 6..11 u, 12..47 K_P (row major), 48..83 K_I, 84 leak_rad_s,
  * 85 u_min, 86 u_max, 87 y_max, 88 allocations_per_step, 89 fatal_on_overload (an overload is
- * fmi2Fatal instead of fmi2Error when not 0) (modelDescription.xml lists them). */
+ * fmi2Fatal instead of fmi2Error when not 0), 90 step_status and 91 status_at_step (one step
+ * answered with another status, or a crash: tools/fmu/fixture_fmu.h), and the outputs
+ * 92 reset_calls, 93 setup_calls (the instance's fmi2Reset and fmi2SetupExperiment calls)
+ * (modelDescription.xml lists them). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -35,7 +38,11 @@
 #define VR_YMAX (VR_UMAX + 1)
 #define VR_ALLOCATIONS (VR_YMAX + 1)
 #define VR_FATAL (VR_ALLOCATIONS + 1)
-#define VR_COUNT (VR_FATAL + 1)
+#define VR_STEP_STATUS (VR_FATAL + 1)
+#define VR_STATUS_AT_STEP (VR_STEP_STATUS + 1)
+#define VR_RESET_CALLS (VR_STATUS_AT_STEP + 1)
+#define VR_SETUP_CALLS (VR_RESET_CALLS + 1)
+#define VR_COUNT (VR_SETUP_CALLS + 1)
 #define VR_OUTPUTS VR_U
 #define VR_PARAMETERS VR_KP
 
@@ -69,6 +76,9 @@ static void reset_state(Instance* in) {
   in->values[VR_UMIN] = -INFINITY;
   in->values[VR_UMAX] = INFINITY;
   in->values[VR_YMAX] = INFINITY;
+  in->values[VR_STATUS_AT_STEP] = -1;
+  in->values[VR_RESET_CALLS] = fixture_calls(in)->reset_calls;
+  in->values[VR_SETUP_CALLS] = fixture_calls(in)->setup_calls;
   in->h_gains = 0;
   in->initialised = 0;
 }

@@ -1,0 +1,83 @@
+#include "offline/campaign/campaign_plan.hpp"
+
+#include <filesystem>
+
+#include "common/input_error.hpp"
+#include "common/sha256.hpp"
+#include "offline/campaign/designs.hpp"
+#include "offline/campaign/plan_file.hpp"
+#include "offline/campaign/planned_parameters.hpp"
+#include "offline/scene/loop_input.hpp"
+#include "offline/scene/scene_plant.hpp"
+#include "plant/lti/frequency_response.hpp"
+
+namespace flexloop::campaign {
+
+namespace {
+
+std::string absolute_path(const std::string& path) {
+  return std::filesystem::absolute(path).lexically_normal().string();
+}
+
+// The nominal loop artefact as `flexloop build` makes it, by its JSON's SHA-256.
+std::string nominal_artefact_sha256(const std::string& scene_path) {
+  return common::text_sha256(artefact::to_json(scene::load_loop(scene_path)).dump());
+}
+
+std::vector<double> sigma_grid_hz(const PlanRequest& r, const Machine& nominal) {
+  if (!(r.f_min_hz > 0 && r.f_max_hz > r.f_min_hz && r.grid_points >= 2))
+    throw common::InputError("--fmin/--fmax/--points",
+                             "need 0 < fmin < fmax and at least 2 points");
+  const scene::ScenePlant p = scene::build_scene_plant(nominal.scene);
+  return plant::lti::with_resonances(
+      plant::lti::log_frequency_grid_hz(r.f_min_hz, r.f_max_hz, r.grid_points),
+      p.natural_frequencies_hz);
+}
+
+}  // namespace
+
+ControllerMode controller_mode_from_name(const std::string& name) {
+  if (name == "frozen") return ControllerMode::kFrozen;
+  if (name == "redesigned") return ControllerMode::kRedesigned;
+  throw common::InputError("--controller", "'" + name + "' is not frozen or redesigned");
+}
+
+nlohmann::json make_plan(const PlanRequest& r) {
+  if (r.n < 1)
+    throw common::InputError(
+        "-n", "a campaign needs at least one sample (n = " + std::to_string(r.n) + ")");
+  const DesignKind design = design_kind_from_name(r.design);
+  const UncertainParameters u = load_uncertain_parameters(r.uncertain);
+  const std::string controller = r.controller.empty() ? u.controller : r.controller;
+  const ControllerMode mode = controller_mode_from_name(controller);
+  // Everything the plan holds by absolute path, so that its id does not depend on where the
+  // command ran (the nominal artefact's provenance names the scene as it was given).
+  const std::string scene_path = absolute_path(r.scene);
+  const MachineDocuments docs(scene_path);
+  const std::vector<PlannedColumn> columns = plan_columns(u, docs, controller);
+
+  nlohmann::json plan{{"format", kPlanFormat}, {"version", kPlanVersion}};
+  plan["scene"] = scene_path;
+  plan["scene_sha256"] = common::file_sha256(scene_path);
+  plan["model"] = absolute_path(docs.model_file());
+  plan["model_sha256"] = common::file_sha256(docs.model_file());
+  plan["uncertain"] = absolute_path(r.uncertain);
+  plan["uncertain_sha256"] = common::file_sha256(r.uncertain);
+  plan["nominal_artefact_sha256"] = nominal_artefact_sha256(scene_path);
+  plan["controller"] = controller;
+  plan["design"] = design_name(design);
+  plan["seed"] = r.seed;
+  plan["n"] = r.n;
+  const int d = static_cast<int>(columns.size());
+  plan["evaluations"] = evaluation_count(design, r.n, d);
+  plan["parameters"] = parameters_json(u, columns);
+  plan["columns"] = columns_json(columns);
+  const std::vector<double> grid = sigma_grid_hz(r, docs.nominal_machine());
+  plan["sigma_grid_hz"] = grid;
+  const SampleEvaluator evaluator(docs.nominal_machine().scene, docs.nominal_machine().model,
+                                  {mode, grid});
+  plan["nominal"] = evaluator.nominal();
+  return with_plan_id(plan);
+}
+
+}  // namespace flexloop::campaign

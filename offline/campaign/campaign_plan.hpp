@@ -1,0 +1,31 @@
+#pragma once
+// Making a campaign's plan (`flexloop campaign plan`, doc/campaign.md): the scene, its model and
+// the uncertain parameters (all by absolute path and SHA-256), the nominal loop artefact's hash,
+// the planned parameters and design columns, the design, seed and n, the number of evaluations,
+// the sigma grid and the nominal machine's figures.
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "offline/campaign/sample_figures.hpp"
+
+namespace flexloop::campaign {
+
+struct PlanRequest {
+  std::string scene, uncertain;
+  long n = 0;
+  std::string design = "random";  ///< random | lhs | sobol | saltelli
+  std::uint64_t seed = 1;
+  std::string controller;  ///< frozen | redesigned; empty: the uncertain file's [campaign]
+  double f_min_hz = 0.1, f_max_hz = 1000;  ///< the sigma grid (log, with the nominal resonances)
+  int grid_points = 200;
+};
+
+/// @throws flexloop::InputError for bad input (the files, n < 1, an unknown design, and what
+/// offline/campaign/planned_parameters.hpp refuses).
+nlohmann::json make_plan(const PlanRequest& request);
+
+ControllerMode controller_mode_from_name(const std::string& name);
+
+}  // namespace flexloop::campaign

@@ -1,0 +1,52 @@
+#include "offline/campaign/plan_samples.hpp"
+
+#include "common/input_error.hpp"
+#include "offline/campaign/campaign_plan.hpp"
+#include "offline/campaign/designs.hpp"
+
+namespace flexloop::campaign {
+
+PlanSamples::PlanSamples(const nlohmann::json& plan)
+    : plan_(plan),
+      docs_(plan.at("scene").get<std::string>()),
+      columns_(columns_from_plan(plan)),
+      evaluator_(docs_.nominal_machine().scene, docs_.nominal_machine().model,
+                 {controller_mode_from_name(plan.at("controller").get<std::string>()),
+                  plan.at("sigma_grid_hz").get<std::vector<double>>()}) {}
+
+ParameterValues PlanSamples::values(long index) const {
+  const std::vector<double> u = unit_point(
+      design_kind_from_name(plan_.at("design").get<std::string>()), plan_.at("n").get<long>(),
+      static_cast<int>(columns_.size()), plan_.at("seed").get<std::uint64_t>(), index);
+  return values_at(columns_, u);
+}
+
+nlohmann::json figures_not_computed(const std::string& status) {
+  nlohmann::json j{{"status", status}};
+  for (const char* figure :
+       {"spectral_radius", "natural_frequencies_hz", "rms", "rms_open", "disk_margin_db",
+        "disk_margin_deg", "disk_margin_all_db", "disk_margin_all_deg", "peak_sigma", "sigma_max"})
+    j[figure] = nullptr;
+  return j;
+}
+
+nlohmann::json PlanSamples::line(long index) const {
+  const ParameterValues values = this->values(index);
+  nlohmann::json figures;
+  try {
+    const Machine m = docs_.apply(values);
+    figures = evaluator_.evaluate(m.scene, m.model);
+  } catch (const common::InputError& e) {
+    figures = figures_not_computed(std::string("refused: the drawn machine: ") + e.what());
+  } catch (const std::exception& e) {
+    figures = figures_not_computed(std::string("error: ") + e.what());
+  }
+  nlohmann::json parameters = nlohmann::json::object();
+  for (const auto& [path, value] : values) parameters[path] = value;
+  figures["plan_id"] = plan_.at("plan_id");
+  figures["index"] = index;
+  figures["parameters"] = parameters;
+  return figures;
+}
+
+}  // namespace flexloop::campaign

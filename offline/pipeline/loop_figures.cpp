@@ -1,0 +1,53 @@
+#include "offline/pipeline/loop_figures.hpp"
+
+#include <stdexcept>
+
+#include "offline/scene/loop_artefact_builder.hpp"
+#include "offline/scene/loop_start_builder.hpp"
+#include "plant/lti/frequency_response.hpp"
+
+namespace flexloop::pipeline {
+
+bool closed_loop_stable(const scene::ScenePlant& p,
+                        const std::optional<controller::design::SampledLoopStability>& sampled) {
+  return p.loop.stable() && sampled && sampled->stable();
+}
+
+controller::design::InputDiskMargins loop_disk_margins(const scene::ScenePlant& p) {
+  return controller::design::input_disk_margins(scene::sampled_loop_model(p));
+}
+
+plant::lti::StateSpace floor_to_performance(const scene::ScenePlant& p) {
+  plant::lti::StateSpace g11 = p.plant;
+  g11.B = p.plant.B.leftCols(p.partition.disturbances);
+  g11.D = p.plant.D.topLeftCorner(p.partition.performance, p.partition.disturbances);
+  g11.C = p.plant.C.topRows(p.partition.performance);
+  g11.inputs.resize(static_cast<std::size_t>(p.partition.disturbances));
+  g11.outputs.resize(static_cast<std::size_t>(p.partition.performance));
+  return g11;
+}
+
+std::vector<Eigen::MatrixXcd> closed_loop_response(const scene::ScenePlant& p,
+                                                   const scene::SampledScene* sampled,
+                                                   const std::vector<double>& frequencies_hz) {
+  if (scene::has_continuous_loop(p))
+    return plant::lti::frequency_response(p.closed_loop, frequencies_hz);
+  if (!sampled)
+    throw std::invalid_argument(
+        "closed_loop_response: a discrete controller needs the sampled scene");
+  return plant::lti::frequency_response(sampled->closed_loop, frequencies_hz);
+}
+
+Eigen::VectorXd largest_singular_values(const std::vector<Eigen::MatrixXcd>& responses) {
+  if (responses.empty()) return {};
+  return plant::lti::singular_values(responses).col(0);
+}
+
+Eigen::VectorXd stationary_rms(const scene::ScenePlant& p, const scene::SampledScene& sampled,
+                               bool closed) {
+  const artefact::LoopArtefact a =
+      scene::loop_artefact_without_start(p, sampled, artefact::PlantForm::kDense);
+  return scene::stationary_moments(a, closed).performance_mean_square.cwiseSqrt();
+}
+
+}  // namespace flexloop::pipeline

@@ -1,0 +1,99 @@
+#!/usr/bin/env bash
+# `flexloop campaign` as a user runs it (doc/campaign.md): the all-in-one command and its parts
+# give the same samples.jsonl byte for byte (one shard, three shards through the local engine, a
+# shard killed mid-line and rerun); bad input exits 2 with its place (N = 0, an unknown path with
+# the nearest names, a shard of another plan, missing samples); the worst samples are scenes
+# `analyse` runs as they are; every part has --help with an example.
+set -uo pipefail
+flexloop=$1
+root=$2
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+fail() { echo "FAIL: $*"; exit 1; }
+checks=0
+pass() { checks=$((checks + 1)); }
+
+scene=$root/tests/fixtures/one_strut_campaign.toml
+u=$root/tests/fixtures/one_strut_uncertain.toml
+
+for part in "" plan run submit report; do
+  out=$("$flexloop" campaign $part --help 2>&1) || fail "campaign $part --help: exit $?"
+  [[ "$out" == *"Example:"* ]] || fail "campaign $part --help has no example"
+done
+pass
+
+out=$("$flexloop" campaign plan "$scene" -u "$u" -n 0 -o "$tmp/p0.json" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"-n: a campaign needs at least one sample"* ]] || fail "N = 0: exit $rc ($out)"
+[[ ! -e "$tmp/p0.json" ]] || fail "N = 0 left a plan"
+pass
+
+printf '[[parameter]]\npath = "node.mass.mass"\ndistribution = "normal"\nrelative_sd = 0.01\n\n[[parameter]]\npath = "element.strut.stifness"\ndistribution = "uniform"\nlow = 1e6\nhigh = 2e6\n' >"$tmp/typo.toml"
+out=$("$flexloop" campaign plan "$scene" -u "$tmp/typo.toml" -n 4 -o "$tmp/p1.json" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"typo.toml:6:"* && "$out" == *"nearest valid names: element.strut.stiffness"* ]] ||
+  fail "unknown path: exit $rc ($out)"
+pass
+
+"$flexloop" campaign plan "$scene" -u "$u" -n 12 --design lhs --seed 7 -o "$tmp/plan.json" >/dev/null ||
+  fail "campaign plan"
+"$flexloop" campaign plan "$scene" -u "$u" -n 12 --design lhs --seed 8 -o "$tmp/other.json" >/dev/null ||
+  fail "campaign plan (seed 8)"
+# The plan holds its inputs by absolute path: relative paths from elsewhere make the same plan.
+(cd "$root/tests" && "$flexloop" campaign plan fixtures/one_strut_campaign.toml \
+  -u fixtures/one_strut_uncertain.toml -n 12 --design lhs --seed 7 -o "$tmp/relative.json" >/dev/null) ||
+  fail "campaign plan with relative paths"
+cmp -s "$tmp/plan.json" "$tmp/relative.json" || fail "the plan depends on how its paths were given"
+pass
+
+# One shard, run whole; the same shard killed in its fifth line and run again: the same bytes.
+"$flexloop" campaign run "$tmp/plan.json" --shard 0/1 -o "$tmp/whole.jsonl" -q || fail "run 0/1"
+[[ $(wc -l <"$tmp/whole.jsonl") -eq 12 ]] || fail "run 0/1 wrote $(wc -l <"$tmp/whole.jsonl") lines"
+head -c "$(( $(head -n 4 "$tmp/whole.jsonl" | wc -c) + 40 ))" "$tmp/whole.jsonl" >"$tmp/killed.jsonl"
+"$flexloop" campaign run "$tmp/plan.json" --shard 0/1 -o "$tmp/killed.jsonl" -q || fail "rerun"
+cmp -s "$tmp/whole.jsonl" "$tmp/killed.jsonl" || fail "a killed shard rerun differs from the whole run"
+pass
+
+out=$("$flexloop" campaign run "$tmp/other.json" --shard 0/1 -o "$tmp/whole.jsonl" -q 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"whole.jsonl:1: this line belongs to another plan"* ]] ||
+  fail "shard of another plan: exit $rc ($out)"
+pass
+
+"$flexloop" campaign submit "$tmp/plan.json" --engine local --shards 3 --jobs 2 -q \
+  --work-dir "$tmp/shards" >/dev/null || fail "submit --engine local"
+out=$("$flexloop" campaign report "$tmp/plan.json" "$tmp/shards/shard-0.jsonl" "$tmp/shards/shard-2.jsonl" \
+  --out-dir "$tmp/partial" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"4 of 12 samples missing: 1, 4, 7, 10"* ]] || fail "missing samples: exit $rc ($out)"
+out=$("$flexloop" campaign report "$tmp/plan.json" "$tmp/whole.jsonl" "$tmp/other_shard.jsonl" \
+  --out-dir "$tmp/r" 2>&1); rc=$?
+[[ $rc -eq 2 ]] || fail "report of a file that does not exist: exit $rc"
+pass
+
+"$flexloop" campaign report "$tmp/plan.json" "$tmp"/shards/shard-*.jsonl --out-dir "$tmp/three" \
+  --worst 2 >/dev/null || fail "report of three shards"
+"$flexloop" campaign report "$tmp/plan.json" "$tmp/whole.jsonl" --out-dir "$tmp/one" --worst 0 \
+  >/dev/null || fail "report of one shard"
+cmp -s "$tmp/three/samples.jsonl" "$tmp/one/samples.jsonl" || fail "samples.jsonl depends on the sharding"
+"$flexloop" campaign run "$tmp/other.json" --shard 0/1 -o "$tmp/other_whole.jsonl" -q || fail "run other"
+out=$("$flexloop" campaign report "$tmp/plan.json" "$tmp/whole.jsonl" "$tmp/other_whole.jsonl" \
+  --out-dir "$tmp/mixed" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"other_whole.jsonl:1: this line belongs to another plan"* ]] ||
+  fail "report of a shard of another plan: exit $rc ($out)"
+pass
+
+# The worst samples run as they are.
+n_worst=$(find "$tmp/three/worst" -name "sample-*_model.toml" | wc -l)
+[[ $n_worst -eq 2 ]] || fail "expected 2 worst samples, found $n_worst"
+for s in "$tmp"/three/worst/sample-[0-9]*.toml; do
+  [[ "$s" == *_model.toml ]] && continue
+  head -n 1 "$s" | grep -q "^# flexloop campaign: sample [0-9]* of plan " || fail "$s has no header"
+  "$flexloop" analyse "$s" --points 20 --out-dir "$tmp/an" >/dev/null 2>&1 || fail "analyse $s"
+done
+pass
+
+# The whole campaign in one command: the same samples as its parts (the same plan).
+"$flexloop" campaign "$scene" -u "$u" -n 12 --design lhs --seed 7 --jobs 2 -q --out-dir "$tmp/all" \
+  >/dev/null || fail "campaign (all-in-one)"
+cmp -s "$tmp/all/plan.json" "$tmp/plan.json" || fail "the all-in-one plan differs"
+cmp -s "$tmp/all/samples.jsonl" "$tmp/one/samples.jsonl" || fail "the all-in-one samples differ"
+pass
+
+echo "campaign cli: $checks checks passed"

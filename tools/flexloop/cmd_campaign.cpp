@@ -1,0 +1,329 @@
+// `flexloop campaign SCENE --uncertain U.toml -n N --out-dir DIR` and its parts for engines:
+// `campaign plan`, `campaign run plan.json --shard K/M -o shard-K.jsonl`, `campaign submit
+// plan.json --engine local|slurm`, `campaign report plan.json shard-*.jsonl --out-dir DIR`
+// (issue 47, doc/campaign.md): every machine that will be built, sampled from the uncertain
+// parameters of its FE model and scene, each judged as its sampled loop runs.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <thread>
+
+#include "common/atomic_file.hpp"
+#include "common/input_error.hpp"
+#include "offline/campaign/campaign_plan.hpp"
+#include "offline/campaign/campaign_report.hpp"
+#include "offline/campaign/local_engine.hpp"
+#include "offline/campaign/plan_file.hpp"
+#include "offline/campaign/plan_samples.hpp"
+#include "offline/campaign/shard_merge.hpp"
+#include "offline/campaign/shard_run.hpp"
+#include "offline/campaign/slurm_engine.hpp"
+#include "offline/campaign/worst_samples.hpp"
+#include "tools/flexloop/subcommands.hpp"
+#include "tools/loop_cli/number_checks.hpp"
+
+namespace flexloop::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using namespace flexloop::campaign;
+
+int all_cores() {
+  return std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+}
+
+std::string this_program() {
+  return fs::read_symlink("/proc/self/exe").string();
+}
+
+struct PlanArgs {
+  PlanRequest request;
+  std::string output = "plan.json";
+};
+
+struct RunArgs {
+  std::string plan, shard = "0/1", output;
+  bool quiet = false;
+};
+
+struct SubmitArgs {
+  std::string plan, engine = "local", work_dir, partition, account;
+  int shards = 0, jobs = all_cores(), array_throttle = 0;
+  double time_limit_min = 60;
+  bool quiet = false;
+};
+
+struct ReportArgs {
+  std::string plan, out_dir;
+  std::vector<std::string> shards;
+  int worst = 5;
+};
+
+struct CampaignArgs {
+  PlanRequest request;
+  std::string scene, out_dir;
+  int jobs = all_cores(), worst = 5;
+  bool quiet = false;
+};
+
+void write_plan(const nlohmann::json& plan, const std::string& path) {
+  common::require_writable(path);
+  common::write_text_atomically(path, plan.dump(1) + "\n");
+  std::printf(
+      "plan %s: %ld evaluations (%s design, n = %ld, %zu dimensions, seed %llu, "
+      "controller %s)\nwrote %s\n",
+      plan["plan_id"].get<std::string>().substr(0, 12).c_str(), plan["evaluations"].get<long>(),
+      plan["design"].get<std::string>().c_str(), plan["n"].get<long>(), plan["columns"].size(),
+      static_cast<unsigned long long>(plan["seed"].get<std::uint64_t>()),
+      plan["controller"].get<std::string>().c_str(), path.c_str());
+}
+
+void run_shard_command(const RunArgs& a) {
+  const nlohmann::json plan = read_plan(a.plan);
+  require_plan_inputs_unchanged(plan, a.plan);
+  const Shard shard = parse_shard(a.shard);
+  const long evaluations = plan.at("evaluations").get<long>();
+  common::require_writable(a.output);
+  // Refuse a file of another plan before the evaluator is built (seconds for a large machine).
+  completed_indices(a.output, plan.at("plan_id").get<std::string>(), shard, evaluations);
+  const PlanSamples samples(plan);
+  const auto start = std::chrono::steady_clock::now();
+  auto last = start - std::chrono::hours(1);
+  long before = -1;
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  const ShardRunResult r = run_shard(
+      a.output, plan.at("plan_id").get<std::string>(), shard, evaluations,
+      [&](long index) { return samples.line(index); },
+      [&](long done, long total) {
+        if (before < 0) before = done;
+        const auto now = std::chrono::steady_clock::now();
+        if (a.quiet || (done < total && now - last < std::chrono::milliseconds(tty ? 250 : 10000)))
+          return;
+        last = now;
+        const double s = std::chrono::duration<double>(now - start).count();
+        std::fprintf(stderr, "%s%s%s", tty ? "\r\033[K" : "",
+                     progress_text(done, total, s, before).c_str(),
+                     tty && done < total ? "" : "\n");
+      });
+  if (!a.quiet)
+    std::printf("shard %s: %ld samples there already, %ld computed\nwrote %s\n", a.shard.c_str(),
+                r.already, r.computed, a.output.c_str());
+}
+
+std::vector<std::string> submit(const SubmitArgs& a, const nlohmann::json& plan) {
+  const std::string work_dir =
+      a.work_dir.empty() ? (fs::path(a.plan).parent_path() / "shards").string() : a.work_dir;
+  const int shards = a.shards > 0 ? a.shards : a.jobs;
+  if (a.engine == "slurm")
+    return submit_slurm(fs::absolute(a.plan).string(),
+                        {a.partition, a.account, shards, a.array_throttle, this_program(),
+                         fs::absolute(work_dir).string(), a.time_limit_min});
+  return run_local({this_program(), fs::absolute(a.plan).string(),
+                    plan.at("evaluations").get<long>(), shards, a.jobs, work_dir, a.quiet});
+}
+
+void report(const std::string& plan_path, const std::vector<std::string>& shards,
+            const std::string& out_dir, int worst) {
+  const nlohmann::json plan = read_plan(plan_path);
+  const MergedSamples merged = merge_shards(plan, shards);
+  const fs::path dir(out_dir);
+  common::require_writable(dir / "samples.jsonl");
+  common::write_text_atomically(dir / "samples.jsonl", merged.jsonl);
+  write_campaign_report(plan, merged.samples, out_dir);
+  std::map<std::string, long> by_status;
+  for (const auto& s : merged.samples) {
+    const std::string status = s.value("status", std::string("?"));
+    ++by_status[status.substr(0, status.find(':'))];
+  }
+  std::printf("campaign %s: %zu samples:", plan["plan_id"].get<std::string>().substr(0, 12).c_str(),
+              merged.samples.size());
+  for (const auto& [status, count] : by_status) std::printf(" %ld %s", count, status.c_str());
+  std::printf("\nwrote %s/samples.jsonl and the report\n", out_dir.c_str());
+  if (worst <= 0) return;
+  require_plan_inputs_unchanged(plan, plan_path);
+  const MachineDocuments docs(plan.at("scene").get<std::string>());
+  for (const auto& f :
+       write_worst_samples(docs, plan, merged.samples, static_cast<std::size_t>(worst), out_dir))
+    std::printf("worst: %s\n", f.c_str());
+}
+
+void campaign_all(CampaignArgs& a) {
+  a.request.scene = a.scene;
+  fs::create_directories(a.out_dir);
+  const nlohmann::json plan = make_plan(a.request);
+  const std::string plan_path = (fs::path(a.out_dir) / "plan.json").string();
+  write_plan(plan, plan_path);
+  SubmitArgs s;
+  s.plan = plan_path;
+  s.jobs = a.jobs;
+  s.shards = a.jobs;
+  s.quiet = a.quiet;
+  report(plan_path, submit(s, plan), a.out_dir, a.worst);
+}
+
+// `required`: false on `campaign` itself, whose subcommands take their own arguments (its
+// callback asks for them when it runs the whole campaign).
+void add_plan_options(CLI::App* cmd, PlanRequest& r, bool required) {
+  cmd->add_option("--uncertain,-u", r.uncertain, "Uncertain parameters file (U.toml)")
+      ->required(required)
+      ->check(CLI::ExistingFile);
+  cmd->add_option("-n", r.n, "Base samples (Saltelli: n (d + 2) evaluations)")->required(required);
+  cmd->add_option("--design", r.design, "random, lhs (Latin hypercube), sobol, saltelli")
+      ->check(CLI::IsMember({"random", "lhs", "sobol", "saltelli"}))
+      ->capture_default_str();
+  cmd->add_option("--seed", r.seed, "Seed of the design")->capture_default_str();
+  cmd->add_option("--controller", r.controller,
+                  "frozen (the nominal design for every machine) or redesigned (the PI designed "
+                  "per machine); default: the U.toml's [campaign] controller, else frozen")
+      ->check(CLI::IsMember({"frozen", "redesigned"}));
+  cmd->add_option("--fmin", r.f_min_hz, "Lowest frequency of the sigma grid, Hz")
+      ->check(finite_positive())
+      ->capture_default_str();
+  cmd->add_option("--fmax", r.f_max_hz, "Highest frequency of the sigma grid, Hz")
+      ->check(finite_positive())
+      ->capture_default_str();
+  cmd->add_option("--points", r.grid_points,
+                  "Log-spaced points of the sigma grid (and the "
+                  "nominal resonances)")
+      ->check(CLI::Range(2, 100000))
+      ->capture_default_str();
+}
+
+void register_plan(CLI::App* campaign) {
+  auto a = std::make_shared<PlanArgs>();
+  auto* cmd = campaign->add_subcommand(
+      "plan",
+      "Write a campaign's plan.json: the scene, the planned parameters, the design, "
+      "seed and n, the nominal machine's figures");
+  cmd->add_option("scene", a->request.scene, "Scene file (TOML)")
+      ->required()
+      ->check(CLI::ExistingFile);
+  add_plan_options(cmd, a->request, true);
+  cmd->add_option("-o,--output", a->output, "Plan to write")->capture_default_str();
+  cmd->footer(
+      "Example:\n  flexloop campaign plan tools/scenes/metrology_frame.toml -u "
+      "tools/scenes/metrology_frame_uncertain.toml -n 1000 --design lhs -o out/c/plan.json");
+  cmd->callback([a] { write_plan(make_plan(a->request), a->output); });
+}
+
+void register_run(CLI::App* campaign) {
+  auto a = std::make_shared<RunArgs>();
+  auto* cmd = campaign->add_subcommand(
+      "run",
+      "Compute one shard of a plan into a JSONL file (the unit of work of every engine); "
+      "idempotent: run again, it completes what is missing");
+  cmd->add_option("plan", a->plan, "plan.json")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--shard", a->shard, "K/M: the evaluations i with i % M == K")
+      ->capture_default_str();
+  cmd->add_option("-o,--output", a->output, "Shard file (JSONL) to write or complete")->required();
+  cmd->add_flag("--quiet,-q", a->quiet, "No progress on stderr");
+  cmd->footer(
+      "Example:\n  flexloop campaign run out/c/plan.json --shard 3/8 -o out/c/shard-3.jsonl");
+  cmd->callback([a] { run_shard_command(*a); });
+}
+
+void register_submit(CLI::App* campaign) {
+  auto a = std::make_shared<SubmitArgs>();
+  auto* cmd = campaign->add_subcommand(
+      "submit",
+      "Run every shard of a plan on an engine and wait: local (child processes of "
+      "this machine) or slurm (an sbatch array, one element per shard)");
+  cmd->add_option("plan", a->plan, "plan.json")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--engine", a->engine, "local or slurm")
+      ->check(CLI::IsMember({"local", "slurm"}))
+      ->capture_default_str();
+  cmd->add_option("--shards", a->shards, "Shards (default: --jobs)")->check(CLI::Range(1, 1000000));
+  cmd->add_option("--jobs,-j", a->jobs, "local: shards at once (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  cmd->add_option("--work-dir", a->work_dir,
+                  "Where the shard files go (default: shards/ beside the plan)");
+  cmd->add_option("--partition", a->partition, "slurm: partition (default: the cluster's)");
+  cmd->add_option("--account", a->account, "slurm: account (default: the cluster's)");
+  cmd->add_option("--array-throttle", a->array_throttle,
+                  "slurm: at most this many array elements at once (0: no limit)")
+      ->check(CLI::Range(0, 1000000));
+  cmd->add_option("--time-limit", a->time_limit_min, "slurm: minutes per array element")
+      ->check(finite_positive())
+      ->capture_default_str();
+  cmd->add_flag("--quiet,-q", a->quiet, "No progress on stderr");
+  cmd->footer(
+      "Example:\n  flexloop campaign submit out/c/plan.json --engine local --shards 8\n"
+      "  flexloop campaign submit out/c/plan.json --engine slurm --shards 64 "
+      "--partition batch --array-throttle 16\n"
+      "  flexloop campaign report out/c/plan.json out/c/shards/shard-*.jsonl --out-dir out/c");
+  cmd->callback([a] {
+    const nlohmann::json plan = read_plan(a->plan);
+    for (const auto& f : submit(*a, plan)) std::printf("shard: %s\n", f.c_str());
+  });
+}
+
+void register_report(CLI::App* campaign) {
+  auto a = std::make_shared<ReportArgs>();
+  auto* cmd = campaign->add_subcommand(
+      "report",
+      "Merge a plan's shard files into samples.jsonl (refusing lines of another plan, "
+      "listing missing samples), write the statistics and pictures, and the worst "
+      "samples as scenes");
+  cmd->add_option("plan", a->plan, "plan.json")->required()->check(CLI::ExistingFile);
+  cmd->add_option("shards", a->shards, "Shard files (JSONL)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--out-dir", a->out_dir, "Directory for samples.jsonl, the report, worst/")
+      ->required();
+  cmd->add_option("--worst", a->worst, "Worst samples written as scenes in DIR/worst (0: none)")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  cmd->footer(
+      "Example:\n  flexloop campaign report out/c/plan.json out/c/shards/shard-*.jsonl "
+      "--out-dir out/c --worst 3\n  flexloop analyse out/c/worst/sample-17.toml");
+  cmd->callback([a] { report(a->plan, a->shards, a->out_dir, a->worst); });
+}
+
+}  // namespace
+
+void register_campaign(CLI::App& app) {
+  auto a = std::make_shared<CampaignArgs>();
+  auto* cmd = app.add_subcommand(
+      "campaign",
+      "Every machine that will be built: sample the uncertain parameters of the FE model and "
+      "the scene (U.toml), re-linearise and judge each machine's sampled loop, and report the "
+      "statistics, on this machine's cores (or through plan / run / submit / report, on Slurm)");
+  cmd->add_option("scene", a->scene, "Scene file (TOML)")->check(CLI::ExistingFile);
+  add_plan_options(cmd, a->request, false);
+  cmd->add_option("--jobs,-j", a->jobs, "Processes at once, one shard each (default: all cores)")
+      ->check(CLI::Range(1, 4096));
+  cmd->add_option("--out-dir", a->out_dir,
+                  "Directory for plan.json, shards/, samples.jsonl, the report and worst/");
+  cmd->add_option("--worst", a->worst, "Worst samples written as scenes in DIR/worst (0: none)")
+      ->check(CLI::Range(0, 100000))
+      ->capture_default_str();
+  cmd->add_flag("--quiet,-q", a->quiet, "No progress on stderr");
+  cmd->footer(
+      "doc/campaign.md has the U.toml format, the figures and the statistics.\n"
+      "Example:\n  flexloop campaign tools/scenes/metrology_frame.toml --uncertain "
+      "tools/scenes/metrology_frame_uncertain.toml -n 1000 --design lhs --out-dir out/campaign\n"
+      "  flexloop campaign tools/scenes/metrology_frame.toml -u "
+      "tools/scenes/metrology_frame_uncertain.toml -n 256 --design saltelli --jobs 2 "
+      "--out-dir out/sobol");
+  register_plan(cmd);
+  register_run(cmd);
+  register_submit(cmd);
+  register_report(cmd);
+  cmd->require_subcommand(0, 1);
+  // The all-in-one form needs its scene; the parts take their own arguments.
+  cmd->callback([a, cmd] {
+    if (cmd->get_subcommands().empty()) {
+      for (const auto& [given, name] :
+           {std::pair{!a->scene.empty(), "scene"},
+            std::pair{!a->request.uncertain.empty(), "--uncertain"},
+            std::pair{cmd->count("-n") > 0, "-n"}, std::pair{!a->out_dir.empty(), "--out-dir"}})
+        if (!given) throw CLI::RequiredError(name);
+      campaign_all(*a);
+    }
+  });
+}
+
+}  // namespace flexloop::cli
