@@ -31,7 +31,6 @@ SOURCES = (".cpp", ".hpp", ".h", ".c")
 KNOWN = {
     ("artefact/loop_artefact.cpp", "loop_artefact_from_json"): 197,
     ("offline/scene/scene.cpp", "parse_scene"): 184,
-    ("online/hil/hil_run.cpp", "run_hil"): 173,
 }
 
 
