@@ -27,10 +27,9 @@ ONLINE_LIMIT = 80
 ONLINE = ("online/", "plant/runtime/", "controller/runtime/")
 SOURCES = (".cpp", ".hpp", ".h", ".c")
 
-# (file, function): its length in lines when listed (main 41693ce). Being split (issue 49).
-KNOWN = {
-    ("online/hil/hil_run.cpp", "run_hil"): 173,
-}
+# (file, function): its length in lines when listed. Empty since issue 49 split the last eight:
+# a function over the limit is split, not listed.
+KNOWN = {}
 
 
 def read_known(path):
