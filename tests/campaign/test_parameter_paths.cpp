@@ -163,7 +163,7 @@ TEST_CASE("the worst samples are written as a scene and its model that read back
 }
 
 TEST_CASE(
-    "a shared draw over a body's inertia scales its entries alike; the plan's record of "
+    "a shared draw over a body's inertia scales its entries alike, and the plan's record of "
     "the columns gives the same values",
     "[campaign][paths]") {
   const MachineDocuments frame("tools/scenes/metrology_frame.toml");

@@ -169,7 +169,8 @@ TEST_CASE(
   const std::vector<std::vector<double>> machines{{0.97, 1.02, 1.0, 1.04, 0.99, 0.96},
                                                   {1.05, 1.05, 0.95, 0.95, 1.0, 1.0},
                                                   {0.93, 1.01, 1.03, 0.98, 1.06, 1.02}};
-  const auto length = test::statistical_run(1000, 0.03);  // a tenth, √10 wider, under ASan
+  const auto length =
+      flexloop::test::statistical_run(1000, 0.03);  // a tenth, √10 wider, under ASan
   for (std::size_t i = 0; i < machines.size(); ++i) {
     const auto j = evaluator.evaluate(sc, frame_model(machines[i]));
     REQUIRE(j["status"] == "stable");
@@ -197,7 +198,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "sample figures: the frozen controller on the nominal machine is the redesigned one; on "
+    "sample figures: the frozen controller on the nominal machine is the redesigned one, and on "
     "another machine they differ, the redesign placing the machine's own poles",
     "[campaign][sample]") {
   const scene::Scene sc = scene::load_scene(kFrame);
@@ -227,7 +228,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "sample figures: a machine beyond buckling under its preload is refused, not unstable; a "
+    "sample figures: a machine beyond buckling under its preload is refused, not unstable, and a "
     "controller FMU scene is refused for campaigns",
     "[campaign][sample]") {
   // tests/fixtures/buckled_column.toml: a pinned column under 1.49 times its first buckling load.

@@ -148,7 +148,7 @@ TEST_CASE("a shard file of another plan or shard is refused with file:line", "[c
   CHECK(bytes_of(file) == before);  // nothing written on shard_refusal
 }
 
-TEST_CASE("merged shards are the same bytes whatever the sharding; missing samples are listed",
+TEST_CASE("merged shards are the same bytes whatever the sharding, and missing samples are listed",
           "[campaign][shard]") {
   TempDir dir;
   const nlohmann::json plan{{"plan_id", "plan-a"}, {"evaluations", kEvaluations}};
@@ -185,7 +185,7 @@ TEST_CASE("merged shards are the same bytes whatever the sharding; missing sampl
              Contains(other.string() + ":1: this line belongs to another plan (plan_id plan-b"));
 }
 
-TEST_CASE("a plan's id is its content's hash; an edited plan and changed inputs are refused",
+TEST_CASE("a plan's id is its content's hash, and an edited plan and changed inputs are refused",
           "[campaign][plan]") {
   TempDir dir;
   const fs::path scene = dir.path / "scene.toml", model = dir.path / "model.toml",
