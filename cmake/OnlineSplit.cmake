@@ -53,3 +53,16 @@ function(flexloop_require_online)
     endforeach()
   endforeach()
 endfunction()
+
+# flexloop_require_without(<library> <targets>...) fails the configuration if any of the targets
+# links <library>, directly or through another library (the plant process's side and the FMU
+# loader: doc/design.md §2).
+function(flexloop_require_without library)
+  foreach(target IN LISTS ARGN)
+    _flexloop_link_closure(${target} closure)
+    if(library IN_LIST closure)
+      message(FATAL_ERROR "${target} links ${library} (doc/design.md §2: only the programs that "
+                          "run a controller FMU link the FMU loader)")
+    endif()
+  endforeach()
+endfunction()

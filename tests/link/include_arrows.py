@@ -32,6 +32,8 @@ ALLOWED = {
     # controller_from_artefact.hpp (fmu_from_artefact.hpp); the runtime never includes the loader.
     "controller/fmu": {"numeric", "common", "artefact", "controller/runtime"},
     "online/sim": {"numeric", "common", "artefact", "plant/runtime", "controller/runtime", "controller/fmu"},
+    # controller/fmu: only the controller process's loop (loop_controller.hpp, for
+    # controller_loop.cpp, a library apart: the plant process links no FMU loader).
     "online/loop": {"numeric", "common", "msgs", "rt", "artefact", "plant/runtime",
                     "controller/runtime", "controller/fmu", "online/sim"},
     "online/hil": {"numeric", "common", "msgs", "rt", "artefact", "plant/runtime",

@@ -1,6 +1,7 @@
 // flexloop-plant: the plant process of the real-time loop for a loop artefact, as deployed. It
 // links only online code (artefact, plant runtime, controller runtime, rt, msgs; the build and
-// tests/link check it), so it starts in milliseconds and carries no model or scene parser.
+// tests/link check it), so it starts in milliseconds and carries no model or scene parser, and no
+// controller FMU loader (nor libzip, nor pugixml): it runs no controller.
 #include "tools/loop_cli/loop_commands.hpp"
 
 int main(int argc, char** argv) {
