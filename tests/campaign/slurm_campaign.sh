@@ -17,6 +17,7 @@ wait_flag=()
 if "$flexloop" campaign submit --help | grep -q -- '--wait'; then wait_flag=(--wait); fi
 
 work=$(mktemp -d /tmp/flexloop-slurm-campaign.XXXXXX)
+chmod 0711 "$work"  # the cluster's munge socket lies below it: every user must reach it
 cluster="$work/cluster"
 finish() {
   local rc=$?
@@ -35,7 +36,8 @@ finish() {
   exit $rc
 }
 trap finish EXIT
-eval "$("$repo/tools/slurm/start-local-cluster" "$cluster")"
+cluster_env=$("$repo/tools/slurm/start-local-cluster" "$cluster") || fail "the local cluster did not start"
+eval "$cluster_env"
 
 cat > "$work/U.toml" <<'EOF'
 [[parameter]]

@@ -20,5 +20,6 @@ finish() {
   exit $rc
 }
 trap finish EXIT
-eval "$("$repo/tools/slurm/start-local-cluster" "$dir")"
+cluster_env=$("$repo/tools/slurm/start-local-cluster" "$dir") || exit 1
+eval "$cluster_env"
 "$test_campaign" "[slurm_cluster]"
