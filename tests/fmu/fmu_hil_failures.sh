@@ -17,6 +17,9 @@ tmp=$(mktemp -d)
 trap '[[ -n "${KEEP:-}" ]] || rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 ulimit -c 0  # the crashing controller leaves no core file
+# A controller process killed by a signal cannot remove its FMU's unpack folder: the processes
+# unpack under this test's folder, which goes at exit (the leak itself is known, doc/controllers.md).
+export TMPDIR=$tmp
 
 source "$root/tests/fmu/status_scenes.sh"
 hil() {
