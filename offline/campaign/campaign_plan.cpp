@@ -1,5 +1,6 @@
 #include "offline/campaign/campaign_plan.hpp"
 
+#include <cmath>
 #include <filesystem>
 
 #include "common/input_error.hpp"
@@ -42,10 +43,18 @@ ControllerMode controller_mode_from_name(const std::string& name) {
   throw common::InputError("--controller", "'" + name + "' is not frozen or redesigned");
 }
 
+double plan_simulate_s(const nlohmann::json& plan) {
+  return plan.contains("simulate_s") ? plan["simulate_s"].get<double>() : 0.0;
+}
+
 nlohmann::json make_plan(const PlanRequest& r) {
   if (r.n < 1)
     throw common::InputError(
         "-n", "a campaign needs at least one sample (n = " + std::to_string(r.n) + ")");
+  if (!(std::isfinite(r.simulate_s) && r.simulate_s >= 0))
+    throw common::InputError("--simulate",
+                             "the simulated time per sample must be a finite "
+                             "number of seconds (0: none)");
   const DesignKind design = design_kind_from_name(r.design);
   const UncertainParameters u = load_uncertain_parameters(r.uncertain);
   const std::string controller = r.controller.empty() ? u.controller : r.controller;
@@ -77,6 +86,7 @@ nlohmann::json make_plan(const PlanRequest& r) {
   const SampleEvaluator evaluator(docs.nominal_machine().scene, docs.nominal_machine().model,
                                   {mode, grid});
   plan["nominal"] = evaluator.nominal();
+  if (r.simulate_s > 0) plan["simulate_s"] = r.simulate_s;
   return with_plan_id(plan);
 }
 

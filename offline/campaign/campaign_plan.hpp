@@ -2,7 +2,8 @@
 // Making a campaign's plan (`flexloop campaign plan`, doc/campaign.md): the scene, its model and
 // the uncertain parameters (all by absolute path and SHA-256), the nominal loop artefact's hash,
 // the planned parameters and design columns, the design, seed and n, the number of evaluations,
-// the sigma grid and the nominal machine's figures.
+// the sigma grid, the nominal machine's figures and, with --simulate S, `simulate_s` (absent
+// without: a plan made without it keeps its plan_id).
 #include <cstdint>
 #include <string>
 
@@ -20,12 +21,17 @@ struct PlanRequest {
   std::string controller;  ///< frozen | redesigned; empty: the uncertain file's [campaign]
   double f_min_hz = 0.1, f_max_hz = 1000;  ///< the sigma grid (log, with the nominal resonances)
   int grid_points = 200;
+  double simulate_s = 0;  ///< > 0: each stable sample also runs its loop this long (0: off)
 };
 
-/// @throws flexloop::InputError for bad input (the files, n < 1, an unknown design, and what
-/// offline/campaign/planned_parameters.hpp refuses).
+/// @throws flexloop::InputError for bad input (the files, n < 1, an unknown design, a simulated
+/// time that is not a finite number >= 0, and what offline/campaign/planned_parameters.hpp
+/// refuses).
 nlohmann::json make_plan(const PlanRequest& request);
 
 ControllerMode controller_mode_from_name(const std::string& name);
+
+/// The plan's simulated seconds per sample: its `simulate_s`, 0 when absent (no simulation).
+double plan_simulate_s(const nlohmann::json& plan);
 
 }  // namespace flexloop::campaign

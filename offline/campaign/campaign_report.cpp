@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <map>
 #include <sstream>
 #include <stdexcept>
 
@@ -134,6 +135,47 @@ void check_samples(const json& plan, const std::vector<json>& samples) {
                                   samples[i].value("index", json()).dump());
 }
 
+// The median of finite values, NaN for none.
+double median(std::vector<double> xs) {
+  if (xs.empty()) return std::nan("");
+  std::sort(xs.begin(), xs.end());
+  const std::size_t m = xs.size() / 2;
+  return xs.size() % 2 ? xs[m] : (xs[m - 1] + xs[m]) / 2;
+}
+
+// --simulate: the runs' counts by status and, per performance channel, the median relative
+// standard error of the simulated RMS (the scatter a ratio sim / Lyapunov has from the run's
+// length alone). Null for a plan without simulation.
+json simulation_summary(const json& plan, const std::vector<json>& samples) {
+  if (!plan.contains("simulate_s")) return nullptr;
+  long ran = 0, not_run = 0, error = 0;
+  std::map<std::string, std::vector<double>> relative_se;
+  for (const json& s : samples) {
+    const json& sim = s.contains("sim") ? s["sim"] : json();
+    const std::string status = sim.is_object() ? sim.value("status", std::string()) : "";
+    if (status == "ran") {
+      ++ran;
+      for (const auto& [channel, rms] : sim["rms"].items()) {
+        const json& se = sim["rms_standard_error"][channel];
+        if (rms.is_number() && se.is_number() && rms.get<double>() > 0)
+          relative_se[channel].push_back(se.get<double>() / rms.get<double>());
+      }
+    } else if (status.rfind("not run", 0) == 0) {
+      ++not_run;
+    } else {
+      ++error;
+    }
+  }
+  json channels = json::object();
+  for (const auto& [channel, xs] : relative_se)
+    channels[channel] = {{"median_relative_standard_error", number_or_null(median(xs))}};
+  return {{"seconds", plan["simulate_s"]},
+          {"ran", ran},
+          {"not_run", not_run},
+          {"error", error},
+          {"channels", channels}};
+}
+
 }  // namespace
 
 json campaign_summary(const json& plan, const std::vector<json>& samples) {
@@ -161,6 +203,8 @@ json campaign_summary(const json& plan, const std::vector<json>& samples) {
   }
   summary["figures"] = per_figure;
   summary["figure_order"] = order;  // JSON objects have no order; the report's tables keep this
+  if (const json sim = simulation_summary(plan, samples); !sim.is_null())
+    summary["simulation"] = sim;
   if (plan.value("design", std::string()) == "saltelli") {
     const std::vector<std::string> columns = column_paths(plan);
     const long n = plan.at("n").get<long>();
@@ -220,6 +264,38 @@ std::string figures_markdown(const json& summary) {
   return md.str() + "\n";
 }
 
+// --simulate: how far the simulated RMS is from the Lyapunov RMS (the nonlinear effects' share),
+// against the scatter the run's length alone gives it.
+std::string simulation_markdown(const json& summary) {
+  if (!summary.contains("simulation")) return "";
+  const json& sim = summary["simulation"];
+  const json& figures = summary["figures"];
+  std::ostringstream md;
+  md << "## Simulated runs against the Lyapunov RMS\n\n"
+     << "Each stable sample's loop ran for " << cell(sim["seconds"]) << " s with `flexloop "
+     << "sim`'s code and every effect of the scene (saturation, the ADC's rounding, delays, "
+     << "noise): " << sim["ran"] << " ran, " << sim["not_run"]
+     << " not run (a loop not stable, a sample refused), " << sim["error"]
+     << " failed. The Lyapunov RMS is the loop made linear (no saturation, the "
+     << "ADC's rounding as uniform noise); the ratio simulated / Lyapunov RMS shows the "
+     << "nonlinear effects, beside the scatter the run's length alone gives it (the simulated "
+     << "RMS's relative standard error, by batch means: a ratio within 1 +- 2 of it is that "
+     << "scatter, not an effect).\n\n"
+     << "| channel | n | ratio 5 % | ratio 50 % | ratio 95 % | relative standard error "
+        "(median) |\n|---|---|---|---|---|---|\n";
+  for (const auto& [channel, c] : sim["channels"].items()) {
+    const std::string name = "sim.rms_ratio." + channel;
+    if (!figures.contains(name)) continue;
+    const json& f = figures[name];
+    md << "| " << channel << " | " << f["n"];
+    for (const json& q : f["quantiles"]) md << " | " << quantile_cell(q);
+    md << " | " << cell(c["median_relative_standard_error"]) << " |\n";
+  }
+  md << "\nThe share of samples at the actuator's limit and the largest command are the "
+        "figures `sim.saturated_share.<actuator>` and `sim.max_abs_command.<actuator>` above.\n\n";
+  return md.str();
+}
+
 std::string sobol_markdown(const json& summary) {
   if (!summary.contains("sobol")) return "";
   std::ostringstream md;
@@ -244,8 +320,8 @@ std::string report_markdown(const json& summary, const std::vector<Picture>& pic
      << summary["design"].dump() << ", n = " << summary["n"].dump() << " ("
      << summary["evaluations"] << " evaluations). The numbers are in summary.json; the "
      << "estimators are described in doc/campaign_statistics.md of flexloop.\n\n"
-     << counts_markdown(summary) << figures_markdown(summary) << sobol_markdown(summary)
-     << "## Pictures\n\n";
+     << counts_markdown(summary) << figures_markdown(summary) << simulation_markdown(summary)
+     << sobol_markdown(summary) << "## Pictures\n\n";
   for (const Picture& p : pictures)
     md << "### " << p.caption << "\n\n![" << p.caption << "](" << p.file << ")\n\n";
   return md.str();

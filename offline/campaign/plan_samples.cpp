@@ -12,7 +12,7 @@ PlanSamples::PlanSamples(const nlohmann::json& plan)
       columns_(columns_from_plan(plan)),
       evaluator_(docs_.nominal_machine().scene, docs_.nominal_machine().model,
                  {controller_mode_from_name(plan.at("controller").get<std::string>()),
-                  plan.at("sigma_grid_hz").get<std::vector<double>>()}) {}
+                  plan.at("sigma_grid_hz").get<std::vector<double>>(), plan_simulate_s(plan)}) {}
 
 ParameterValues PlanSamples::values(long index) const {
   const std::vector<double> u = unit_point(
@@ -32,15 +32,18 @@ nlohmann::json figures_not_computed(const std::string& status) {
 
 nlohmann::json PlanSamples::line(long index) const {
   const ParameterValues values = this->values(index);
+  const double simulate_s = plan_simulate_s(plan_);
   nlohmann::json figures;
   try {
     const Machine m = docs_.apply(values);
-    figures = evaluator_.evaluate(m.scene, m.model);
+    figures = evaluator_.evaluate(m.scene, m.model,
+                                  simulation_seeds(plan_.at("seed").get<std::uint64_t>(), index));
   } catch (const common::InputError& e) {
     figures = figures_not_computed(std::string("refused: the drawn machine: ") + e.what());
   } catch (const std::exception& e) {
     figures = figures_not_computed(std::string("error: ") + e.what());
   }
+  if (simulate_s > 0) put_simulation_not_run(figures, simulate_s);
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& [path, value] : values) parameters[path] = value;
   figures["plan_id"] = plan_.at("plan_id");

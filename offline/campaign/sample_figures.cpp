@@ -89,20 +89,23 @@ void put_sigma(const scene::ScenePlant& p, const scene::SampledScene& sampled,
   j["peak_sigma"] = sigma.maxCoeff();
 }
 
-// The figures of a machine whose plant is built; throws what the pipeline refuses.
-void put_loop_figures(const scene::ScenePlant& p, const std::vector<double>& grid_hz, json& j) {
-  const scene::SampledScene sampled = scene::sample_scene(p);
+// The figures of a machine whose plant is built; throws what the pipeline refuses. Returns the
+// sampled scene (a simulation runs it).
+scene::SampledScene put_loop_figures(const scene::ScenePlant& p, const std::vector<double>& grid_hz,
+                                     json& j) {
+  scene::SampledScene sampled = scene::sample_scene(p);
   const scene::SampledLoop loop = scene::sampled_loop(p);
   j["spectral_radius"] = loop.stability.spectral_radius;
   j["rms_open"] = rms_or_null(p, sampled, false);
   if (!pipeline::closed_loop_stable(p, loop.stability)) {
     j["status"] = "unstable";
-    return;
+    return sampled;
   }
   j["status"] = "stable";
   j["rms"] = rms_or_null(p, sampled, true);
   put_disk_margins(p, j);
   put_sigma(p, sampled, grid_hz, j);
+  return sampled;
 }
 
 }  // namespace
@@ -128,7 +131,16 @@ SampleEvaluator::SampleEvaluator(const scene::Scene& nominal_scene,
   nominal_ = evaluate(nominal_scene, nominal_model);
 }
 
-json SampleEvaluator::evaluate(const scene::Scene& scene, const plant::model::Model& model) const {
+json SampleEvaluator::evaluate(const scene::Scene& scene, const plant::model::Model& model,
+                               const std::optional<SimulationSeeds>& seeds) const {
+  const bool simulate = seeds && settings_.simulate_s > 0;
+  json j = machine_figures(scene, model, simulate ? seeds : std::nullopt);
+  if (simulate) put_simulation_not_run(j, settings_.simulate_s);
+  return j;
+}
+
+json SampleEvaluator::machine_figures(const scene::Scene& scene, const plant::model::Model& model,
+                                      const std::optional<SimulationSeeds>& seeds) const {
   json j = empty_figures();
   try {
     scene::ScenePlantOptions options;
@@ -144,7 +156,9 @@ json SampleEvaluator::evaluate(const scene::Scene& scene, const plant::model::Mo
       j["status"] = "refused: the scene has no controller: no loop to judge";
       return j;
     }
-    put_loop_figures(p, settings_.sigma_grid_hz, j);
+    const scene::SampledScene sampled = put_loop_figures(p, settings_.sigma_grid_hz, j);
+    if (seeds && j["status"] == "stable")
+      j["sim"] = simulate_sample(p, sampled, settings_.simulate_s, *seeds);
   } catch (const common::InputError& e) {
     j = empty_figures();
     j["status"] = std::string("refused: ") + e.what();

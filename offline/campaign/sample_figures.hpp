@@ -18,15 +18,19 @@
 //   sigma_max, peak_sigma   the closed loop floor -> performance's largest singular value on the
 //                           settings' grid (analyse's closed loop: continuous where the loop has a
 //                           continuous form, else sampled) and its maximum
+//   sim                     with --simulate S only: the loop run for S s by `flexloop sim`'s code,
+//                           with the nonlinear effects (offline/campaign/sample_simulation.hpp)
 // A figure not computed is null (refused, error; an unstable loop has no RMS, margins or sigma).
 // The controller: frozen, the nominal machine's PI gains on every machine (one controller for the
 // fleet); redesigned, the PI designed on each machine's own plant (a commissioning step). A
 // state-space controller is a fixed file: the same in both. A controller FMU cannot be seen into:
 // refused at construction.
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <vector>
 
 #include "controller/design/pi_force_feedback.hpp"
+#include "offline/campaign/sample_simulation.hpp"
 #include "offline/scene/scene.hpp"
 #include "plant/model/model.hpp"
 
@@ -37,6 +41,8 @@ enum class ControllerMode { kFrozen, kRedesigned };
 struct SampleSettings {
   ControllerMode mode = ControllerMode::kFrozen;
   std::vector<double> sigma_grid_hz;  ///< where sigma_max is evaluated (empty: no sigma figures)
+  /// > 0: each sample given its seeds also runs its loop for this long (sample_simulation.hpp)
+  double simulate_s = 0;
 };
 
 /// Built once from the nominal scene: designs the nominal controller (frozen) and holds it.
@@ -48,11 +54,17 @@ class SampleEvaluator {
                   SampleSettings settings);
   /// One machine: its scene and its model (both already carrying the drawn values). Returns the
   /// JSONL fields above. Never throws for what the machine is; an unexpected failure is status
-  /// "error: <what>".
-  nlohmann::json evaluate(const scene::Scene& scene, const plant::model::Model& model) const;
+  /// "error: <what>". With settings' simulate_s > 0 and `seeds`, also the `sim` object of
+  /// offline/campaign/sample_simulation.hpp (its run for a stable loop, "not run" otherwise).
+  nlohmann::json evaluate(const scene::Scene& scene, const plant::model::Model& model,
+                          const std::optional<SimulationSeeds>& seeds = std::nullopt) const;
   const nlohmann::json& nominal() const { return nominal_; }
 
  private:
+  // The figures, and the run when `seeds` are given, of a machine.
+  nlohmann::json machine_figures(const scene::Scene& scene, const plant::model::Model& model,
+                                 const std::optional<SimulationSeeds>& seeds) const;
+
   SampleSettings settings_;
   controller::design::PiGains nominal_gains_;  ///< the nominal machine's (PI scenes)
   bool pi_ = false;

@@ -30,12 +30,26 @@ json number_or_null(double v) {
 
 namespace {
 
-// The channel names of an object field ("rms") over all samples, sorted.
-std::set<std::string> channels(const std::vector<json>& samples, const char* field) {
+// The value at a dotted field path of a sample ("rms", "sim.rms"), null when it has none.
+const json& field_at(const json& sample, const std::string& field) {
+  static const json kNone;
+  const json* at = &sample;
+  for (std::size_t begin = 0; begin <= field.size();) {
+    const std::size_t end = std::min(field.find('.', begin), field.size());
+    const std::string key = field.substr(begin, end - begin);
+    if (!at->is_object() || !at->contains(key)) return kNone;
+    at = &(*at)[key];
+    begin = end + 1;
+  }
+  return *at;
+}
+
+// The channel names of an object field ("rms", "sim.rms") over all samples, sorted.
+std::set<std::string> channels(const std::vector<json>& samples, const std::string& field) {
   std::set<std::string> names;
   for (const json& s : samples)
-    if (s.contains(field) && s[field].is_object())
-      for (const auto& [key, v] : s[field].items()) names.insert(key);
+    if (const json& obj = field_at(s, field); obj.is_object())
+      for (const auto& [key, v] : obj.items()) names.insert(key);
   return names;
 }
 
@@ -49,11 +63,31 @@ FigureColumn channel_figure(const std::vector<json>& samples, const std::string&
                             const std::string& channel) {
   FigureColumn f{field + "." + channel, {}};
   for (const json& s : samples) {
-    const json& obj = s.contains(field) ? s[field] : json();
+    const json& obj = field_at(s, field);
     f.values.push_back(obj.is_object() && obj.contains(channel) ? number_or_nan(obj[channel])
                                                                 : kMissing);
   }
   return f;
+}
+
+// --simulate's figures (offline/campaign/sample_simulation.hpp): sim.rms.<channel> and its ratio
+// to the Lyapunov RMS, sim.rms_ratio.<channel> (the nonlinear effects' share, with the run's
+// sampling scatter), sim.saturated_share.<actuator>, sim.max_abs_command.<actuator>.
+std::vector<FigureColumn> simulation_figures(const std::vector<json>& samples) {
+  std::vector<FigureColumn> out;
+  for (const std::string& c : channels(samples, "sim.rms")) {
+    FigureColumn run = channel_figure(samples, "sim.rms", c);
+    const FigureColumn lyapunov = channel_figure(samples, "rms", c);
+    FigureColumn ratio{"sim.rms_ratio." + c, {}};
+    for (std::size_t i = 0; i < run.values.size(); ++i)
+      ratio.values.push_back(run.values[i] / lyapunov.values[i]);  // NaN where either is missing
+    out.push_back(std::move(run));
+    out.push_back(std::move(ratio));
+  }
+  for (const char* field : {"sim.saturated_share", "sim.max_abs_command"})
+    for (const std::string& c : channels(samples, field))
+      out.push_back(channel_figure(samples, field, c));
+  return out;
 }
 
 std::vector<FigureColumn> natural_frequency_figures(const std::vector<json>& samples) {
@@ -84,6 +118,7 @@ std::vector<FigureColumn> figure_columns(const std::vector<json>& samples) {
   for (const char* field : {"disk_margin_db", "disk_margin_deg", "disk_margin_all_db",
                             "disk_margin_all_deg", "peak_sigma"})
     out.push_back(scalar_figure(samples, field));
+  for (FigureColumn& f : simulation_figures(samples)) out.push_back(std::move(f));
   return out;
 }
 

@@ -23,7 +23,9 @@ struct FigureColumn {
 
 /// Every figure of the samples, in the summary's order: spectral_radius, natural_frequency_<r>_hz
 /// (r = 1.. the most any sample has), rms.<channel>, rms_open.<channel> (channels sorted),
-/// disk_margin_db, disk_margin_deg, disk_margin_all_db, disk_margin_all_deg, peak_sigma.
+/// disk_margin_db, disk_margin_deg, disk_margin_all_db, disk_margin_all_deg, peak_sigma; with
+/// --simulate, per channel sim.rms.<channel> and sim.rms_ratio.<channel> (sim.rms / rms), then
+/// sim.saturated_share.<actuator> and sim.max_abs_command.<actuator>.
 std::vector<FigureColumn> figure_columns(const std::vector<nlohmann::json>& samples);
 
 /// The finite values of the stable samples among the first `prefix` evaluations, in order.

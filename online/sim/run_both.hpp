@@ -53,7 +53,10 @@ BothRuns run_both(const Plant& plant, const artefact::LoopArtefact& a, const Run
             r.on.controller.failure + "; the controller-on run stopped commanding there");
     };
     const bool on_first = o.on_first && r.controlled;
-    if (on_first) {
+    if (o.on_only && r.controlled) {
+      run_on();
+      if (o.after_first_run) o.after_first_run(r.on);
+    } else if (on_first) {
       run_on();
       if (o.after_first_run) o.after_first_run(r.on);
       run_off();

@@ -34,6 +34,9 @@ struct SceneRunOptions {
   /// Run the controller-on run first (the off run first otherwise, and always without a
   /// controller). The same results in either order: both runs start from the same seeds.
   bool on_first = false;
+  /// Run the controller-on run alone (`off` stays empty): a campaign's sample judges only the
+  /// closed loop, and the open-loop run would double its cost.
+  bool on_only = false;
   /// Called with the first run's result as soon as it ends, before the second starts: a caller
   /// may take its log and write it while the second run goes on.
   std::function<void(RunResult&)> after_first_run;

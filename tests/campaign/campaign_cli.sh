@@ -3,7 +3,8 @@
 # give the same samples.jsonl byte for byte (one shard, three shards through the local engine, a
 # shard killed mid-line and rerun); bad input exits 2 with its place (N = 0, an unknown path with
 # the nearest names, a shard of another plan, missing samples); the worst samples are scenes
-# `analyse` runs as they are; every part has --help with an example.
+# `analyse` runs as they are; every part has --help with an example; --simulate's samples are the
+# same bytes however sharded, and bad --simulate values exit 2.
 set -uo pipefail
 flexloop=$1
 root=$2
@@ -94,6 +95,42 @@ pass
   >/dev/null || fail "campaign (all-in-one)"
 cmp -s "$tmp/all/plan.json" "$tmp/plan.json" || fail "the all-in-one plan differs"
 cmp -s "$tmp/all/samples.jsonl" "$tmp/one/samples.jsonl" || fail "the all-in-one samples differ"
+pass
+
+# --simulate S: a value that is not a finite number > 0 exits 2 naming the option, and writes no
+# plan; the simulated samples are the same bytes from one shard and from two (each sample's noise
+# seeds depend on the plan and its index only); the report compares them with the Lyapunov RMS;
+# a shard of the plan with another S is refused (S is in the plan, so in its plan_id).
+sim_scene=$root/tests/fixtures/one_strut_saturating.toml
+sim_u=$root/tests/fixtures/one_strut_simulate_uncertain.toml
+for bad in 0 -1 abc; do
+  out=$("$flexloop" campaign plan "$sim_scene" -u "$sim_u" -n 4 --simulate "$bad" -o "$tmp/bad.json" 2>&1); rc=$?
+  [[ $rc -eq 2 && "$out" == *"--simulate"* ]] || fail "--simulate $bad: exit $rc ($out)"
+  [[ ! -e "$tmp/bad.json" ]] || fail "--simulate $bad left a plan"
+done
+for part in "" plan; do
+  "$flexloop" campaign $part --help 2>&1 | grep -q -- "--simulate" || fail "campaign $part --help has no --simulate"
+done
+pass
+
+"$flexloop" campaign plan "$sim_scene" -u "$sim_u" -n 6 --simulate 0.5 -o "$tmp/sim.json" >/dev/null ||
+  fail "campaign plan --simulate 0.5"
+"$flexloop" campaign plan "$sim_scene" -u "$sim_u" -n 6 --simulate 1 -o "$tmp/sim1.json" >/dev/null ||
+  fail "campaign plan --simulate 1"
+"$flexloop" campaign run "$tmp/sim.json" --shard 0/1 -o "$tmp/sim_whole.jsonl" -q || fail "run --simulate"
+[[ $(grep -c '"status":"ran"' "$tmp/sim_whole.jsonl") -eq 6 ]] ||
+  fail "not every simulated sample ran: $(head -c 600 "$tmp/sim_whole.jsonl")"
+"$flexloop" campaign submit "$tmp/sim.json" --engine local --shards 2 --jobs 2 -q \
+  --work-dir "$tmp/sim_shards" >/dev/null || fail "submit --simulate"
+"$flexloop" campaign report "$tmp/sim.json" "$tmp/sim_whole.jsonl" --out-dir "$tmp/sim_one" --worst 0 \
+  >/dev/null || fail "report of the simulated shard"
+"$flexloop" campaign report "$tmp/sim.json" "$tmp"/sim_shards/shard-*.jsonl --out-dir "$tmp/sim_two" \
+  --worst 0 >/dev/null || fail "report of two simulated shards"
+cmp -s "$tmp/sim_one/samples.jsonl" "$tmp/sim_two/samples.jsonl" || fail "simulated samples depend on the sharding"
+grep -q "## Simulated runs against the Lyapunov RMS" "$tmp/sim_one/report.md" || fail "report.md has no simulated section"
+out=$("$flexloop" campaign run "$tmp/sim1.json" --shard 0/1 -o "$tmp/sim_whole.jsonl" -q 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"sim_whole.jsonl:1: this line belongs to another plan"* ]] ||
+  fail "a shard of the plan with another --simulate: exit $rc ($out)"
 pass
 
 echo "campaign cli: $checks checks passed"

@@ -74,13 +74,15 @@ struct CampaignArgs {
 void write_plan(const nlohmann::json& plan, const std::string& path) {
   common::require_writable(path);
   common::write_text_atomically(path, plan.dump(1) + "\n");
+  const std::string simulated =
+      plan.contains("simulate_s") ? ", each simulated " + plan["simulate_s"].dump() + " s" : "";
   std::printf(
       "plan %s: %ld evaluations (%s design, n = %ld, %zu dimensions, seed %llu, "
-      "controller %s)\nwrote %s\n",
+      "controller %s%s)\nwrote %s\n",
       plan["plan_id"].get<std::string>().substr(0, 12).c_str(), plan["evaluations"].get<long>(),
       plan["design"].get<std::string>().c_str(), plan["n"].get<long>(), plan["columns"].size(),
       static_cast<unsigned long long>(plan["seed"].get<std::uint64_t>()),
-      plan["controller"].get<std::string>().c_str(), path.c_str());
+      plan["controller"].get<std::string>().c_str(), simulated.c_str(), path.c_str());
 }
 
 void run_shard_command(const RunArgs& a) {
@@ -192,6 +194,11 @@ void add_plan_options(CLI::App* cmd, PlanRequest& r, bool required) {
                   "nominal resonances)")
       ->check(CLI::Range(2, 100000))
       ->capture_default_str();
+  cmd->add_option("--simulate", r.simulate_s,
+                  "Also run each stable sample's loop for S s with `flexloop sim`'s code: "
+                  "saturation, ADC rounding, delays, noise (the nonlinear effects); the sample's "
+                  "`sim` figures and the report's simulated / Lyapunov RMS (default: off)")
+      ->check(finite_positive());
 }
 
 void register_plan(CLI::App* campaign) {
@@ -207,7 +214,9 @@ void register_plan(CLI::App* campaign) {
   cmd->add_option("-o,--output", a->output, "Plan to write")->capture_default_str();
   cmd->footer(
       "Example:\n  flexloop campaign plan tools/scenes/metrology_frame.toml -u "
-      "tools/scenes/metrology_frame_uncertain.toml -n 1000 --design lhs -o out/c/plan.json");
+      "tools/scenes/metrology_frame_uncertain.toml -n 1000 --design lhs -o out/c/plan.json\n"
+      "  flexloop campaign plan tools/scenes/metrology_frame.toml -u "
+      "tools/scenes/metrology_frame_uncertain.toml -n 200 --simulate 1 -o out/s/plan.json");
   cmd->callback([a] { write_plan(make_plan(a->request), a->output); });
 }
 
@@ -307,7 +316,9 @@ void register_campaign(CLI::App& app) {
       "tools/scenes/metrology_frame_uncertain.toml -n 1000 --design lhs --out-dir out/campaign\n"
       "  flexloop campaign tools/scenes/metrology_frame.toml -u "
       "tools/scenes/metrology_frame_uncertain.toml -n 256 --design saltelli --jobs 2 "
-      "--out-dir out/sobol");
+      "--out-dir out/sobol\n"
+      "  flexloop campaign tools/scenes/metrology_frame.toml -u "
+      "tools/scenes/metrology_frame_uncertain.toml -n 200 --simulate 1 --out-dir out/simulated");
   register_plan(cmd);
   register_run(cmd);
   register_submit(cmd);
