@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # tests/campaign/slurm_campaign.sh FLEXLOOP REPO: a campaign through Slurm, for real (issue 47
 # item 7). Starts a single-node Slurm (tools/slurm/start-local-cluster: root, loopback only), plans
-# a small campaign over the three-mass fixture (three uncertain parameters, 240 samples), and
+# a small campaign over the three-mass fixture (three uncertain parameters, 240 samples, each
+# also simulated for 0.2 s with --simulate: the runs' noise must be the same bytes too), and
 #   1. submits it with --engine slurm (3 shards: an array of 3 elements) and with --engine local,
 #      reports both, and checks that the merged samples.jsonl are byte-identical (cmp);
 #   2. runs shard 1 alone, kills it with SIGKILL once its file has a line, runs it again, and
@@ -60,7 +61,7 @@ high = 1.2
 EOF
 plan="$work/plan.json"
 "$flexloop" campaign plan "$repo/tests/fixtures/three_masses.toml" --uncertain "$work/U.toml" \
-  -n 240 --design lhs --seed 47 -o "$plan"
+  -n 240 --design lhs --seed 47 --simulate 0.2 -o "$plan"
 
 # 1. The same plan through both engines, merged by `campaign report`.
 "$flexloop" campaign submit "$plan" --engine slurm --shards 3 "${wait_flag[@]}" \
@@ -71,6 +72,7 @@ ls "$work"/slurm/campaign-*_0.out >/dev/null || fail "no Slurm log in $work/slur
 "$flexloop" campaign report "$plan" "$work"/slurm/shard-*.jsonl --out-dir "$work/report-slurm"
 "$flexloop" campaign report "$plan" "$work"/local/shard-*.jsonl --out-dir "$work/report-local"
 [[ $(wc -l < "$work/report-local/samples.jsonl") -eq 240 ]] || fail "local merge has not 240 samples"
+[[ $(grep -c '"status":"ran"' "$work/report-local/samples.jsonl") -gt 0 ]] || fail "no sample was simulated"
 cmp "$work/report-slurm/samples.jsonl" "$work/report-local/samples.jsonl" ||
   fail "the Slurm engine's merged samples differ from the local engine's"
 
