@@ -241,3 +241,24 @@ TEST_CASE("simulate: the RMS's batch-means standard error of white noise is sigm
   }
   CHECK(sum / 200 == Approx(1 / std::sqrt(2.0 * n)).epsilon(0.05));
 }
+
+TEST_CASE(
+    "simulate: sim's controller-on run alone (on_only) is the on run of its two, to the bit, and "
+    "leaves the off run empty",
+    "[campaign][simulate]") {
+  const auto sc = flexloop::scene::load_scene(kSaturating);
+  const auto p = flexloop::scene::build_scene_plant(sc);
+  const auto a = flexloop::scene::build_loop_artefact(p, flexloop::scene::sample_scene(p),
+                                                      flexloop::artefact::PlantForm::kDense);
+  flexloop::sim::RunSettings s;
+  s.dt = a.dt();
+  s.steps = 4000;
+  flexloop::sim::SceneRunOptions alone;
+  alone.on_only = true;
+  const auto both = flexloop::sim::run_artefact(a, s, {});
+  const auto on = flexloop::sim::run_artefact(a, s, alone);
+  CHECK(on.on.rms_performance == both.on.rms_performance);
+  CHECK(on.on.rms_command == both.on.rms_command);
+  CHECK(on.off.rms_performance.size() == 0);
+  CHECK(both.off.rms_performance.size() == 1);
+}
