@@ -8,6 +8,7 @@
 #include "offline/campaign/designs.hpp"
 #include "offline/campaign/plan_file.hpp"
 #include "offline/campaign/planned_parameters.hpp"
+#include "offline/report/csv_writer.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/scene_plant.hpp"
 #include "plant/lti/frequency_response.hpp"
@@ -33,6 +34,26 @@ std::vector<double> sigma_grid_hz(const PlanRequest& r, const Machine& nominal) 
   return plant::lti::with_resonances(
       plant::lti::log_frequency_grid_hz(r.f_min_hz, r.f_max_hz, r.grid_points),
       p.natural_frequencies_hz);
+}
+
+// --simulate holds each sample's run log in memory (offline/campaign/sample_simulation.hpp: the
+// commands' saturation figures and the batch means come from it): refused at planning when one
+// sample's log would pass kMaxSimulationLogBytes, before any shard allocates it.
+constexpr double kMaxSimulationLogBytes = 1e9;
+
+void require_simulation_fits(const scene::Scene& sc, double seconds) {
+  const auto columns = static_cast<double>(1 + sc.disturbances.size() + 2 * sc.performance.size() +
+                                           sc.sensors.size() + sc.actuators.size());
+  const double bytes_per_second = sc.discretisation.rate_hz * columns * sizeof(double);
+  if (seconds * bytes_per_second <= kMaxSimulationLogBytes) return;
+  throw common::InputError(
+      "--simulate",
+      "a sample's run of " + report::format_number(seconds) + " s logs " +
+          report::format_number(std::ceil(seconds * bytes_per_second / 1e6)) +
+          " MB in memory (its outputs and commands at " +
+          report::format_number(sc.discretisation.rate_hz) + " Hz); at most " +
+          report::format_number(kMaxSimulationLogBytes / 1e6) + " MB: simulate at most " +
+          report::format_number(std::floor(kMaxSimulationLogBytes / bytes_per_second)) + " s");
 }
 
 }  // namespace
@@ -63,6 +84,7 @@ nlohmann::json make_plan(const PlanRequest& r) {
   // command ran (the nominal artefact's provenance names the scene as it was given).
   const std::string scene_path = absolute_path(r.scene);
   const MachineDocuments docs(scene_path);
+  require_simulation_fits(docs.nominal_machine().scene, r.simulate_s);
   const std::vector<PlannedColumn> columns = plan_columns(u, docs, controller);
 
   nlohmann::json plan{{"format", kPlanFormat}, {"version", kPlanVersion}};

@@ -97,13 +97,14 @@ cmp -s "$tmp/all/plan.json" "$tmp/plan.json" || fail "the all-in-one plan differ
 cmp -s "$tmp/all/samples.jsonl" "$tmp/one/samples.jsonl" || fail "the all-in-one samples differ"
 pass
 
-# --simulate S: a value that is not a finite number > 0 exits 2 naming the option, and writes no
+# --simulate S: a value that is not a finite number > 0, or a run whose log would not fit in 1 GB,
+# exits 2 naming the option and writes no
 # plan; the simulated samples are the same bytes from one shard and from two (each sample's noise
 # seeds depend on the plan and its index only); the report compares them with the Lyapunov RMS;
 # a shard of the plan with another S is refused (S is in the plan, so in its plan_id).
 sim_scene=$root/tests/fixtures/one_strut_saturating.toml
 sim_u=$root/tests/fixtures/one_strut_simulate_uncertain.toml
-for bad in 0 -1 abc; do
+for bad in 0 -1 abc 1e6; do
   out=$("$flexloop" campaign plan "$sim_scene" -u "$sim_u" -n 4 --simulate "$bad" -o "$tmp/bad.json" 2>&1); rc=$?
   [[ $rc -eq 2 && "$out" == *"--simulate"* ]] || fail "--simulate $bad: exit $rc ($out)"
   [[ ! -e "$tmp/bad.json" ]] || fail "--simulate $bad left a plan"
