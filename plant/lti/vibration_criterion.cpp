@@ -4,6 +4,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "numeric/constants.hpp"
@@ -144,7 +145,9 @@ std::vector<ThirdOctaveBand> criterion_bands() {
   return bands;
 }
 
-StateSpace design_floor_filter(double band_velocity_rms, const FloorFilterOptions& o) {
+namespace {
+
+StateSpace designed_floor_filter(double band_velocity_rms, const FloorFilterOptions& o) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0; };
   require_filter(positive(band_velocity_rms), "band velocity RMS must be finite and > 0 m/s");
   require_filter(positive(o.approximation_low_hz) && positive(o.approximation_high_hz) &&
@@ -183,6 +186,29 @@ StateSpace design_floor_filter(double band_velocity_rms, const FloorFilterOption
   const auto [lo, hi] = std::minmax_element(rms.begin(), rms.end());
   h.C *= band_velocity_rms / std::sqrt(*lo * *hi);
   return h;
+}
+
+}  // namespace
+
+// The design integrates the filter's response over every third-octave band (a few ms): a
+// campaign asks for the same floor at each of its samples, twice. The last design is kept, per
+// thread, and given again for the same arguments, bit for bit.
+StateSpace design_floor_filter(double band_velocity_rms, const FloorFilterOptions& o) {
+  struct Last {
+    double v;
+    FloorFilterOptions o;
+    StateSpace filter;
+  };
+  thread_local std::optional<Last> last;
+  const auto same = [&](const Last& l) {
+    return l.v == band_velocity_rms && l.o.approximation_low_hz == o.approximation_low_hz &&
+           l.o.approximation_high_hz == o.approximation_high_hz &&
+           l.o.pole_zero_pairs == o.pole_zero_pairs && l.o.high_pass_hz == o.high_pass_hz &&
+           l.o.low_pass_hz == o.low_pass_hz;
+  };
+  if (!last || !same(*last))
+    last = Last{band_velocity_rms, o, designed_floor_filter(band_velocity_rms, o)};
+  return last->filter;
 }
 
 Eigen::MatrixXd floor_motion_outputs(const StateSpace& filter) {
