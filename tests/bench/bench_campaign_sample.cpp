@@ -6,15 +6,15 @@
 //
 //  - BM_CampaignSample: SampleEvaluator::evaluate, frozen controller (the nominal machine's PI).
 //  - BM_CampaignSampleSteps: one pass through the steps evaluate takes, each timed; counters in
-//    seconds per sample: linearise (build_scene_plant: linearisation, modes, plant, PI loop),
-//    discretise (sample_scene), close (the sampled loop's stability: scene::sampled_loop),
-//    lyapunov (stationary_rms closed and open), margins (loop_disk_margins), sigma
-//    (closed_loop_response and its largest singular values).
+//    CPU seconds per sample (this thread's: tests/bench/lap_timer.hpp): linearise
+//    (build_scene_plant: linearisation, modes, plant, PI loop), discretise (sample_scene), close
+//    (the sampled loop's stability: scene::sampled_loop), lyapunov (stationary_rms closed and
+//    open), margins (loop_disk_margins), sigma (closed_loop_response and its largest singular
+//    values).
 //
 // Run from the repository root: build/check/tests/bench/bench_campaign_sample
 #include <benchmark/benchmark.h>
 
-#include <chrono>
 #include <vector>
 
 #include "offline/campaign/sample_figures.hpp"
@@ -22,6 +22,7 @@
 #include "offline/scene/scene_plant.hpp"
 #include "plant/lti/frequency_response.hpp"
 #include "plant/model/model_parser.hpp"
+#include "tests/bench/lap_timer.hpp"
 
 using namespace flexloop;
 
@@ -59,7 +60,6 @@ void BM_CampaignSample(benchmark::State& state) {
 BENCHMARK(BM_CampaignSample)->Unit(benchmark::kMillisecond)->MinTime(2.0);
 
 void BM_CampaignSampleSteps(benchmark::State& state) {
-  using Clock = std::chrono::steady_clock;
   const scene::Scene sc = scene::load_scene(kScene);
   const plant::model::Model nominal = plant::model::load_model(sc.model_path), m = machine(sc);
   scene::ScenePlantOptions frozen;
@@ -67,12 +67,8 @@ void BM_CampaignSampleSteps(benchmark::State& state) {
   const std::vector<double> grid = settings().sigma_grid_hz;
   double t_lin = 0, t_disc = 0, t_close = 0, t_lyap = 0, t_margins = 0, t_sigma = 0;
   for (auto _ : state) {
-    auto t0 = Clock::now();
-    auto lap = [&](double& acc) {
-      const auto t1 = Clock::now();
-      acc += std::chrono::duration<double>(t1 - t0).count();
-      t0 = t1;
-    };
+    bench::LapTimer timer;
+    auto lap = [&timer](double& acc) { timer.lap(acc); };
     const scene::ScenePlant p = scene::build_scene_plant(sc, m, frozen);
     lap(t_lin);
     const scene::SampledScene sampled = scene::sample_scene(p);

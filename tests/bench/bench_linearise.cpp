@@ -18,7 +18,6 @@
 // The model text is generated here and parsed once, outside the timed region.
 #include <benchmark/benchmark.h>
 
-#include <chrono>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -31,6 +30,7 @@
 #include "plant/model/kinematics.hpp"
 #include "plant/model/linearisation.hpp"
 #include "plant/model/model_parser.hpp"
+#include "tests/bench/lap_timer.hpp"
 
 using namespace flexloop::plant;
 
@@ -160,18 +160,13 @@ BENCHMARK(BM_LineariseCantilever)
 // One pass through the phases of linearise (stationary operating point) and the state-space
 // build, each timed separately; counters in seconds.
 void BM_LinearisePhases(benchmark::State& state) {
-  using Clock = std::chrono::steady_clock;
   const int n = static_cast<int>(state.range(0));
   const model::Model m = model::parse_model(cantilever_toml(n), "cantilever.toml");
   double t_conf = 0, t_jac = 0, t_df = 0, t_dfe = 0, t_forces = 0, t_m = 0, t_k = 0, t_d = 0,
          t_hess = 0, t_g = 0, t_ss = 0;
   for (auto _ : state) {
-    auto t0 = Clock::now();
-    auto lap = [&](double& acc) {
-      const auto t1 = Clock::now();
-      acc += std::chrono::duration<double>(t1 - t0).count();
-      t0 = t1;
-    };
+    flexloop::bench::LapTimer timer;
+    auto lap = [&timer](double& acc) { timer.lap(acc); };
     const auto p = model::make_partition(m);
     const auto blocks = model::deformation_blocks(m);
     const Eigen::VectorXd q = model::generalised_from_x(m, p, blocks, m.x_reference);
@@ -217,7 +212,7 @@ void BM_LinearisePhases(benchmark::State& state) {
     benchmark::DoNotOptimize(Gb.data());
     // The state-space build on the real linearisation (not counted in the phases above).
     const auto lin = model::linearise(m);
-    t0 = Clock::now();
+    timer.restart();
     const auto ss = lti::build_state_space(m, lin, tip_inputs(n), tip_outputs(n));
     lap(t_ss);
     benchmark::DoNotOptimize(ss.A.data());
