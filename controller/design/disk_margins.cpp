@@ -10,6 +10,7 @@
 
 #include "numeric/constants.hpp"
 #include "plant/lti/frequency_response.hpp"
+#include "plant/lti/schur_transfer.hpp"
 
 namespace flexloop::controller::design {
 
@@ -17,24 +18,38 @@ namespace {
 
 using Eigen::Index;
 
-// S - I/2 = I/2 + H at the frequencies given; H reduced once (plant/lti/frequency_response.hpp).
+// S - I/2 = I/2 + H at one frequency, two ways: on H's Schur form (plant/lti/schur_transfer.hpp,
+// half the cost a point) for the search over the grid, and on its Hessenberg form
+// (plant/lti/frequency_response.hpp) for the values a margin is read from, as analyse always has.
 class InputSensitivity {
  public:
   explicit InputSensitivity(const SampledLoopModel& loop)
-      : channels_(loop.command.rows()), h_(transfer(loop)), dt_(loop.dt) {}
+      : channels_(loop.command.rows()),
+        exact_(transfer(loop)),
+        searched_(loop.A, loop.perturbation, loop.command, 1.0),
+        dt_(loop.dt) {}
 
-  std::vector<Eigen::MatrixXcd> centred(const std::vector<double>& f_hz) const {
+  // For the search: at each frequency given.
+  std::vector<Eigen::MatrixXcd> searched(const std::vector<double>& f_hz) const {
     std::vector<Eigen::MatrixXcd> s;
     s.reserve(f_hz.size());
-    for (const double f : f_hz) s.push_back(centred(f));
+    for (const double f : f_hz) s.push_back(searched(f));
     return s;
   }
-  // As frequency_response of the discrete system: z = e^{j 2 pi f dt}.
-  Eigen::MatrixXcd centred(double f_hz) const {
-    if (!std::isfinite(f_hz))
-      throw std::invalid_argument("disk margins: a frequency is not finite");
+  Eigen::MatrixXcd searched(double f_hz) const {
+    require_finite(f_hz);
+    // z - 1 without cancellation: e^{j theta} - 1 = -2 sin^2(theta / 2) + j sin(theta).
+    const double theta = numeric::kTwoPi * f_hz * dt_, half = std::sin(theta / 2);
     Eigen::MatrixXcd m;
-    const auto r = h_.evaluate(std::polar(1.0, numeric::kTwoPi * f_hz * dt_), m);
+    if (!searched_.evaluate({-2 * half * half, std::sin(theta)}, m)) return exact(f_hz);
+    m.diagonal().array() += 0.5;
+    return m;
+  }
+  // As frequency_response of the discrete system: z = e^{j 2 pi f dt}.
+  Eigen::MatrixXcd exact(double f_hz) const {
+    require_finite(f_hz);
+    Eigen::MatrixXcd m;
+    const auto r = exact_.evaluate(std::polar(1.0, numeric::kTwoPi * f_hz * dt_), m);
     if (r != plant::lti::TransferFunction::Point::kFinite) {
       std::ostringstream what;
       what.precision(17);
@@ -50,14 +65,31 @@ class InputSensitivity {
 
   Index channels() const { return channels_; }
   double nyquist_hz() const { return 0.5 / dt_; }
+  // The frequencies of the loop's complex poles (upper half plane): where a lightly damped pole
+  // raises a peak narrower than the grid's spacing, the grid then holds its top.
+  Eigen::VectorXd pole_frequencies_hz() const {
+    const Eigen::VectorXcd poles = searched_.poles();
+    Eigen::VectorXd f = Eigen::VectorXd::Constant(poles.size(), std::nan(""));
+    for (Index k = 0; k < poles.size(); ++k)
+      if (poles(k).imag() > 0) f(k) = std::arg(poles(k)) / (numeric::kTwoPi * dt_);
+    return f;
+  }
 
  private:
-  // H: the perturbation added to the command -> the command.
-  static plant::lti::TransferFunction transfer(const SampledLoopModel& loop) {
+  static void require_finite(double f_hz) {
+    if (!std::isfinite(f_hz))
+      throw std::invalid_argument("disk margins: a frequency is not finite");
+  }
+  static void require_sizes(const SampledLoopModel& loop) {
     const Index n = loop.A.rows(), nc = loop.command.rows();
     if (loop.A.cols() != n || loop.perturbation.rows() != n || loop.perturbation.cols() != nc ||
         loop.command.cols() != n || !(loop.dt > 0))
       throw std::invalid_argument("disk margins: the loop model's sizes do not close");
+  }
+  // H: the perturbation added to the command -> the command.
+  static plant::lti::TransferFunction transfer(const SampledLoopModel& loop) {
+    require_sizes(loop);
+    const Index n = loop.A.rows(), nc = loop.command.rows();
     plant::lti::StateSpace h{
         loop.A, loop.perturbation, loop.command, Eigen::MatrixXd::Zero(nc, nc), {}, {}, {}};
     for (Index i = 0; i < n; ++i) h.states.push_back("x" + std::to_string(i + 1));
@@ -69,32 +101,39 @@ class InputSensitivity {
   }
 
   Index channels_;
-  plant::lti::TransferFunction h_;
+  plant::lti::TransferFunction exact_;
+  plant::lti::SchurTransfer searched_;
   double dt_;
 };
 
-double largest_singular_value(const Eigen::MatrixXcd& m) {
+// sigma_max by the SVD: for the value a margin is read from.
+double largest_singular_value_by_svd(const Eigen::MatrixXcd& m) {
   return Eigen::JacobiSVD<Eigen::MatrixXcd>(m).singularValues()(0);
 }
 
 // sigma_max at each grid point that can hold the grid's largest, -1 elsewhere: the largest
-// column norm <= sigma_max <= the Frobenius norm, so a point whose Frobenius norm lies below some
-// point's largest column norm cannot (the factor covers their rounding). Lightly damped loops
-// peak narrowly: most of the grid is passed over without its SVD.
+// column norm <= sigma_max <= min(Frobenius norm, sqrt(||M||_1 ||M||_inf)), so a point whose upper
+// bound lies below some point's largest column norm cannot (the factor covers their rounding).
+// S - I/2 is near I/2 away from the loop's crossover, where the second bound is the tight one.
 std::vector<double> largest_singular_values_near_peak(const std::vector<Eigen::MatrixXcd>& grid) {
   double floor = 0;
   for (const auto& m : grid) floor = std::max(floor, m.colwise().norm().maxCoeff());
   std::vector<double> v(grid.size(), -1);
-  for (std::size_t k = 0; k < grid.size(); ++k)
-    if (grid[k].norm() * (1 + 1e-9) >= floor) v[k] = largest_singular_value(grid[k]);
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    const Eigen::MatrixXd a = grid[k].cwiseAbs();
+    const double bound = std::min(
+        grid[k].norm(), std::sqrt(a.colwise().sum().maxCoeff() * a.rowwise().sum().maxCoeff()));
+    if (bound * (1 + 1e-9) >= floor) v[k] = plant::lti::largest_singular_value(grid[k]);
+  }
   return v;
 }
 
 // The peak of `measure` (of S - I/2 at one frequency) over the grid (its values there given),
-// refined by golden-section search in log f between the neighbours of the largest grid point.
-template <class Measure>
+// refined by golden-section search in log f between the neighbours of the largest grid point;
+// the peak's value is `exact` of the exact S - I/2 at the frequency the search settles on.
+template <class Measure, class Exact>
 std::pair<double, double> peak(const InputSensitivity& s, const std::vector<double>& f,
-                               const std::vector<double>& values, Measure measure) {
+                               const std::vector<double>& values, Measure measure, Exact exact) {
   std::size_t best = 0;
   double best_value = -1;
   for (std::size_t k = 0; k < f.size(); ++k)
@@ -102,7 +141,7 @@ std::pair<double, double> peak(const InputSensitivity& s, const std::vector<doub
   double lo = std::log(f[best == 0 ? 0 : best - 1]);
   double hi = std::log(f[std::min(best + 1, f.size() - 1)]);
   const double r = (std::sqrt(5.0) - 1) / 2;
-  auto at = [&](double log_f) { return measure(s.centred(std::exp(log_f))); };
+  auto at = [&](double log_f) { return measure(s.searched(std::exp(log_f))); };
   double a = hi - r * (hi - lo), b = lo + r * (hi - lo), va = at(a), vb = at(b);
   for (int i = 0; i < 60 && hi - lo > 1e-12; ++i) {
     if (va > vb) {
@@ -111,9 +150,8 @@ std::pair<double, double> peak(const InputSensitivity& s, const std::vector<doub
       lo = a, a = b, va = vb, b = lo + r * (hi - lo), vb = at(b);
     }
   }
-  const double refined = std::max(va, vb);
-  if (refined > best_value) return {refined, std::exp(va > vb ? a : b)};
-  return {best_value, f[best]};
+  const double f_peak = std::max(va, vb) > best_value ? std::exp(va > vb ? a : b) : f[best];
+  return {exact(s.exact(f_peak)), f_peak};
 }
 
 DiskMargin margin_at_peak(std::pair<double, double> p) {
@@ -138,17 +176,20 @@ InputDiskMargins input_disk_margins(const SampledLoopModel& loop,
   if (options.points < 16) throw std::invalid_argument("disk margins: need at least 16 points");
   const InputSensitivity s(loop);
   const double nyquist = s.nyquist_hz();
-  const auto f = plant::lti::log_frequency_grid_hz(1e-6 * nyquist, nyquist, options.points);
-  const auto grid = s.centred(f);
+  const auto f = plant::lti::with_resonances(
+      plant::lti::log_frequency_grid_hz(1e-6 * nyquist, nyquist, options.points),
+      s.pole_frequencies_hz());
+  const auto grid = s.searched(f);
   InputDiskMargins r;
   std::vector<double> values(f.size());
   for (Index i = 0; i < s.channels(); ++i) {
     const auto loop_i = [i](const Eigen::MatrixXcd& m) { return std::abs(m(i, i)); };
     for (std::size_t k = 0; k < f.size(); ++k) values[k] = loop_i(grid[k]);
-    r.loops.push_back(margin_at_peak(peak(s, f, values, loop_i)));
+    r.loops.push_back(margin_at_peak(peak(s, f, values, loop_i, loop_i)));
   }
   r.all_loops =
-      margin_at_peak(peak(s, f, largest_singular_values_near_peak(grid), largest_singular_value));
+      margin_at_peak(peak(s, f, largest_singular_values_near_peak(grid),
+                          plant::lti::largest_singular_value, largest_singular_value_by_svd));
   return r;
 }
 

@@ -39,8 +39,10 @@ std::vector<Eigen::MatrixXcd> closed_loop_response(const scene::ScenePlant& p,
 }
 
 Eigen::VectorXd largest_singular_values(const std::vector<Eigen::MatrixXcd>& responses) {
-  if (responses.empty()) return {};
-  return plant::lti::singular_values(responses).col(0);
+  Eigen::VectorXd sigma(static_cast<Eigen::Index>(responses.size()));
+  for (std::size_t k = 0; k < responses.size(); ++k)
+    sigma(static_cast<Eigen::Index>(k)) = plant::lti::largest_singular_value(responses[k]);
+  return sigma;
 }
 
 Eigen::VectorXd stationary_rms(const scene::ScenePlant& p, const scene::SampledScene& sampled,

@@ -240,6 +240,14 @@ std::vector<Eigen::MatrixXcd> frequency_response(const DiscreteStateSpace& sys,
                      [&](double f) { return std::polar(1.0, kTwoPi * f * sys.dt); });
 }
 
+double largest_singular_value(const Eigen::MatrixXcd& G) {
+  if (G.size() == 0) return 0;
+  const Eigen::MatrixXcd gram =
+      G.rows() < G.cols() ? Eigen::MatrixXcd(G * G.adjoint()) : Eigen::MatrixXcd(G.adjoint() * G);
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXcd> eig(gram, Eigen::EigenvaluesOnly);
+  return std::sqrt(std::max(eig.eigenvalues().maxCoeff(), 0.0));
+}
+
 Eigen::MatrixXd singular_values(const std::vector<Eigen::MatrixXcd>& G) {
   if (G.empty()) return Eigen::MatrixXd(0, 0);
   const Eigen::Index rows = G.front().rows(), cols = G.front().cols();
