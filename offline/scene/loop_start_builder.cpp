@@ -13,6 +13,7 @@
 #include "offline/scene/schema_conversion.hpp"
 #include "plant/lti/balanced_exponential.hpp"
 #include "plant/lti/frequency_response.hpp"
+#include "plant/lti/stable_covariance.hpp"
 #include "plant/lti/vibration_criterion.hpp"
 
 namespace flexloop::scene {
@@ -243,52 +244,20 @@ struct Covariance {
 };
 
 // The stationary covariance of the loop without its modes on the unit circle. Those (the
-// integrators of a force feedback without a leak) are split off by their spectral projector
-// Π = V (Wᴴ V)⁻¹ Wᴴ (right and left eigenvectors): the state's part (I - Π) x has the loop's
-// other modes and a covariance; the part Π x starts at zero, as from rest. Where the noise
-// reaches Π x (Wᴴ Γ != 0: an integrator of sensor noise) it drifts as a random walk from there.
+// integrators of a force feedback without a leak) are split off along their invariant subspace
+// (plant/lti/stable_covariance.hpp): the state's part on the other modes has a covariance; the
+// part on the circle starts at zero, as from rest. Where the noise reaches it (an integrator of
+// sensor noise) it drifts as a random walk from there.
 Covariance stationary_covariance(const NoisyLoop& m) {
-  const MatrixXd& A = m.loop.A;
-  const Index n = A.rows();
-  const Eigen::VectorXd t = plant::lti::balancing_scaling(A);
-  const MatrixXd Ab = t.cwiseInverse().asDiagonal() * A * t.asDiagonal();
-  const Eigen::EigenSolver<MatrixXd> right(Ab), left(Ab.transpose());
-  if (right.info() != Eigen::Success || left.info() != Eigen::Success)
-    throw std::invalid_argument("the loop's eigenvalues did not converge");
-  std::vector<Index> on_right, on_left;
-  for (Index i = 0; i < n; ++i) {
-    if (std::abs(right.eigenvalues()(i)) > 1 + kMarginalTolerance)
-      throw std::invalid_argument("the loop is unstable");
-    if (std::abs(right.eigenvalues()(i)) >= 1 - kMarginalTolerance) on_right.push_back(i);
-    if (std::abs(left.eigenvalues()(i)) >= 1 - kMarginalTolerance) on_left.push_back(i);
-  }
-  if (on_right.size() != on_left.size())
-    throw std::invalid_argument("the modes on the unit circle are not resolved");
-  MatrixXd A_inner = A, noise_inner = m.noise;
+  const auto stable = plant::lti::stable_covariance(m.loop.A, m.noise, kMarginalTolerance);
   Covariance c;
-  if (!on_right.empty()) {
-    const Eigen::MatrixXcd V = t.asDiagonal() * right.eigenvectors()(Eigen::all, on_right),
-                           W = t.cwiseInverse().asDiagonal() *
-                               left.eigenvectors()(Eigen::all, on_left);
-    const Eigen::MatrixXcd WV = W.adjoint() * V;
-    const Eigen::FullPivLU<Eigen::MatrixXcd> lu(WV);
-    if (!lu.isInvertible() || 1 / lu.rcond() > 1e10)
-      throw std::invalid_argument(std::to_string(on_right.size()) +
-                                  " modes on the unit circle form a Jordan block (a double "
-                                  "integrator): no stationary state");
-    const MatrixXd projector = (V * lu.solve(W.adjoint())).real();
-    const MatrixXd inner = MatrixXd::Identity(n, n) - projector;
-    A_inner = A * inner;
-    noise_inner = inner * m.noise;
-    const double driven = (projector * m.noise).norm() / std::max(m.noise.norm(), 1e-300);
+  c.P = stable.P;
+  if (stable.on_circle > 0)
     c.note =
-        std::to_string(on_right.size()) + (on_right.size() == 1 ? " mode" : " modes") +
+        std::to_string(stable.on_circle) + (stable.on_circle == 1 ? " mode" : " modes") +
         " on the unit circle (integrators or undamped modes) start at zero" +
-        (driven > 1e-8 ? "; the noise drives them: they drift from there as a random walk" : "");
-  }
-  auto P = numeric::stationary_covariance(A_inner, noise_inner);
-  if (!P) throw std::invalid_argument("the stationary covariance did not settle");
-  c.P = std::move(*P);
+        (stable.driven > 1e-8 ? "; the noise drives them: they drift from there as a random walk"
+                              : "");
   return c;
 }
 
