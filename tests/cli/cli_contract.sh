@@ -131,6 +131,9 @@ done
 # A log that would not fit in memory is refused before the run, saying which --log-every would.
 out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1e9 --log "$tmp/huge.mat" 2>&1); rc=$?
 [[ $rc -eq 2 && "$out" == *"GB"*"--log-every"* && ! -e "$tmp/huge.mat" ]] || fail "sim huge log: exit $rc ($out)"
+# A .mat log beyond MAT 5's 2 GB a variable (1000 s x 31 columns: 2.5 GB) is refused before the run.
+out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1000 --log "$tmp/big.mat" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"big.mat"*"MAT 5"*"--log-every"* && ! -e "$tmp/big.mat" ]] || fail "sim .mat above 2 GB: exit $rc ($out)"
 out=$("$flexloop" build "$root/tools/scenes/metrology_frame.toml" --rate 1e9 -o "$tmp/fast.json" 2>&1); rc=$?
 [[ $rc -eq 2 && "$out" == *"--rate"* && ! -e "$tmp/fast.json" ]] || fail "build --rate 1e9: exit $rc ($out)"
 
@@ -204,4 +207,4 @@ out=$("$flexloop" sim "$tmp/arm4/scene.toml" --duration 0.2 2>&1) || fail "sim o
 [[ "$out" == *"22 states"* && "$out" == *"real time"* ]] || fail "sim of a generated arm: $out"
 out=$("$root/tools/models/make_flexible_arm.py" --help) && [[ "$out" == *"Example"* ]] ||
   fail "make_flexible_arm.py --help has no example"
-echo "cli contract: 25 checks passed"
+echo "cli contract: 26 checks passed"
