@@ -86,10 +86,15 @@ sim::ProgressFactory progress_lines(long steps) {
   };
 }
 
+// The log's data: every log_every-th of `steps` rows of `columns` doubles.
+double log_bytes(long steps, long log_every, Eigen::Index columns) {
+  return std::ceil(static_cast<double>(steps) / static_cast<double>(log_every)) *
+         static_cast<double>(columns) * sizeof(double);
+}
+
 // A log that does not fit: refused before the run, with the --log-every that would.
 void require_log_fits(long steps, long log_every, Eigen::Index columns, const std::string& path) {
-  const double bytes = std::ceil(static_cast<double>(steps) / static_cast<double>(log_every)) *
-                       static_cast<double>(columns) * sizeof(double);
+  const double bytes = log_bytes(steps, log_every, columns);
   const double memory = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
                         static_cast<double>(::sysconf(_SC_PAGE_SIZE));
   if (bytes <= memory / 2) return;
@@ -104,8 +109,7 @@ void require_log_fits(long steps, long log_every, Eigen::Index columns, const st
 // A .mat log above MAT 5's 2 GB per variable (MATLAB reads no larger one from a MAT 5 file):
 // refused before the run, with the --log-every that fits; a CSV has no such limit.
 void require_mat_fits(long steps, long log_every, Eigen::Index columns, const std::string& path) {
-  const double bytes = std::ceil(static_cast<double>(steps) / static_cast<double>(log_every)) *
-                       static_cast<double>(columns) * sizeof(double);
+  const double bytes = log_bytes(steps, log_every, columns);
   constexpr double kLimit = 2147483648.0 - 4096;  // 2^31, less the header and tags
   if (std::filesystem::path(path).extension() != ".mat" || bytes <= kLimit) return;
   throw common::InputError(
