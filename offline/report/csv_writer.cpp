@@ -85,7 +85,8 @@ void write_csv(const std::string& path, const std::vector<std::string>& header,
   out.write(names.data(), names.size());
   const Eigen::Index rows = data.rows();
   const std::size_t row_room = static_cast<std::size_t>(data.cols()) * (kNumberRoom + 1) + 1;
-  const auto chunk = static_cast<Eigen::Index>(std::max<std::size_t>(kBlockBytes / row_room, 1));
+  const Eigen::Index chunk = std::clamp<Eigen::Index>(  // rows a block; a small table's own
+      static_cast<Eigen::Index>(kBlockBytes / row_room), 1, std::max<Eigen::Index>(rows, 1));
   const unsigned workers =
       data.size() >= kParallelNumbers ? std::max(std::thread::hardware_concurrency(), 1u) : 1u;
   std::vector<std::vector<char>> blocks(
