@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
+#include <utility>
 
 #include "common/input_error.hpp"
 
@@ -40,37 +41,70 @@ void require_writable(const std::filesystem::path& file) {
   ::unlink(tmp.c_str());
 }
 
-void write_text_atomically(const std::filesystem::path& file, const std::string& text) {
-  if (file.empty()) throw std::runtime_error("cannot write a file with an empty name");
-  const auto dir = file.has_parent_path() ? file.parent_path() : std::filesystem::path(".");
-  std::string tmp = temporary_beside(file);
-  const auto fail = [&](const std::string& step, int fd, bool remove_tmp) {
-    const int err = errno;
-    if (fd >= 0) ::close(fd);
-    if (remove_tmp) ::unlink(tmp.c_str());
-    throw std::runtime_error("cannot write " + file.string() + ": " + step + ": " +
-                             std::strerror(err));
-  };
-  const int fd = ::mkstemp(tmp.data());
-  if (fd < 0) fail("cannot create a temporary file in " + dir.string(), -1, false);
+AtomicFileWriter::AtomicFileWriter(std::filesystem::path file)
+    : file_(std::move(file)), tmp_(temporary_beside(file_)) {
+  if (file_.empty()) throw std::runtime_error("cannot write a file with an empty name");
+  fd_ = ::mkstemp(tmp_.data());
+  if (fd_ < 0) {
+    tmp_.clear();  // nothing to remove
+    const auto dir = file_.has_parent_path() ? file_.parent_path() : std::filesystem::path(".");
+    fail("cannot create a temporary file in " + dir.string());
+  }
+}
+
+AtomicFileWriter::~AtomicFileWriter() {
+  if (fd_ >= 0) ::close(fd_);
+  if (!tmp_.empty()) ::unlink(tmp_.c_str());
+}
+
+void AtomicFileWriter::fail(const std::string& step) {
+  const int err = errno;
+  if (fd_ >= 0) ::close(fd_);
+  fd_ = -1;
+  if (!tmp_.empty()) ::unlink(tmp_.c_str());
+  tmp_.clear();
+  throw std::runtime_error("cannot write " + file_.string() + ": " + step + ": " +
+                           std::strerror(err));
+}
+
+void AtomicFileWriter::write(const char* data, std::size_t size) {
+  if (fd_ < 0) throw std::logic_error("AtomicFileWriter::write after commit or failure");
+  const off_t start = ::lseek(fd_, 0, SEEK_CUR);
   std::size_t done = 0;
-  while (done < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
+  while (done < size) {
+    const ssize_t n = ::write(fd_, data + done, size - done);
     if (n < 0 && errno == EINTR) continue;
-    if (n <= 0) fail("write " + tmp, fd, true);
+    if (n <= 0) fail("write " + tmp_);
     done += static_cast<std::size_t>(n);
   }
+  // Start the disk on these bytes now, not all at fsync(): advice, so a refusal is no error.
+  if (start >= 0 && size > 0)
+    ::sync_file_range(fd_, start, static_cast<off_t>(size), SYNC_FILE_RANGE_WRITE);
+}
+
+void AtomicFileWriter::commit() {
+  if (fd_ < 0) throw std::logic_error("AtomicFileWriter::commit twice or after failure");
   // mkstemp creates 0600; artefacts and reports are ordinary readable files.
-  if (::fchmod(fd, 0644) != 0) fail("set permissions on " + tmp, fd, true);
-  if (::fsync(fd) != 0) fail("flush " + tmp, fd, true);
-  if (::close(fd) != 0) fail("close " + tmp, -1, true);
-  if (std::rename(tmp.c_str(), file.c_str()) != 0) fail("rename " + tmp, -1, true);
+  if (::fchmod(fd_, 0644) != 0) fail("set permissions on " + tmp_);
+  if (::fsync(fd_) != 0) fail("flush " + tmp_);
+  const int fd = fd_;
+  fd_ = -1;
+  if (::close(fd) != 0) fail("close " + tmp_);
+  if (std::rename(tmp_.c_str(), file_.c_str()) != 0) fail("rename " + tmp_);
+  tmp_.clear();  // it is the target now
   // Make the rename itself durable; failure here leaves a complete file, so it is not an error.
+  const auto dir = file_.has_parent_path() ? file_.parent_path() : std::filesystem::path(".");
   const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY);
   if (dfd >= 0) {
     ::fsync(dfd);
     ::close(dfd);
   }
+}
+
+void write_text_atomically(const std::filesystem::path& file, const std::string& text) {
+  AtomicFileWriter out(file);
+  out.write(text.data(), text.size());
+  out.commit();
 }
 
 }  // namespace flexloop::common

@@ -12,6 +12,28 @@ namespace flexloop::common {
 /// @throws std::runtime_error "cannot write <file>: <step>: <system error>".
 void write_text_atomically(const std::filesystem::path& file, const std::string& text);
 
+/// The same, for a file too large to hold in memory first: written in pieces (each handed to the
+/// kernel as it comes, its write-back to the disk started at once so that commit() waits only
+/// for the last ones), then committed. Destroyed uncommitted (an error on the way), it removes
+/// its temporary file and leaves the target as it was. Same errors as write_text_atomically().
+class AtomicFileWriter {
+ public:
+  explicit AtomicFileWriter(std::filesystem::path file);
+  ~AtomicFileWriter();
+  AtomicFileWriter(const AtomicFileWriter&) = delete;
+  AtomicFileWriter& operator=(const AtomicFileWriter&) = delete;
+
+  void write(const char* data, std::size_t size);
+  /// Flushed to the disk, readable (0644), renamed over the target, the rename made durable.
+  void commit();
+
+ private:
+  [[noreturn]] void fail(const std::string& step);
+  std::filesystem::path file_;
+  std::string tmp_;
+  int fd_ = -1;
+};
+
 /// Before a run whose results go to `file`: makes its directory and checks that a file can be
 /// created there (creates and removes a hidden temporary one), so that a long run does not end
 /// in a file it cannot write. The target itself is not touched.

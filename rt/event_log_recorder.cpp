@@ -4,10 +4,12 @@
 #include <pthread.h>
 #include <sched.h>
 #include <sys/sysinfo.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <ctime>
 #include <stdexcept>
@@ -50,6 +52,9 @@ EventLogRecorder::EventLogRecorder(const std::string& path, int max_message_byte
     throw std::runtime_error(path + ": cannot be created for the LCM log (" + std::strerror(errno) +
                              ")");
   log_ = log;
+  // The writer hands the kernel the log in large blocks, not stdio's 4 KB ones.
+  stdio_buffer_.resize(kWriteBlockBytes);
+  std::setvbuf(log->f, stdio_buffer_.data(), _IOFBF, stdio_buffer_.size());
   channels_.reserve(kMaxChannels);  // never reallocated while the writer reads it
   wall_minus_monotonic_ns_ = wall_clock_now_ns() - monotonic_now_ns();
   writer_ = std::thread([this] {
@@ -123,7 +128,8 @@ std::string EventLogRecorder::finish() {
   if (writer_.joinable()) writer_.join();
   auto* log = static_cast<lcm_eventlog_t*>(log_);
   if (log != nullptr) {
-    if (std::fflush(log->f) != 0 && error_.empty())
+    // On the disk before the run reports it written, as the project's other outputs are.
+    if ((std::fflush(log->f) != 0 || ::fsync(::fileno(log->f)) != 0) && error_.empty())
       error_ = path_ + ": writing the LCM log failed (" + std::strerror(errno) + ")";
     lcm_eventlog_destroy(log);
     log_ = nullptr;

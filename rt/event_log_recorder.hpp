@@ -9,7 +9,7 @@
 // loop: record() is a copy and an atomic store), and a writer thread at ordinary priority, on
 // any CPU, writes the ring out in batches whenever the loop leaves it the CPU. A ring that fills
 // (the writer kept off the CPU for longer than the ring lasts) drops the newest messages and
-// counts them.
+// counts them. At finish() the log is flushed and fsync'ed: written means on the disk.
 //
 // One producer (the loop thread) and one consumer (the writer thread).
 #include <atomic>
@@ -54,6 +54,7 @@ class EventLogRecorder {
     std::int32_t channel;
     std::int32_t size;
   };
+  static constexpr std::size_t kWriteBlockBytes = std::size_t{1} << 20;
   void write_loop();
   std::uint8_t* slot(std::uint64_t index) noexcept {
     return ring_.data() + (index % capacity_) * slot_bytes_;
@@ -72,6 +73,7 @@ class EventLogRecorder {
   std::int64_t recorded_ = 0, dropped_ = 0;
   std::int64_t wall_minus_monotonic_ns_ = 0;
   std::string error_;
+  std::vector<char> stdio_buffer_;  // the log file's buffer: outlives the file
   std::thread writer_;
   bool finished_ = false;
 };

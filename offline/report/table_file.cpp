@@ -4,8 +4,14 @@
 #include <matio.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "common/input_error.hpp"
 #include "offline/report/csv_writer.hpp"
@@ -64,7 +70,118 @@ bool write_mat_file(const std::string& file, const std::vector<std::string>& nam
   return ok;
 }
 
+// One CSV line split at the commas outside quotes; quoted fields unquoted (RFC 4180).
+std::vector<std::string> csv_fields(const std::string& line) {
+  std::vector<std::string> fields(1);
+  bool quoted = false;
+  for (std::size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (c == '"' && quoted && i + 1 < line.size() && line[i + 1] == '"')
+      fields.back() += '"', ++i;  // a doubled quote inside a quoted field
+    else if (c == '"')
+      quoted = !quoted;
+    else if (c == ',' && !quoted)
+      fields.emplace_back();
+    else if (c != '\r')
+      fields.back() += c;
+  }
+  return fields;
+}
+
+// Rows of numbers into row-major values; every row as long as the header.
+Table read_csv_table(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw common::InputError(path, "cannot open the table");
+  std::string line;
+  if (!std::getline(in, line)) throw common::InputError(path + ":1", "no header row");
+  Table t;
+  t.names = csv_fields(line);
+  const std::size_t cols = t.names.size();
+  std::vector<double> values;  // row-major
+  for (long number = 2; std::getline(in, line); ++number) {
+    if (line.empty() || line == "\r") continue;
+    const char* p = line.c_str();
+    for (std::size_t j = 0; j < cols; ++j) {
+      char* end = nullptr;
+      values.push_back(std::strtod(p, &end));  // exact for the shortest form the writer uses
+      const char want = j + 1 < cols ? ',' : '\0';
+      if (end == p || (*end != want && !(want == '\0' && *end == '\r')))
+        throw common::InputError(path + ":" + std::to_string(number),
+                                 "column " + std::to_string(j + 1) + " (" + t.names[j] +
+                                     "): not a number, or not " + std::to_string(cols) +
+                                     " columns as the header has");
+      p = end + 1;
+    }
+  }
+  const auto rows = static_cast<Eigen::Index>(values.size() / std::max<std::size_t>(cols, 1));
+  t.data = Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
+      values.data(), rows, static_cast<Eigen::Index>(cols));
+  return t;
+}
+
+// The matio variable `name`, read whole; freed when it goes.
+struct MatVar {
+  matvar_t* var = nullptr;
+  ~MatVar() { Mat_VarFree(var); }
+};
+
+// A MATLAB char array as UTF-8: as it is when stored as bytes (matio, scipy), else (MATLAB's
+// own UTF-16 code units) each unit of the Basic Multilingual Plane encoded.
+std::string char_text(const matvar_t& s) {
+  if (s.data_type != MAT_T_UINT16 && s.data_type != MAT_T_UTF16)
+    return {static_cast<const char*>(s.data), s.nbytes};
+  std::string out;
+  const auto* units = static_cast<const std::uint16_t*>(s.data);
+  for (std::size_t k = 0; k < s.nbytes / 2; ++k) {
+    const unsigned u = units[k];
+    if (u < 0x80) {
+      out += static_cast<char>(u);
+    } else if (u < 0x800) {
+      out += static_cast<char>(0xC0 | (u >> 6));
+      out += static_cast<char>(0x80 | (u & 0x3F));
+    } else {
+      out += static_cast<char>(0xE0 | (u >> 12));
+      out += static_cast<char>(0x80 | ((u >> 6) & 0x3F));
+      out += static_cast<char>(0x80 | (u & 0x3F));
+    }
+  }
+  return out;
+}
+
+Table read_mat_table(const std::string& path) {
+  mat_t* mat = Mat_Open(path.c_str(), MAT_ACC_RDONLY);
+  if (!mat) throw common::InputError(path, "cannot be read as a MATLAB .mat file");
+  const MatVar data{Mat_VarRead(mat, "data")}, columns{Mat_VarRead(mat, "columns")};
+  Mat_Close(mat);
+  const matvar_t* d = data.var;
+  if (!d || d->class_type != MAT_C_DOUBLE || d->isComplex || d->rank != 2)
+    throw common::InputError(path + ":data", "no real double matrix `data`");
+  Table t;
+  t.data = Eigen::Map<const Eigen::MatrixXd>(static_cast<const double*>(d->data),
+                                             static_cast<Eigen::Index>(d->dims[0]),
+                                             static_cast<Eigen::Index>(d->dims[1]));
+  const matvar_t* c = columns.var;
+  const std::size_t names = c && c->class_type == MAT_C_CELL ? c->dims[0] * c->dims[1] : 0;
+  for (std::size_t j = 0; j < names; ++j) {
+    const matvar_t* s = Mat_VarGetCell(const_cast<matvar_t*>(c), static_cast<int>(j));
+    if (!s || s->class_type != MAT_C_CHAR || !s->data) break;
+    t.names.push_back(char_text(*s));
+  }
+  if (static_cast<Eigen::Index>(t.names.size()) != t.data.cols())
+    throw common::InputError(path + ":columns", "not a cell array of " +
+                                                    std::to_string(t.data.cols()) +
+                                                    " column names (one per column of `data`)");
+  return t;
+}
+
 }  // namespace
+
+Table read_table(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw common::InputError(path, "cannot open the table");
+  if (extension(path) == ".csv") return read_csv_table(path);
+  if (extension(path) == ".mat") return read_mat_table(path);
+  throw common::InputError(path, "a table is read from .csv or .mat");
+}
 
 bool is_table_file(const std::string& path) {
   const std::string ext = extension(path);

@@ -28,4 +28,15 @@ void stage_table(const std::string& path, const std::vector<std::string>& names,
 void commit_table(const std::string& path);
 void discard_table(const std::string& path) noexcept;
 
+/// A table as write_table() wrote it (`flexloop log` converts one format into the other).
+struct Table {
+  std::vector<std::string> names;
+  Eigen::MatrixXd data;
+};
+
+/// Reads a .csv (a header row, then equally long rows of numbers; nan / inf as written) or a
+/// .mat (`data`, a real double matrix, and `columns`, a cell array of its column names).
+/// @throws flexloop::InputError naming the file, and the line (CSV) or variable (.mat) at fault.
+Table read_table(const std::string& path);
+
 }  // namespace flexloop::report

@@ -6,7 +6,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <complex>
+#include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -116,6 +118,51 @@ TEST_CASE("CSV: numbers round trip exactly through a file", "[report][csv]") {
   }
   CHECK(row == data.rows());
   CHECK(dir.files() == std::vector<std::string>{"table.csv"});  // no temporary left over
+}
+
+TEST_CASE("CSV: a log longer than the writer's block round-trips every value exactly",
+          "[report][csv]") {
+  // 40 000 rows x 31 columns (a sim log's width) is ~25 MB of text, several of the writer's
+  // blocks; read as RunLog holds it: a column-major view with an outer stride beyond its rows.
+  ScratchDir dir("csv_long");
+  constexpr Eigen::Index rows = 40000, cols = 31, stride = rows + 7;
+  std::vector<double> memory(static_cast<std::size_t>(stride * cols));
+  std::uint64_t bits = 0x9E3779B97F4A7C15ull;  // every bit pattern of a double is fair game
+  for (double& v : memory) {
+    bits ^= bits << 13, bits ^= bits >> 7, bits ^= bits << 17;  // xorshift64
+    std::memcpy(&v, &bits, sizeof v);
+  }
+  const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<>> data(
+      memory.data(), rows, cols, Eigen::OuterStride<>(stride));
+  std::vector<std::string> names;
+  for (Eigen::Index j = 0; j < cols; ++j) names.push_back("c" + std::to_string(j));
+  const std::string path = dir / "log.csv";
+  report::write_csv(path, names, data);
+
+  std::ifstream in(path);
+  std::stringstream all;
+  all << in.rdbuf();
+  const std::string text = all.str();
+  const char* p = text.c_str() + text.find('\n') + 1;
+  Eigen::Index mismatches = 0, nans = 0;
+  for (Eigen::Index i = 0; i < rows; ++i)
+    for (Eigen::Index j = 0; j < cols; ++j) {
+      char* end = nullptr;
+      const double v = std::strtod(p, &end);
+      REQUIRE(end != p);
+      REQUIRE(*end == (j + 1 < cols ? ',' : '\n'));
+      p = end + 1;
+      if (std::isnan(data(i, j))) {
+        nans += 1;
+        mismatches += std::isnan(v) ? 0 : 1;
+      } else {
+        mismatches += v == data(i, j) ? 0 : 1;  // bit-exact (the sign of zero aside)
+      }
+    }
+  CHECK(mismatches == 0);
+  CHECK(nans > 0);    // the NaN patterns were written and read back as nan
+  CHECK(*p == '\0');  // nothing after the last row
+  CHECK(dir.files() == std::vector<std::string>{"log.csv"});
 }
 
 TEST_CASE("CSV: columns form, overwrite, size and path errors", "[report][csv]") {

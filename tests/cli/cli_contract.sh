@@ -97,6 +97,23 @@ assert mat["data"].shape == csv.shape, (mat["data"].shape, csv.shape)
 assert names == [h.strip('"') for h in header], (names[:3], header[:3])
 assert numpy.array_equal(mat["data"], csv), abs(mat["data"] - csv).max()
 PY
+# flexloop log converts either table into the other, every sample and every column: the .mat
+# back to text byte for byte the sim's own CSV, the CSV back to binary bit for bit its .mat
+# (10 000 rows: 1 s at 10 kHz, none dropped); a row that is not numbers is refused at its line.
+out=$("$flexloop" log "$tmp/sim/log.mat" -o "$tmp/sim/back.csv" 2>&1) || fail "flexloop log .mat: $out"
+[[ "$out" == *"10000 rows, 31 columns"* ]] || fail "flexloop log .mat rows: $out"
+cmp -s "$tmp/sim/log.csv" "$tmp/sim/back.csv" || fail "flexloop log .mat -> .csv differs from sim's CSV"
+out=$("$flexloop" log "$tmp/sim/log.csv" -o "$tmp/sim/back.mat" 2>&1) || fail "flexloop log .csv: $out"
+/usr/bin/python3 - "$tmp/sim/log.mat" "$tmp/sim/back.mat" <<'PY' || fail "flexloop log .csv -> .mat differs from sim's .mat"
+import sys, numpy, scipy.io
+a, b = scipy.io.loadmat(sys.argv[1]), scipy.io.loadmat(sys.argv[2])
+assert a["data"].shape == b["data"].shape == (10000, 31), (a["data"].shape, b["data"].shape)
+assert numpy.array_equal(a["data"].view(numpy.uint64), b["data"].view(numpy.uint64))
+assert [str(c[0]) for c in a["columns"][0]] == [str(c[0]) for c in b["columns"][0]]
+PY
+printf 't_s,x\n0,1\n0.1,one\n' >"$tmp/sim/bad.csv"
+out=$("$flexloop" log "$tmp/sim/bad.csv" -o "$tmp/sim/bad.mat" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"bad.csv:3"* && ! -e "$tmp/sim/bad.mat" ]] || fail "flexloop log bad.csv: exit $rc ($out)"
 out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1 --log "$tmp/sim/log.txt" 2>&1); rc=$?
 [[ $rc -eq 2 && "$out" == *"log.txt"* && "$out" == *".mat"* ]] || fail "sim --log .txt: exit $rc ($out)"
 # Outputs that cannot be written are refused before the run (here: a directory under a file),
@@ -114,6 +131,9 @@ done
 # A log that would not fit in memory is refused before the run, saying which --log-every would.
 out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1e9 --log "$tmp/huge.mat" 2>&1); rc=$?
 [[ $rc -eq 2 && "$out" == *"GB"*"--log-every"* && ! -e "$tmp/huge.mat" ]] || fail "sim huge log: exit $rc ($out)"
+# A .mat log beyond MAT 5's 2 GB a variable (1000 s x 31 columns: 2.5 GB) is refused before the run.
+out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration 1000 --log "$tmp/big.mat" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"big.mat"*"MAT 5"*"--log-every"* && ! -e "$tmp/big.mat" ]] || fail "sim .mat above 2 GB: exit $rc ($out)"
 out=$("$flexloop" build "$root/tools/scenes/metrology_frame.toml" --rate 1e9 -o "$tmp/fast.json" 2>&1); rc=$?
 [[ $rc -eq 2 && "$out" == *"--rate"* && ! -e "$tmp/fast.json" ]] || fail "build --rate 1e9: exit $rc ($out)"
 
@@ -187,4 +207,4 @@ out=$("$flexloop" sim "$tmp/arm4/scene.toml" --duration 0.2 2>&1) || fail "sim o
 [[ "$out" == *"22 states"* && "$out" == *"real time"* ]] || fail "sim of a generated arm: $out"
 out=$("$root/tools/models/make_flexible_arm.py" --help) && [[ "$out" == *"Example"* ]] ||
   fail "make_flexible_arm.py --help has no example"
-echo "cli contract: 22 checks passed"
+echo "cli contract: 26 checks passed"

@@ -1,11 +1,16 @@
 // The verdict of a real-time run (online/loop/run_verdict.hpp) and hil's status line: which limit
 // fails a run and in which words, which exit code each verdict gets, and that the JSON a report
-// carries reads back as the same verdict.
+// carries reads back as the same verdict; an LCM log that lost messages fails the plant's run.
 #include <catch2/catch.hpp>
+#include <cstdint>
+#include <filesystem>
 #include <string>
 
 #include "online/hil/status_line.hpp"
+#include "online/loop/plant_loop.hpp"
 #include "online/loop/run_verdict.hpp"
+#include "rt/event_log_recorder.hpp"
+#include "rt/monotonic_time.hpp"
 
 using namespace flexloop::hil;
 using namespace flexloop::loop;
@@ -105,4 +110,36 @@ TEST_CASE("hil status line: the figures of the last second in the user's units")
   SharedLoopStatus status;
   StatusLine quiet(*status.get(), 1000, false, true);
   CHECK_FALSE(quiet.enabled());
+}
+
+TEST_CASE("run verdict: an LCM log whose ring overflowed fails the run with what it lost") {
+  // A forced overflow: a ring of two messages fed 20 000 in a tight loop while its writer sleeps
+  // between batches (rt/event_log_recorder.hpp). What the ring could not keep is counted by the
+  // recorder, and the plant's verdict fails on it, naming the log and the count: never silent.
+  const std::string path =
+      (std::filesystem::temp_directory_path() / "flexloop_test_overflow.lcmlog").string();
+  flexloop::rt::EventLogRecorder recorder(path, 16, 2);
+  const int channel = recorder.channel("FLEXLOOP_SENSOR");
+  const std::uint8_t payload[16] = {};
+  for (int i = 0; i < 20000; ++i)
+    recorder.record(channel, payload, sizeof payload, flexloop::rt::monotonic_now_ns());
+  PlantLoopResult r;
+  r.cycles = 20000;
+  r.lcm_log.error = recorder.finish();
+  r.lcm_log.recorded = recorder.recorded();
+  r.lcm_log.dropped = recorder.dropped();
+  std::filesystem::remove(path);
+  CHECK(r.lcm_log.error.empty());
+  CHECK(r.lcm_log.recorded + r.lcm_log.dropped == 20000);
+  REQUIRE(r.lcm_log.dropped > 0);
+  LoopOptions o;
+  o.lcm_log = path;
+  const RunVerdict v = plant_verdict(r, o);
+  CHECK(v.result == RunVerdict::Result::kFail);
+  CHECK(mentions(v, "the LCM log " + path + " lost " + std::to_string(r.lcm_log.dropped) +
+                        " of 20000 messages"));
+  CHECK(exit_code(v) == 3);
+
+  r.lcm_log = {20000, 0, ""};  // the same run with a ring that kept everything passes
+  CHECK(plant_verdict(r, o).result == RunVerdict::Result::kPass);
 }

@@ -1,10 +1,12 @@
 // `flexloop log LOG -o OUT.csv|OUT.mat`: a recorded run (`flexloop hil --lcm-log LOG`) as a table
-// for MATLAB, Octave and Python (offline/report/run_log.hpp has the columns).
+// for MATLAB, Octave and Python (offline/report/run_log.hpp has the columns); a table (`flexloop
+// sim --log`, or this command's own) LOG.csv or LOG.mat into the other format, value for value.
 #include <cstdio>
 #include <memory>
 #include <string>
 
 #include "offline/report/run_log.hpp"
+#include "offline/report/table_file.hpp"
 #include "tools/flexloop/subcommands.hpp"
 
 namespace flexloop::cli {
@@ -15,8 +17,12 @@ void register_log(CLI::App& app) {
   };
   auto args = std::make_shared<Args>();
   auto* cmd = app.add_subcommand(
-      "log", "Export a recorded run (an LCM log of flexloop hil --lcm-log) to CSV or .mat");
-  cmd->add_option("log", args->log, "LCM log written by flexloop hil --lcm-log")->required();
+      "log",
+      "Export a recorded run (an LCM log of flexloop hil --lcm-log) to CSV or .mat, or convert a "
+      "table (.csv, .mat of flexloop sim --log) into the other format");
+  cmd->add_option("log", args->log,
+                  "LCM log written by flexloop hil --lcm-log, or a table LOG.csv / LOG.mat")
+      ->required();
   cmd->add_option("-o,--output", args->out,
                   "Table to write: OUT.csv (one row per sample) or OUT.mat (data, columns)")
       ->required();
@@ -26,8 +32,17 @@ void register_log(CLI::App& app) {
       "Example:\n"
       "  flexloop hil tools/scenes/metrology_frame.toml --netns --duration 2 --report out/hil.json "
       "--lcm-log out/run.lcmlog\n"
-      "  flexloop log out/run.lcmlog -o out/run.mat");
+      "  flexloop log out/run.lcmlog -o out/run.mat\n"
+      "  flexloop log out/sim.mat -o out/sim.csv");
   cmd->callback([args] {
+    if (report::is_table_file(args->log)) {  // a table: into the other format
+      const report::Table t = report::read_table(args->log);
+      report::write_table(args->out, t.names, t.data);
+      std::printf("%s: %ld rows, %ld columns\nwrote %s\n", args->log.c_str(),
+                  static_cast<long>(t.data.rows()), static_cast<long>(t.data.cols()),
+                  args->out.c_str());
+      return;
+    }
     const report::RunTable t = report::read_run_log(args->log);
     report::write_run_table(t, args->out);
     const std::size_t rows = t.columns.empty() ? 0 : t.columns[0].size();

@@ -86,10 +86,15 @@ sim::ProgressFactory progress_lines(long steps) {
   };
 }
 
+// The log's data: every log_every-th of `steps` rows of `columns` doubles.
+double log_bytes(long steps, long log_every, Eigen::Index columns) {
+  return std::ceil(static_cast<double>(steps) / static_cast<double>(log_every)) *
+         static_cast<double>(columns) * sizeof(double);
+}
+
 // A log that does not fit: refused before the run, with the --log-every that would.
 void require_log_fits(long steps, long log_every, Eigen::Index columns, const std::string& path) {
-  const double bytes = std::ceil(static_cast<double>(steps) / static_cast<double>(log_every)) *
-                       static_cast<double>(columns) * sizeof(double);
+  const double bytes = log_bytes(steps, log_every, columns);
   const double memory = static_cast<double>(::sysconf(_SC_PHYS_PAGES)) *
                         static_cast<double>(::sysconf(_SC_PAGE_SIZE));
   if (bytes <= memory / 2) return;
@@ -99,6 +104,19 @@ void require_log_fits(long steps, long log_every, Eigen::Index columns, const st
           " GB, more than half of this machine's memory; log every " +
           report::format_number(std::ceil(bytes / (memory / 2)) * static_cast<double>(log_every)) +
           "-th sample (--log-every) or run shorter");
+}
+
+// A .mat log above MAT 5's 2 GB per variable (MATLAB reads no larger one from a MAT 5 file):
+// refused before the run, with the --log-every that fits; a CSV has no such limit.
+void require_mat_fits(long steps, long log_every, Eigen::Index columns, const std::string& path) {
+  const double bytes = log_bytes(steps, log_every, columns);
+  constexpr double kLimit = 2147483648.0 - 4096;  // 2^31, less the header and tags
+  if (std::filesystem::path(path).extension() != ".mat" || bytes <= kLimit) return;
+  throw common::InputError(
+      path, "the log would take " + report::format_number(std::ceil(bytes / 1e9)) +
+                " GB, more than a MAT 5 file holds in one variable (2 GB); log every " +
+                report::format_number(std::ceil(bytes / kLimit) * static_cast<double>(log_every)) +
+                "-th sample (--log-every), run shorter, or write .csv");
 }
 
 std::string describe_effects(const artefact::EffectsSettings& e) {
@@ -244,6 +262,7 @@ void run(const SimArgs& args) {
     const auto columns = static_cast<Eigen::Index>(log_header(a).size());
     require_log_fits(s.steps, s.log_every, plots ? 2 * columns : columns,
                      log ? args.log : args.plots);
+    if (log) require_mat_fits(s.steps, s.log_every, columns, args.log);
   }
   if (plots) common::require_writable(std::filesystem::path(args.plots) / "time_series.png");
   const std::string floor =
