@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "rt/loop_process_setup.hpp"
+#include "rt/reap_child.hpp"
 
 namespace flexloop::rt {
 
@@ -86,20 +87,6 @@ int run_pong(const PingPongOptions& o, int report_fd) {
       static_cast<long long>(pings.drops().total()), static_cast<long long>(answer.failures()));
   send_block(report_fd, summary);
   return 0;
-}
-
-// Waits for the child; kills it (by its pid) when it does not end within the grace time.
-void reap(pid_t child, std::int64_t grace_ns) {
-  const std::int64_t end = monotonic_now_ns() + grace_ns;
-  int status = 0;
-  while (waitpid(child, &status, WNOHANG) == 0) {
-    if (monotonic_now_ns() > end) {
-      kill(child, SIGKILL);
-      waitpid(child, &status, 0);
-      return;
-    }
-    usleep(10'000);
-  }
 }
 
 // The parent: ping every period, account the answers.
@@ -202,13 +189,13 @@ PingPongResult run_pingpong_baseline(const PingPongOptions& options) {
     if (r.pong_setup.rfind(kPongFailed, 0) == 0) throw std::runtime_error(r.pong_setup);
     run_ping(options, r);
   } catch (...) {
-    reap(child, 2 * kNsPerSecond);
+    reap_child(child, 2 * kNsPerSecond, 10'000'000);
     close(pipe_fd[0]);
     throw;
   }
   r.pong_summary = receive_block(pipe_fd[0]);
   close(pipe_fd[0]);
-  reap(child, 2 * kNsPerSecond);
+  reap_child(child, 2 * kNsPerSecond, 10'000'000);
   return r;
 }
 

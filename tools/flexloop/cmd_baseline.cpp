@@ -1,6 +1,7 @@
-// `flexloop baseline timer|pingpong`: the same-run baselines of doc/design.md §7 on their own --
-// a bare periodic thread's wake-up lateness (cyclictest-style, rt/timer_baseline.hpp) and the
-// bare LCM round trip between two processes (rt/pingpong_baseline.hpp). Prints min / p50 /
+// `flexloop baseline timer|pingpong|shm`: the same-run baselines of doc/design.md §7 on their
+// own -- a bare periodic thread's wake-up lateness (cyclictest-style, rt/timer_baseline.hpp), the
+// bare LCM round trip between two processes (rt/pingpong_baseline.hpp) and the shared-memory
+// floor under any transport (rt/shm_pingpong_baseline.hpp). Prints min / p50 /
 // p99 / p99.9 / max and counts; --json writes the same figures. The ping-pong sends multicast
 // and refuses to run outside tools/netns-run's private loopback namespace (exit 1).
 #include <cstdio>
@@ -13,6 +14,7 @@
 #include "plant/lti/state_space_json.hpp"
 #include "rt/loop_process_setup.hpp"
 #include "rt/pingpong_baseline.hpp"
+#include "rt/shm_pingpong_baseline.hpp"
 #include "rt/timer_baseline.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/loop_options_cli.hpp"
@@ -130,6 +132,53 @@ void run_pingpong(const BaselineArgs& a) {
   write_json(a.json, j);
 }
 
+struct ShmArgs {
+  long long round_trips = 200'000;
+  int cpu = 0;
+  int priority = 80;
+  bool no_mlock = false;
+  std::string json;
+};
+
+void run_shm(const ShmArgs& a) {
+  rt::ShmPingPongOptions o;
+  o.round_trips = a.round_trips;
+  const int pong_cpu = a.cpu < 0 ? -1 : 1 - (a.cpu % 2);  // the other of the two cores
+  o.ping_realtime = {.cpu = a.cpu, .lock_memory = !a.no_mlock, .fifo_priority = a.priority};
+  o.pong_realtime = {.cpu = pong_cpu, .lock_memory = !a.no_mlock, .fifo_priority = a.priority};
+  std::printf("shared-memory floor: %lld round trips on one cache line, ping CPU %d, pong CPU %d\n",
+              a.round_trips, a.cpu, pong_cpu);
+  const rt::ShmPingPongResult r = rt::run_shm_pingpong_baseline(o);
+  std::printf("ping:\n%spong:\n%s", r.ping_setup.c_str(), r.pong_setup.c_str());
+  loop::print_summary("round trip (ns)", *r.round_trip);
+  nlohmann::json j = {{"kind", "shm"},
+                      {"cpu", a.cpu},
+                      {"pong_cpu", pong_cpu},
+                      {"fifo_priority", a.priority},
+                      {"warm_up", o.warm_up}};
+  j.update(hil::shm_pingpong_baseline_json(r));
+  write_json(a.json, j);
+}
+
+void register_shm(CLI::App* base) {
+  auto args = std::make_shared<ShmArgs>();
+  auto* shm = base->add_subcommand(
+      "shm", "The shared-memory floor: two processes on the two cores spinning on one cache line");
+  shm->add_option("--round-trips", args->round_trips,
+                  "Recorded round trips (after 1000 unrecorded)")
+      ->capture_default_str()
+      ->check(CLI::Range(1LL, 1'000'000'000LL));
+  add_realtime_options(shm, args->cpu, args->priority, args->no_mlock);
+  shm->add_option("--json", args->json, "Write the figures as JSON to this file");
+  shm->footer(
+      "Back to back, no period and no transport: the floor an LCM or iceoryx round trip is read\n"
+      "against. The ping side runs on --cpu, the pong side on the other of CPUs 0 and 1; the\n"
+      "shared page is anonymous (no /dev/shm entry).\n"
+      "Example:\n"
+      "  flexloop baseline shm --round-trips 200000 --json shm.json");
+  shm->callback([args] { run_shm(*args); });
+}
+
 // Options shared by both baselines.
 void add_common_options(CLI::App* cmd, BaselineArgs& a) {
   cmd->add_option("--rate", a.rate_hz, "Loop rate [Hz]")
@@ -151,7 +200,8 @@ void add_common_options(CLI::App* cmd, BaselineArgs& a) {
 
 void register_baseline(CLI::App& app) {
   auto* base = app.add_subcommand(
-      "baseline", "Same-run baselines: bare timer wake-up lateness, bare LCM round trip");
+      "baseline",
+      "Same-run baselines: bare timer wake-up lateness, bare LCM round trip, shared-memory floor");
   base->require_subcommand(1);
   base->footer(
       "Example:\n"
@@ -184,6 +234,8 @@ void register_baseline(CLI::App& app) {
       "  tools/netns-run -- build/release/tools/flexloop baseline pingpong --rate 10000 \\\n"
       "      --wait hybrid --receive poll --receive-path direct --duration 5 --json pp.json");
   pp->callback([pp_args] { run_pingpong(*pp_args); });
+
+  register_shm(base);
 }
 
 }  // namespace flexloop::cli
