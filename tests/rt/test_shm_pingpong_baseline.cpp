@@ -12,17 +12,12 @@
 
 #include "rt/monotonic_time.hpp"
 #include "rt/shm_pingpong_baseline.hpp"
+#include "tests/support/dev_shm.hpp"
 
 using namespace flexloop::rt;
+using flexloop::test::dev_shm_entries;
 
 namespace {
-
-std::set<std::string> dev_shm_entries() {
-  std::set<std::string> names;
-  for (const auto& e : std::filesystem::directory_iterator("/dev/shm"))
-    names.insert(e.path().filename().string());
-  return names;
-}
 
 // Unprivileged and unlocked: the two processes share the CPUs with whatever else runs.
 ShmPingPongOptions gentle(std::int64_t round_trips) {
