@@ -4,6 +4,7 @@
 // floor under any transport (rt/shm_pingpong_baseline.hpp). Prints min / p50 /
 // p99 / p99.9 / max and counts; --json writes the same figures. The ping-pong sends multicast
 // and refuses to run outside tools/netns-run's private loopback namespace (exit 1).
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -12,7 +13,9 @@
 #include "online/hil/baseline_json.hpp"
 #include "online/loop/latency_json.hpp"
 #include "plant/lti/state_space_json.hpp"
+#include "rt/iceoryx_pingpong_baseline.hpp"
 #include "rt/loop_process_setup.hpp"
+#include "rt/message_validation.hpp"
 #include "rt/pingpong_baseline.hpp"
 #include "rt/shm_pingpong_baseline.hpp"
 #include "rt/timer_baseline.hpp"
@@ -32,6 +35,7 @@ struct BaselineArgs {
   std::string receive_path = rt::to_string(loop::LoopOptions{}.receive_path);
   double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
   std::string overrun = "skip";
+  std::string transport = "lcm";  // pingpong: lcm | iceoryx
   int cpu = 0;
   int priority = 80;
   bool no_mlock = false;
@@ -92,8 +96,20 @@ void run_timer(const BaselineArgs& a) {
   write_json(a.json, j);
 }
 
+// The ping-pong over iceoryx, against a RouDi started for it (and stopped after it).
+rt::PingPongResult run_iceoryx_pingpong(const rt::PingPongOptions& o) {
+  rt::RoudiOptions roudi_options;
+  const int largest = std::max(rt::max_encoded_size<flexloop_msgs::sensor_sample_t>(),
+                               rt::max_encoded_size<flexloop_msgs::actuator_command_t>());
+  roudi_options.mempools = rt::mempools_for_messages(static_cast<std::size_t>(largest), 256);
+  rt::RoudiProcess roudi(roudi_options);
+  return rt::run_iceoryx_pingpong_baseline(o, roudi);
+}
+
 void run_pingpong(const BaselineArgs& a) {
-  rt::require_private_loopback_namespace("flexloop baseline pingpong");  // before any output
+  const bool iceoryx = a.transport == "iceoryx";
+  if (!iceoryx)  // LCM sends multicast: only inside the private namespace, before any output
+    rt::require_private_loopback_namespace("flexloop baseline pingpong");
   rt::PingPongOptions o;
   o.clock = clock_options(a);
   o.duration_ns = duration_ns(a);
@@ -105,12 +121,13 @@ void run_pingpong(const BaselineArgs& a) {
   o.ping_realtime = realtime_options(a, a.cpu);
   o.pong_realtime = realtime_options(a, pong_cpu);
   std::printf(
-      "LCM ping-pong baseline: %.6g Hz for %.6g s, wait %s, receive %s (%s), ping CPU %d, "
+      "%s ping-pong baseline: %.6g Hz for %.6g s, wait %s, receive %s (%s), ping CPU %d, "
       "pong CPU %d\n",
-      a.rate_hz, a.duration_s, a.wait.c_str(), rt::to_string(o.receive_mode),
-      rt::to_string(o.receive_path), a.cpu, pong_cpu);
+      iceoryx ? "iceoryx" : "LCM", a.rate_hz, a.duration_s, a.wait.c_str(),
+      rt::to_string(o.receive_mode), iceoryx ? "shared memory" : rt::to_string(o.receive_path),
+      a.cpu, pong_cpu);
   const rt::CpuDmaLatencyHold dma;  // held by the parent for both processes
-  const rt::PingPongResult r = rt::run_pingpong_baseline(o);
+  const rt::PingPongResult r = iceoryx ? run_iceoryx_pingpong(o) : rt::run_pingpong_baseline(o);
   std::printf("ping:\n%spong:\n%s  %s  %s\n", r.ping_setup.c_str(), r.pong_setup.c_str(),
               dma.active() ? "ok  " : "WARN", dma.message().c_str());
   loop::print_summary("round trip (ns)", *r.round_trip);
@@ -126,7 +143,8 @@ void run_pingpong(const BaselineArgs& a) {
   j["kind"] = "pingpong";
   j["cpu_dma_latency_held"] = dma.active();
   j["receive_mode"] = rt::to_string(o.receive_mode);
-  j["receive_path"] = rt::to_string(o.receive_path);
+  j["transport"] = a.transport;
+  j["receive_path"] = iceoryx ? "shared memory" : rt::to_string(o.receive_path);
   j["pong_cpu"] = pong_cpu;
   j.update(hil::pingpong_baseline_json(r));
   write_json(a.json, j);
@@ -220,7 +238,8 @@ void register_baseline(CLI::App& app) {
   auto pp_args = std::make_shared<BaselineArgs>();
   auto* pp = base->add_subcommand(
       "pingpong",
-      "Bare LCM round trip between two processes on the two cores (inside tools/netns-run)");
+      "Bare LCM (inside tools/netns-run) or iceoryx round trip between two processes on the two "
+      "cores");
   add_common_options(pp, *pp_args);
   pp->add_option("--receive", pp_args->receive,
                  "How to wait for a message: block (ppoll) | poll (spin on zero-timeout polls) | "
@@ -228,11 +247,18 @@ void register_baseline(CLI::App& app) {
                  "default: block for --wait sleep, hybrid for hybrid, poll for spin")
       ->check(CLI::IsMember({"block", "poll", "hybrid"}));
   add_receive_path_option(pp, pp_args->receive_path);
+  pp->add_option("--transport", pp_args->transport,
+                 "lcm (UDP multicast, inside tools/netns-run) | iceoryx (shared memory; starts "
+                 "iox-roudi for the run and stops it, refuses when one already runs)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"lcm", "iceoryx"}));
   pp->footer(
       "The ping side runs on --cpu, the pong side on the other of CPUs 0 and 1.\n"
       "Example:\n"
       "  tools/netns-run -- build/release/tools/flexloop baseline pingpong --rate 10000 \\\n"
-      "      --wait hybrid --receive poll --receive-path direct --duration 5 --json pp.json");
+      "      --wait hybrid --receive poll --receive-path direct --duration 5 --json pp.json\n"
+      "  build/release/tools/flexloop baseline pingpong --transport iceoryx --rate 10000 \\\n"
+      "      --wait hybrid --receive poll --duration 5");
   pp->callback([pp_args] { run_pingpong(*pp_args); });
 
   register_shm(base);
