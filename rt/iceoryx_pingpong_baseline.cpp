@@ -1,5 +1,6 @@
 #include "rt/iceoryx_pingpong_baseline.hpp"
 
+#include <signal.h>
 #include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -17,13 +18,36 @@ namespace flexloop::rt {
 
 namespace {
 
+// The runtime's files of this process, removed by the handler of a stopping signal (SIGINT from
+// a terminal reaches the whole process group; SIGTERM from RouDi when its owner died): the
+// runtime cannot deregister then, and would leave them in /tmp.
+char g_runtime_files[2][256];
+
+extern "C" void remove_runtime_files_and_end(int signal) {
+  for (const char* path : g_runtime_files) unlink(path);  // async-signal-safe
+  _exit(128 + signal);
+}
+
+void remove_runtime_files_on_signal(const std::string& registered_name) {
+  const std::vector<std::string> files = IceoryxTransport::runtime_files(registered_name);
+  for (std::size_t i = 0; i < 2; ++i)
+    std::snprintf(g_runtime_files[i], sizeof g_runtime_files[i], "%s", files[i].c_str());
+  struct sigaction action {};
+  action.sa_handler = remove_runtime_files_and_end;
+  sigemptyset(&action.sa_mask);
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
 // iceoryx as the ping-pong's carrier (rt/pingpong_sides.hpp).
 struct IceoryxCarrier {
   static constexpr const char* kName = "iceoryx";
   template <class Msg>
   using Publisher = IceoryxPublisher<Msg>;
   static std::unique_ptr<IceoryxTransport> open(const PingPongOptions&, const char* role) {
-    return std::make_unique<IceoryxTransport>(std::string("flexloop_") + role);
+    const std::string name = std::string("flexloop_") + role;
+    remove_runtime_files_on_signal(IceoryxTransport::registered_name(name));
+    return std::make_unique<IceoryxTransport>(name);
   }
   static std::string set_up(IceoryxTransport&, const RealtimeOptions& realtime) {
     return apply_realtime_setup(realtime).describe();

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <iceoryx_hoofs/log/logmanager.hpp>
+#include <iceoryx_hoofs/platform/platform_settings.hpp>
 #include <iceoryx_posh/mepoo/chunk_header.hpp>
 #include <iceoryx_posh/runtime/posh_runtime.hpp>
 #include <stdexcept>
@@ -24,10 +25,19 @@ iox::capro::ServiceDescription iceoryx_service(const std::string& channel) {
   return {id_string("flexloop"), id_string(channel), id_string("lcm")};
 }
 
+std::string IceoryxTransport::registered_name(const std::string& runtime_name) {
+  return runtime_name + "_" + std::to_string(getpid());
+}
+
+std::vector<std::string> IceoryxTransport::runtime_files(const std::string& registered_name) {
+  return {iox::platform::IOX_UDS_SOCKET_PATH_PREFIX + registered_name,
+          iox::platform::IOX_LOCK_FILE_PATH_PREFIX + registered_name + ".lock"};
+}
+
 IceoryxTransport::IceoryxTransport(const std::string& runtime_name) {
   // iceoryx logs to stdout; a loop's output is its own report, so only warnings and worse.
   iox::log::LogManager::GetLogManager().SetDefaultLogLevel(iox::log::LogLevel::kWarn);
-  const std::string name = runtime_name + "_" + std::to_string(getpid());
+  const std::string name = registered_name(runtime_name);
   iox::runtime::PoshRuntime::initRuntime(
       iox::RuntimeName_t(iox::cxx::TruncateToCapacity, id_string(name).c_str()));
   waitset_ = std::make_unique<iox::popo::WaitSet<>>();

@@ -41,6 +41,11 @@ class IceoryxTransport {
   /// Registers this process with the running RouDi as `runtime_name` (unique on the host; made
   /// unique with the pid). std::runtime_error when no RouDi answers within iceoryx's wait.
   explicit IceoryxTransport(const std::string& runtime_name);
+  /// The name this process registered with: runtime_name + "_" + pid.
+  static std::string registered_name(const std::string& runtime_name);
+  /// The files iceoryx's runtime of that name keeps while registered (its socket and lock in
+  /// /tmp), which it removes when it deregisters -- and which stay when the process is killed.
+  static std::vector<std::string> runtime_files(const std::string& registered_name);
   ~IceoryxTransport();
   IceoryxTransport(const IceoryxTransport&) = delete;
   IceoryxTransport& operator=(const IceoryxTransport&) = delete;

@@ -203,7 +203,8 @@ void RoudiProcess::fail(const std::string& why) {
   std::string message = "iox-roudi";
   if (pid_ > 0) message += " (pid " + std::to_string(pid_) + ")";
   message += ": " + why;
-  if (pid_ > 0) message += "; its log ends:\n" + tail(log());
+  if (const std::string said = pid_ > 0 ? tail(log()) : ""; !said.empty())
+    message += "; its log ends:\n" + said;
   stop();
   remove_folder();
   if (log_fd_ >= 0) close(log_fd_);
