@@ -12,9 +12,9 @@
 
 #include "rt/iceoryx_transport.hpp"
 #include "rt/monotonic_time.hpp"
-#include "rt/reap_child.hpp"
 #include "rt/roudi_process.hpp"
 #include "rt/thread_allocations.hpp"
+#include "tests/iceoryx/child_outcome.hpp"
 #include "tests/support/dev_shm.hpp"
 
 using namespace flexloop::rt;
@@ -124,12 +124,7 @@ TEST_CASE(
   o.mempools =
       mempools_for_messages(static_cast<std::size_t>(max_encoded_size<sensor_sample_t>()), 64);
   RoudiProcess roudi(o);
-  std::fflush(nullptr);
-  const pid_t child = fork();
-  if (child == 0) std::exit(exchange());  // exit(): the runtime deregisters from RouDi
-  const int status = reap_child(child, 20 * kNsPerSecond);
-  REQUIRE(WIFEXITED(status));
-  CHECK(WEXITSTATUS(status) == kEqual);
+  CHECK(flexloop::test::outcome_in_child(exchange, 20 * kNsPerSecond) == kEqual);
 #ifdef FLEXLOOP_COUNTS_ALLOCATIONS
   CHECK(allocations_counted());  // else the allocation check above would be empty
 #endif

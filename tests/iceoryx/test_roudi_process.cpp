@@ -26,6 +26,7 @@
 #include "rt/monotonic_time.hpp"
 #include "rt/reap_child.hpp"
 #include "rt/roudi_process.hpp"
+#include "tests/iceoryx/child_outcome.hpp"
 #include "tests/support/dev_shm.hpp"
 
 using namespace flexloop::rt;
@@ -84,20 +85,15 @@ int send_through_roudi(std::uint32_t bytes) {
   return equal ? 0 : 5;
 }
 
-// In a child: register with RouDi and send_through_roudi(). exit(), not _exit(): the runtime
-// deregisters from RouDi and removes its socket in its static destructor.
-[[noreturn]] void probe_roudi(std::uint32_t bytes) {
-  iox::log::LogManager::GetLogManager().SetDefaultLogLevel(iox::log::LogLevel::kWarn);
-  iox::runtime::PoshRuntime::initRuntime("flexloop_roudi_probe");
-  std::exit(send_through_roudi(bytes));
-}
-
+// In a child: register with RouDi and send_through_roudi().
 int run_probe(std::uint32_t bytes) {
-  std::fflush(nullptr);  // nothing buffered may be written twice
-  const pid_t child = fork();
-  if (child == 0) probe_roudi(bytes);
-  const int status = reap_child(child, 15 * kNsPerSecond);
-  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return flexloop::test::outcome_in_child(
+      [bytes] {
+        iox::log::LogManager::GetLogManager().SetDefaultLogLevel(iox::log::LogLevel::kWarn);
+        iox::runtime::PoshRuntime::initRuntime("flexloop_roudi_probe");
+        return send_through_roudi(bytes);
+      },
+      15 * kNsPerSecond);
 }
 
 }  // namespace
