@@ -44,3 +44,16 @@ find_package(OpenSSL REQUIRED)  # SHA-256 of input files for provenance
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip>=1.7)
 find_package(pugixml 1.13 REQUIRED CONFIG)
+
+# Eclipse iceoryx 2.0 (Debian 12: 2.0.3), the same-host shared-memory transport beside LCM (issue
+# 48): the C++ API (posh, hoofs), the C binding for external controllers, and the iox-roudi daemon
+# (package iceoryx) that owns the shared memory. Debian ships CMake packages for the libraries.
+find_package(iceoryx_hoofs 2.0 REQUIRED CONFIG)
+find_package(iceoryx_posh 2.0 REQUIRED CONFIG)
+find_package(iceoryx_binding_c 2.0 REQUIRED CONFIG)
+find_program(IOX_ROUDI_EXECUTABLE NAMES iox-roudi REQUIRED)
+add_library(flexloop_iceoryx INTERFACE)
+target_link_libraries(flexloop_iceoryx INTERFACE iceoryx_posh::iceoryx_posh
+                      iceoryx_hoofs::iceoryx_hoofs)
+get_target_property(_iceoryx_inc iceoryx_posh::iceoryx_posh INTERFACE_INCLUDE_DIRECTORIES)
+target_include_directories(flexloop_iceoryx SYSTEM INTERFACE ${_iceoryx_inc})

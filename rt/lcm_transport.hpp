@@ -50,10 +50,9 @@
 #include "rt/message_inbox.hpp"
 #include "rt/monotonic_time.hpp"
 #include "rt/realtime_setup.hpp"
+#include "rt/receive_wait.hpp"
 
 namespace flexloop::rt {
-
-enum class ReceiveMode { kBlocking, kPolling, kHybrid };
 
 /// Who reads the socket: LCM's internal thread (handing over through a pipe), or the loop thread
 /// itself (rt/lcm_direct_socket.hpp).
@@ -107,20 +106,7 @@ class LcmTransport {
   template <class Done>
   int handle_until(std::int64_t deadline_ns, ReceiveMode mode, Done&& done,
                    std::int64_t spin_from_ns = 0) noexcept {
-    int handled = handle_pending();
-    while (!done()) {
-      const std::int64_t now = monotonic_now_ns();
-      if (now >= deadline_ns) break;
-      const bool block =
-          mode == ReceiveMode::kBlocking || (mode == ReceiveMode::kHybrid && now < spin_from_ns);
-      if (block) {
-        const std::int64_t until =
-            mode == ReceiveMode::kHybrid && spin_from_ns < deadline_ns ? spin_from_ns : deadline_ns;
-        if (poll_ready(until - now) <= 0) continue;
-      }
-      handled += handle_pending();
-    }
-    return handled;
+    return handle_until_deadline(*this, deadline_ns, mode, done, spin_from_ns);
   }
   int handle_until(std::int64_t deadline_ns, ReceiveMode mode) noexcept {
     return handle_until(deadline_ns, mode, [] { return false; });

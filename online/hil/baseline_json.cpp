@@ -30,4 +30,13 @@ nlohmann::json pingpong_baseline_json(const rt::PingPongResult& r) {
           {"min_samples", kMinBaselineSamples}};
 }
 
+nlohmann::json shm_pingpong_baseline_json(const rt::ShmPingPongResult& r) {
+  return {{"round_trip_ns", loop::summary_json(*r.round_trip)},
+          {"round_trips", r.round_trips},
+          {"ping_setup", r.ping_setup},
+          {"pong_setup", r.pong_setup},
+          {"too_short", r.round_trips < kMinBaselineSamples},
+          {"min_samples", kMinBaselineSamples}};
+}
+
 }  // namespace flexloop::hil

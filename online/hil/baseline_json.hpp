@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "rt/pingpong_baseline.hpp"
+#include "rt/shm_pingpong_baseline.hpp"
 #include "rt/timer_baseline.hpp"
 
 namespace flexloop::hil {
@@ -19,5 +20,7 @@ nlohmann::json timer_baseline_json(const rt::TimerBaselineResult& r);
 /// round_trip_ns, wakeup_lateness_ns, sent, answered, unanswered, late_answers, overruns,
 /// dropped {reason: n}, ping_setup, pong_setup, pong_summary, too_short, min_samples.
 nlohmann::json pingpong_baseline_json(const rt::PingPongResult& r);
+/// round_trip_ns, round_trips, ping_setup, pong_setup, too_short, min_samples.
+nlohmann::json shm_pingpong_baseline_json(const rt::ShmPingPongResult& r);
 
 }  // namespace flexloop::hil

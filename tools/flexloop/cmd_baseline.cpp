@@ -1,8 +1,10 @@
-// `flexloop baseline timer|pingpong`: the same-run baselines of doc/design.md §7 on their own --
-// a bare periodic thread's wake-up lateness (cyclictest-style, rt/timer_baseline.hpp) and the
-// bare LCM round trip between two processes (rt/pingpong_baseline.hpp). Prints min / p50 /
+// `flexloop baseline timer|pingpong|shm`: the same-run baselines of doc/design.md §7 on their
+// own -- a bare periodic thread's wake-up lateness (cyclictest-style, rt/timer_baseline.hpp), the
+// bare LCM round trip between two processes (rt/pingpong_baseline.hpp) and the shared-memory
+// floor under any transport (rt/shm_pingpong_baseline.hpp). Prints min / p50 /
 // p99 / p99.9 / max and counts; --json writes the same figures. The ping-pong sends multicast
 // and refuses to run outside tools/netns-run's private loopback namespace (exit 1).
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -11,8 +13,11 @@
 #include "online/hil/baseline_json.hpp"
 #include "online/loop/latency_json.hpp"
 #include "plant/lti/state_space_json.hpp"
+#include "rt/iceoryx_pingpong_baseline.hpp"
 #include "rt/loop_process_setup.hpp"
+#include "rt/message_validation.hpp"
 #include "rt/pingpong_baseline.hpp"
+#include "rt/shm_pingpong_baseline.hpp"
 #include "rt/timer_baseline.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/loop_options_cli.hpp"
@@ -30,6 +35,7 @@ struct BaselineArgs {
   std::string receive_path = rt::to_string(loop::LoopOptions{}.receive_path);
   double spin_margin_us = rt::kDefaultSpinMarginNs / 1e3;
   std::string overrun = "skip";
+  std::string transport = "lcm";  // pingpong: lcm | iceoryx
   int cpu = 0;
   int priority = 80;
   bool no_mlock = false;
@@ -90,8 +96,20 @@ void run_timer(const BaselineArgs& a) {
   write_json(a.json, j);
 }
 
+// The ping-pong over iceoryx, against a RouDi started for it (and stopped after it).
+rt::PingPongResult run_iceoryx_pingpong(const rt::PingPongOptions& o) {
+  rt::RoudiOptions roudi_options;
+  const int largest = std::max(rt::max_encoded_size<flexloop_msgs::sensor_sample_t>(),
+                               rt::max_encoded_size<flexloop_msgs::actuator_command_t>());
+  roudi_options.mempools = rt::mempools_for_messages(static_cast<std::size_t>(largest), 256);
+  rt::RoudiProcess roudi(roudi_options);
+  return rt::run_iceoryx_pingpong_baseline(o, roudi);
+}
+
 void run_pingpong(const BaselineArgs& a) {
-  rt::require_private_loopback_namespace("flexloop baseline pingpong");  // before any output
+  const bool iceoryx = a.transport == "iceoryx";
+  if (!iceoryx)  // LCM sends multicast: only inside the private namespace, before any output
+    rt::require_private_loopback_namespace("flexloop baseline pingpong");
   rt::PingPongOptions o;
   o.clock = clock_options(a);
   o.duration_ns = duration_ns(a);
@@ -103,12 +121,13 @@ void run_pingpong(const BaselineArgs& a) {
   o.ping_realtime = realtime_options(a, a.cpu);
   o.pong_realtime = realtime_options(a, pong_cpu);
   std::printf(
-      "LCM ping-pong baseline: %.6g Hz for %.6g s, wait %s, receive %s (%s), ping CPU %d, "
+      "%s ping-pong baseline: %.6g Hz for %.6g s, wait %s, receive %s (%s), ping CPU %d, "
       "pong CPU %d\n",
-      a.rate_hz, a.duration_s, a.wait.c_str(), rt::to_string(o.receive_mode),
-      rt::to_string(o.receive_path), a.cpu, pong_cpu);
+      iceoryx ? "iceoryx" : "LCM", a.rate_hz, a.duration_s, a.wait.c_str(),
+      rt::to_string(o.receive_mode), iceoryx ? "shared memory" : rt::to_string(o.receive_path),
+      a.cpu, pong_cpu);
   const rt::CpuDmaLatencyHold dma;  // held by the parent for both processes
-  const rt::PingPongResult r = rt::run_pingpong_baseline(o);
+  const rt::PingPongResult r = iceoryx ? run_iceoryx_pingpong(o) : rt::run_pingpong_baseline(o);
   std::printf("ping:\n%spong:\n%s  %s  %s\n", r.ping_setup.c_str(), r.pong_setup.c_str(),
               dma.active() ? "ok  " : "WARN", dma.message().c_str());
   loop::print_summary("round trip (ns)", *r.round_trip);
@@ -124,10 +143,58 @@ void run_pingpong(const BaselineArgs& a) {
   j["kind"] = "pingpong";
   j["cpu_dma_latency_held"] = dma.active();
   j["receive_mode"] = rt::to_string(o.receive_mode);
-  j["receive_path"] = rt::to_string(o.receive_path);
+  j["transport"] = a.transport;
+  j["receive_path"] = iceoryx ? "shared memory" : rt::to_string(o.receive_path);
   j["pong_cpu"] = pong_cpu;
   j.update(hil::pingpong_baseline_json(r));
   write_json(a.json, j);
+}
+
+struct ShmArgs {
+  long long round_trips = 200'000;
+  int cpu = 0;
+  int priority = 80;
+  bool no_mlock = false;
+  std::string json;
+};
+
+void run_shm(const ShmArgs& a) {
+  rt::ShmPingPongOptions o;
+  o.round_trips = a.round_trips;
+  const int pong_cpu = a.cpu < 0 ? -1 : 1 - (a.cpu % 2);  // the other of the two cores
+  o.ping_realtime = {.cpu = a.cpu, .lock_memory = !a.no_mlock, .fifo_priority = a.priority};
+  o.pong_realtime = {.cpu = pong_cpu, .lock_memory = !a.no_mlock, .fifo_priority = a.priority};
+  std::printf("shared-memory floor: %lld round trips on one cache line, ping CPU %d, pong CPU %d\n",
+              a.round_trips, a.cpu, pong_cpu);
+  const rt::ShmPingPongResult r = rt::run_shm_pingpong_baseline(o);
+  std::printf("ping:\n%spong:\n%s", r.ping_setup.c_str(), r.pong_setup.c_str());
+  loop::print_summary("round trip (ns)", *r.round_trip);
+  nlohmann::json j = {{"kind", "shm"},
+                      {"cpu", a.cpu},
+                      {"pong_cpu", pong_cpu},
+                      {"fifo_priority", a.priority},
+                      {"warm_up", o.warm_up}};
+  j.update(hil::shm_pingpong_baseline_json(r));
+  write_json(a.json, j);
+}
+
+void register_shm(CLI::App* base) {
+  auto args = std::make_shared<ShmArgs>();
+  auto* shm = base->add_subcommand(
+      "shm", "The shared-memory floor: two processes on the two cores spinning on one cache line");
+  shm->add_option("--round-trips", args->round_trips,
+                  "Recorded round trips (after 1000 unrecorded)")
+      ->capture_default_str()
+      ->check(CLI::Range(1LL, 1'000'000'000LL));
+  add_realtime_options(shm, args->cpu, args->priority, args->no_mlock);
+  shm->add_option("--json", args->json, "Write the figures as JSON to this file");
+  shm->footer(
+      "Back to back, no period and no transport: the floor an LCM or iceoryx round trip is read\n"
+      "against. The ping side runs on --cpu, the pong side on the other of CPUs 0 and 1; the\n"
+      "shared page is anonymous (no /dev/shm entry).\n"
+      "Example:\n"
+      "  flexloop baseline shm --round-trips 200000 --json shm.json");
+  shm->callback([args] { run_shm(*args); });
 }
 
 // Options shared by both baselines.
@@ -151,7 +218,8 @@ void add_common_options(CLI::App* cmd, BaselineArgs& a) {
 
 void register_baseline(CLI::App& app) {
   auto* base = app.add_subcommand(
-      "baseline", "Same-run baselines: bare timer wake-up lateness, bare LCM round trip");
+      "baseline",
+      "Same-run baselines: bare timer wake-up lateness, bare LCM round trip, shared-memory floor");
   base->require_subcommand(1);
   base->footer(
       "Example:\n"
@@ -170,7 +238,8 @@ void register_baseline(CLI::App& app) {
   auto pp_args = std::make_shared<BaselineArgs>();
   auto* pp = base->add_subcommand(
       "pingpong",
-      "Bare LCM round trip between two processes on the two cores (inside tools/netns-run)");
+      "Bare LCM (inside tools/netns-run) or iceoryx round trip between two processes on the two "
+      "cores");
   add_common_options(pp, *pp_args);
   pp->add_option("--receive", pp_args->receive,
                  "How to wait for a message: block (ppoll) | poll (spin on zero-timeout polls) | "
@@ -178,12 +247,21 @@ void register_baseline(CLI::App& app) {
                  "default: block for --wait sleep, hybrid for hybrid, poll for spin")
       ->check(CLI::IsMember({"block", "poll", "hybrid"}));
   add_receive_path_option(pp, pp_args->receive_path);
+  pp->add_option("--transport", pp_args->transport,
+                 "lcm (UDP multicast, inside tools/netns-run) | iceoryx (shared memory; starts "
+                 "iox-roudi for the run and stops it, refuses when one already runs)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"lcm", "iceoryx"}));
   pp->footer(
       "The ping side runs on --cpu, the pong side on the other of CPUs 0 and 1.\n"
       "Example:\n"
       "  tools/netns-run -- build/release/tools/flexloop baseline pingpong --rate 10000 \\\n"
-      "      --wait hybrid --receive poll --receive-path direct --duration 5 --json pp.json");
+      "      --wait hybrid --receive poll --receive-path direct --duration 5 --json pp.json\n"
+      "  build/release/tools/flexloop baseline pingpong --transport iceoryx --rate 10000 \\\n"
+      "      --wait hybrid --receive poll --duration 5");
   pp->callback([pp_args] { run_pingpong(*pp_args); });
+
+  register_shm(base);
 }
 
 }  // namespace flexloop::cli

@@ -10,6 +10,7 @@ FLEXLOOP_PACKAGES=(
   libcjson-dev libmatio-dev python3-numpy python3-scipy python3-mpmath python3-openturns libslicot-dev
   liblapack-dev libblas-dev gfortran libzip-dev libpugixml-dev clang libclang-rt-14-dev libxml2-utils
   slurm-wlm slurmctld slurmd slurm-client munge universal-ctags
+  libiceoryx-posh-dev libiceoryx-hoofs-dev libiceoryx-binding-c-dev iceoryx
 )
 
 say() { printf '\033[1m[flexloop]\033[0m %s\n' "$*"; }
