@@ -130,7 +130,8 @@ std::vector<double> largest_singular_values_near_peak(const std::vector<Eigen::M
 
 // The peak of `measure` (of S - I/2 at one frequency) over the grid (its values there given),
 // refined by golden-section search in log f between the neighbours of the largest grid point;
-// the peak's value is `exact` of the exact S - I/2 at the frequency the search settles on.
+// the peak's value is `exact` of the exact S - I/2, the larger at the grid's best point and at
+// the point the refinement settles on.
 template <class Measure, class Exact>
 std::pair<double, double> peak(const InputSensitivity& s, const std::vector<double>& f,
                                const std::vector<double>& values, Measure measure, Exact exact) {
@@ -150,8 +151,11 @@ std::pair<double, double> peak(const InputSensitivity& s, const std::vector<doub
       lo = a, a = b, va = vb, b = lo + r * (hi - lo), vb = at(b);
     }
   }
-  const double f_peak = std::max(va, vb) > best_value ? std::exp(va > vb ? a : b) : f[best];
-  return {exact(s.exact(f_peak)), f_peak};
+  // The larger of the two candidates, each valued exactly: where the peak is flat (at an end
+  // of the grid) the searched values' rounding must not pick the lower one.
+  const double f_refined = std::exp(va > vb ? a : b);
+  const double at_refined = exact(s.exact(f_refined)), at_grid = exact(s.exact(f[best]));
+  return at_refined > at_grid ? std::pair{at_refined, f_refined} : std::pair{at_grid, f[best]};
 }
 
 DiskMargin margin_at_peak(std::pair<double, double> p) {

@@ -148,8 +148,10 @@ TEST_CASE(
   }
   CHECK(n["disk_margin_deg"].get<double>() == worst_deg);
   CHECK(n["disk_margin_db"].get<double>() == 20 * std::log10(worst_high));
+  // sigma_max: analyse plots every singular value (an SVD), a sample needs only the largest
+  // (the Hermitian eigenvalues of G^H G, plant/lti/frequency_response.hpp): equal to rounding.
   CHECK(20 * std::log10(n["peak_sigma"].get<double>()) ==
-        a["sigma_max_peak"]["closed_db"].get<double>());
+        Approx(a["sigma_max_peak"]["closed_db"].get<double>()).epsilon(1e-12));
   // Evaluating the nominal machine again gives the same bytes.
   CHECK(evaluator.evaluate(sc, model).dump() == n.dump());
 }

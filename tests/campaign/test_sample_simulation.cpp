@@ -170,7 +170,7 @@ TEST_CASE(
 
 TEST_CASE(
     "simulate: a sample's line is the same bytes computed again, in another order, by another "
-    "evaluator; a plan without --simulate has no sim and no simulate_s",
+    "evaluator, and a plan without --simulate has no sim and no simulate_s",
     "[campaign][simulate]") {
   const json plan = simulated_plan(kSaturating, 3);
   const PlanSamples first(plan), second(plan);
