@@ -27,10 +27,16 @@ class SchurTransfer {
   /// next to an eigenvalue).
   bool evaluate(std::complex<double> offset, Eigen::MatrixXcd& g) const;
   /// The eigenvalues of A (the shift added back to T's diagonal).
-  Eigen::VectorXcd poles() const { return t_.diagonal().array() + shift_; }
+  Eigen::VectorXcd poles() const {
+    Eigen::VectorXcd p(tr_.rows());
+    p.real() = tr_.diagonal().array() + shift_;
+    p.imag() = ti_.diagonal();
+    return p;
+  }
 
  private:
-  Eigen::MatrixXcd t_, cu_, ub_;  // T, C U, U^H B (balancing folded in)
+  // T, C U and U^H B (balancing folded in), each as its real and imaginary part.
+  Eigen::MatrixXd tr_, ti_, cur_, cui_, ubr_, ubi_;
   double shift_;
 };
 
