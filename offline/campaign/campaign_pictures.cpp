@@ -1,8 +1,12 @@
 #include "offline/campaign/campaign_pictures.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cmath>
+#include <exception>
+#include <functional>
+#include <thread>
 
 #include "offline/campaign/sample_table.hpp"
 #include "offline/campaign/statistics.hpp"
@@ -105,14 +109,18 @@ bool draw_sigma_envelope(const json& plan, const std::vector<json>& samples,
                                     {"95 %", f, {}, "lines lw 2 lc rgb '#ff7f0e'"},
                                     {"50 %", f, {}, "lines lw 2 lc rgb '#2ca02c'"},
                                     {"5 %", f, {}, "lines lw 2 lc rgb '#1f77b4'"}};
+  // The values at each frequency, gathered in one pass over the samples (a lookup of each
+  // sample's array per frequency cost 2 million map searches at 10 000 samples).
+  std::vector<std::vector<double>> columns(f.size());
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    const auto s = samples[i].find("sigma_max");
+    if (status[i] != SampleStatus::kStable || s == samples[i].end() || !s->is_array()) continue;
+    for (std::size_t j = 0; j < f.size() && j < s->size(); ++j)
+      if ((*s)[j].is_number()) columns[j].push_back((*s)[j].get<double>());
+  }
   bool any = false;
   for (std::size_t j = 0; j < f.size(); ++j) {
-    std::vector<double> at;
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      const json& s = samples[i].contains("sigma_max") ? samples[i]["sigma_max"] : json();
-      if (status[i] == SampleStatus::kStable && s.is_array() && j < s.size() && s[j].is_number())
-        at.push_back(s[j].get<double>());
-    }
+    std::vector<double>& at = columns[j];
     std::sort(at.begin(), at.end());
     any = any || !at.empty();
     const auto q = [&](double p) {
@@ -222,6 +230,40 @@ void draw_p_unstable(const json& convergence, const std::string& png) {
   report::plot_lines(spec, {estimate, lo, hi}, png);
 }
 
+// A picture and how to draw it (false: nothing to draw).
+struct PictureTask {
+  Picture picture;
+  std::function<bool()> draw;
+};
+
+// Every task drawn, as many at once as there are cores: each picture is its own gnuplot
+// process, most of a large campaign's report time, and independent of the others. The pictures
+// drawn, in the tasks' order; the first error any task threw, after all have finished.
+std::vector<Picture> draw_side_by_side(const std::vector<PictureTask>& tasks) {
+  std::vector<char> drawn(tasks.size(), 0);
+  std::vector<std::exception_ptr> errors(tasks.size());
+  std::atomic<std::size_t> next{0};
+  const auto worker = [&] {
+    for (std::size_t k = next++; k < tasks.size(); k = next++) try {
+        drawn[k] = tasks[k].draw() ? 1 : 0;
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+  };
+  const std::size_t width =
+      std::min<std::size_t>(std::max(1U, std::thread::hardware_concurrency()), tasks.size());
+  std::vector<std::thread> threads;
+  for (std::size_t t = 1; t < width; ++t) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  std::vector<Picture> out;
+  for (std::size_t k = 0; k < tasks.size(); ++k)
+    if (drawn[k]) out.push_back(tasks[k].picture);
+  return out;
+}
+
 }  // namespace
 
 std::vector<Picture> draw_campaign_pictures(const json& plan, const std::vector<json>& samples,
@@ -229,42 +271,53 @@ std::vector<Picture> draw_campaign_pictures(const json& plan, const std::vector<
   const std::vector<SampleStatus> status = statuses(samples);
   const std::vector<FigureColumn> figures = figure_columns(samples);
   const auto path = [&](const std::string& file) { return out_dir + "/" + file; };
-  std::vector<Picture> out;
-  draw_p_unstable(summary["p_unstable_convergence"], path("p_unstable.png"));
-  out.push_back({"p_unstable.png", "P(unstable) and its interval against n"});
+  std::vector<PictureTask> tasks;
+  tasks.push_back({{"p_unstable.png", "P(unstable) and its interval against n"}, [&] {
+                     draw_p_unstable(summary["p_unstable_convergence"], path("p_unstable.png"));
+                     return true;
+                   }});
   for (const FigureColumn& f : figures) {
-    const std::vector<double> xs = stable_values(f, status, static_cast<long>(samples.size()));
-    if (xs.empty()) continue;
     const std::string file = "ecdf_" + file_stem(f.name) + ".png";
-    draw_ecdf(f.name, xs, summary["figures"][f.name]["quantiles"], path(file));
-    out.push_back({file, "ECDF of " + f.name + " with its quantile intervals"});
+    tasks.push_back({{file, "ECDF of " + f.name + " with its quantile intervals"}, [&, file] {
+                       const auto xs = stable_values(f, status, static_cast<long>(samples.size()));
+                       if (xs.empty()) return false;
+                       draw_ecdf(f.name, xs, summary["figures"][f.name]["quantiles"], path(file));
+                       return true;
+                     }});
   }
   for (int r = 1; r <= kHistogramRanks; ++r) {
     const std::string name = "natural_frequency_" + std::to_string(r) + "_hz";
     const auto it = std::find_if(figures.begin(), figures.end(),
                                  [&](const FigureColumn& f) { return f.name == name; });
     if (it == figures.end()) break;
-    const std::vector<double> xs = stable_values(*it, status, static_cast<long>(samples.size()));
-    if (xs.empty()) continue;
-    draw_histogram(name, xs, path("histogram_" + name + ".png"));
-    out.push_back({"histogram_" + name + ".png", "histogram of " + name});
+    const std::string file = "histogram_" + name + ".png";
+    tasks.push_back({{file, "histogram of " + name}, [&, it, name, file] {
+                       const auto xs =
+                           stable_values(*it, status, static_cast<long>(samples.size()));
+                       if (xs.empty()) return false;
+                       draw_histogram(name, xs, path(file));
+                       return true;
+                     }});
   }
-  if (draw_sigma_envelope(plan, samples, status, path("sigma_envelope.png")))
-    out.push_back({"sigma_envelope.png", "closed-loop sigma envelope against the nominal"});
+  tasks.push_back({{"sigma_envelope.png", "closed-loop sigma envelope against the nominal"}, [&] {
+                     return draw_sigma_envelope(plan, samples, status, path("sigma_envelope.png"));
+                   }});
   if (plan.contains("columns"))
     for (const json& c : plan["columns"]) {
       const std::string column = c.get<std::string>(),
                         file = "scatter_" + file_stem(column) + ".png";
-      if (draw_scatter(column, samples, status, path(file)))
-        out.push_back({file, "the worst figures against " + column});
+      tasks.push_back({{file, "the worst figures against " + column}, [&, column, file] {
+                         return draw_scatter(column, samples, status, path(file));
+                       }});
     }
   if (summary.contains("sobol"))
     for (const auto& [figure, sobol] : summary["sobol"].items()) {
       const std::string file = "sobol_" + file_stem(figure) + ".png";
-      if (draw_sobol(figure, sobol, path(file)))
-        out.push_back({file, "Sobol indices of " + figure});
+      tasks.push_back({{file, "Sobol indices of " + figure}, [&, figure = figure, file] {
+                         return draw_sobol(figure, summary["sobol"][figure], path(file));
+                       }});
     }
-  return out;
+  return draw_side_by_side(tasks);
 }
 
 }  // namespace flexloop::campaign
