@@ -44,7 +44,7 @@ struct InputDiskMargins {
 
 /// Options of the peak search.
 struct DiskMarginOptions {
-  int points = 1000;  ///< log-grid points up to Nyquist, >= 16 (the poles' frequencies added)
+  int points = 500;  ///< log-grid points up to Nyquist, >= 16 (the poles' frequencies added)
 };
 
 /// @throws std::invalid_argument for a loop model whose sizes do not close, or points < 16;

@@ -32,6 +32,23 @@ plant::lti::DiscreteStateSpace first_order_plant() {
   return g;
 }
 
+// first_order_plant beside a 50 Hz resonance damped 0.05 % (rotation form), both seen in y.
+plant::lti::DiscreteStateSpace lightly_damped_plant() {
+  plant::lti::DiscreteStateSpace g = first_order_plant();
+  const double theta = 2 * M_PI * 50 * kDt, r = std::exp(-0.0005 * 2 * M_PI * 50 * kDt);
+  g.sys.A = Eigen::MatrixXd::Zero(3, 3);
+  g.sys.A(0, 0) = kA;
+  g.sys.A.bottomRightCorner(2, 2) << r * std::cos(theta), r * std::sin(theta), -r * std::sin(theta),
+      r * std::cos(theta);
+  g.sys.B = Eigen::MatrixXd::Zero(3, 1);
+  g.sys.B(0, 0) = kB;
+  g.sys.B(1, 0) = 3e-5;
+  g.sys.C = Eigen::MatrixXd::Zero(1, 3);
+  g.sys.C(0, 0) = g.sys.C(0, 1) = 1;
+  g.sys.states = {"x", "r1", "r2"};
+  return g;
+}
+
 plant::lti::DiscreteStateSpace proportional(double k) {
   plant::lti::DiscreteStateSpace c{{}, kDt, plant::lti::DiscretisationMethod::kZeroOrderHold, 0, 0};
   c.sys.A = Eigen::MatrixXd::Zero(0, 0);
@@ -101,4 +118,24 @@ TEST_CASE(
   };
   CHECK(stable_with_gain(m.all_loops.gain_low * 1.001));
   if (std::isfinite(m.all_loops.gain_high)) CHECK(stable_with_gain(m.all_loops.gain_high * 0.999));
+}
+
+TEST_CASE(
+    "disk margins: the default grid (with the loop's pole frequencies) finds the margins a "
+    "30 000-point grid finds, for the metrology frame and a lightly damped loop") {
+  const auto check_against_dense = [](const controller::design::SampledLoopModel& loop) {
+    const auto m = controller::design::input_disk_margins(loop);
+    const auto dense = controller::design::input_disk_margins(loop, {30'000});
+    REQUIRE(m.loops.size() == dense.loops.size());
+    for (std::size_t i = 0; i < m.loops.size(); ++i) {
+      CHECK(m.loops[i].alpha == Approx(dense.loops[i].alpha).epsilon(1e-9));
+      CHECK(m.loops[i].frequency_hz == Approx(dense.loops[i].frequency_hz).epsilon(1e-6));
+    }
+    CHECK(m.all_loops.alpha == Approx(dense.all_loops.alpha).epsilon(1e-9));
+  };
+  check_against_dense(scene::sampled_loop_model(test::metrology().p));
+  // A first-order plant beside a resonance damped 0.05 %: its peak is narrower than the default
+  // grid's spacing.
+  check_against_dense(controller::design::sampled_loop_model(lightly_damped_plant(),
+                                                             proportional(kK), no_feedthrough()));
 }
