@@ -128,8 +128,9 @@ TEST_CASE("Stable covariance: a first-order mode beside an integrator the noise 
   CHECK(std::abs(off.P(0, 0) - b * b / (1 - a * a)) < 1e-12 * b * b / (1 - a * a));
 }
 
-TEST_CASE("Stable covariance: a double integrator on the circle beside a stable mode, and the refusals",
-          "[schur]") {
+TEST_CASE(
+    "Stable covariance: a double integrator on the circle beside a stable mode, and the refusals",
+    "[schur]") {
   MatrixXd A(3, 3), B(3, 1);
   A << 0.5, 0.1, 0.0, 0, 1, 1, 0, 0, 1;
   B << 1, 0, 0;
