@@ -1,6 +1,7 @@
 /* An external controller in plain C: what a user's own controller process looks like
- * (doc/external_controller.md is the contract it follows). It links only the LCM C library,
- * cJSON and the C types `lcm-gen -c` makes from msgs/: no flexloop code.
+ * (doc/external_controller.md is the contract it follows). It links only the LCM C library (or,
+ * with --transport iceoryx, iceoryx's C binding: doc/iceoryx.md), cJSON and the C types
+ * `lcm-gen -c` makes from msgs/: no flexloop code.
  *
  * It runs the state-space controller of a loop artefact (`flexloop build SCENE -o LOOP.json` of a
  * scene with [controller] type = "state_space": the artefact's "controller" object is the
@@ -22,12 +23,17 @@
  * With --record FILE it writes, when it ends, the samples it did not answer (lost on the way: gaps
  * in seq) as `flexloop replay --controller-record` reads them.
  *
- *   flexloop-c-controller LOOP.json [--url URL] [--duration S] [--safe-after N] [--record FILE]
+ * The messages travel by a carrier (carrier.h): LCM (carrier_lcm.c, the default) or iceoryx's
+ * shared memory (carrier_iceoryx.c); this file sees only their bytes.
  *
- * Run it inside the plant's private namespace (tools/netns-run), beside `flexloop plant LOOP.json`.
+ *   flexloop-c-controller LOOP.json [--transport lcm|iceoryx] [--url URL] [--spin] [--duration S]
+ *                                   [--safe-after N] [--record FILE]
+ *
+ * Over LCM run it inside the plant's private namespace (tools/netns-run), beside `flexloop plant
+ * LOOP.json`; over iceoryx beside `flexloop plant LOOP.json --transport iceoryx` and a running
+ * RouDi (`flexloop roudi`).
  */
 #include <cjson/cJSON.h>
-#include <lcm/lcm.h>
 #include <math.h>
 #include <signal.h>
 #include <stdint.h>
@@ -36,8 +42,9 @@
 #include <string.h>
 #include <time.h>
 
+#include "carrier.h"
 #include "flexloop_msgs_actuator_command_t.h"
-#include "flexloop_msgs_sensor_sample_t.h"
+#include "sample_decode.h"
 
 enum { kMaxHistory = 33, kRemembered = 64, kMaxGaps = 4096 };
 
@@ -54,9 +61,10 @@ typedef struct {
   double* held;      /* nc: the answer the plant holds (it may hold one longer than kRemembered) */
   int64_t held_seq;
   double* applied; /* nc: what the plant held over the period before the current sample */
-  lcm_t* lcm;
+  Carrier* carrier;
+  SensorSample sample; /* the message being answered, decoded */
   flexloop_msgs_actuator_command_t cmd;
-  int64_t answered;
+  int64_t answered, undecoded, unsent;
   /* The samples not answered, as ranges of seq (kMaxGaps at most; else, or after a second plant
    * run, the record is incomplete). */
   int64_t gap_first[kMaxGaps], gap_last[kMaxGaps];
@@ -330,16 +338,12 @@ static int write_record(const Controller* c, const char* file) {
   return fclose(out) == 0;
 }
 
-static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
-                      const flexloop_msgs_sensor_sample_t* s, void* user) {
-  (void)rbuf;
-  (void)channel;
-  Controller* c = user;
-  const int64_t t0 = now_ns();
-  if (s->n_sensors != c->ns) return; /* not this loop's samples */
+/* Follows the plant's run, what it applied and the samples lost (the bookkeeping above), then
+ * steps the law: 1 when c->cmd holds the answer to s, 0 when s is not to be answered. */
+static int answer(Controller* c, const flexloop_msgs_sensor_sample_t* s) {
   for (int i = 0; i < s->n_sensors; ++i)
-    if (!isfinite(s->sensors[i])) return;
-  if (!isfinite(s->applied_scale)) return;
+    if (!isfinite(s->sensors[i])) return 0;
+  if (!isfinite(s->applied_scale)) return 0;
   int64_t expected = c->last_seq + 1;
   if (!c->started || s->plant_epoch != c->epoch) {
     if (c->started) c->gaps_incomplete = 1; /* the record covers one plant run */
@@ -348,7 +352,7 @@ static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
     c->epoch = s->plant_epoch;
     c->started = 1;
   } else if (s->seq <= c->last_seq) {
-    return; /* a repeat or an older sample */
+    return 0; /* a repeat or an older sample */
   } else if (s->seq - c->last_seq > c->safe_after) {
     const double* u = applied_command(c, s); /* the plant has been on its safe command */
     for (int k = 0; k < kMaxHistory; ++k)
@@ -366,78 +370,156 @@ static void on_sample(const lcm_recv_buf_t* rbuf, const char* channel,
   c->cmd.seq += 1;
   c->cmd.answers_seq = s->seq;
   c->cmd.plant_epoch = s->plant_epoch;
-  const int64_t t1 = now_ns();
-  c->cmd.controller_compute_ns = t1 - t0;
-  c->cmd.t_ns = t1;
-  flexloop_msgs_actuator_command_t_publish(c->lcm, "FLEXLOOP_COMMAND", &c->cmd);
+  return 1;
+}
+
+/* Encodes c->cmd into a buffer the carrier lends (over iceoryx: a chunk of exactly the encoded
+ * size in shared memory) and sends it. */
+static void send_command(Controller* c) {
+  Carrier* carrier = c->carrier;
+  const int size = flexloop_msgs_actuator_command_t_encoded_size(&c->cmd);
+  void* buffer = carrier->loan(carrier, size);
+  if (!buffer) {
+    ++c->unsent;
+    return;
+  }
+  if (flexloop_msgs_actuator_command_t_encode(buffer, 0, size, &c->cmd) != size) {
+    carrier->discard(carrier, buffer);
+    ++c->unsent;
+    return;
+  }
+  carrier->send(carrier, buffer, size);
   ++c->answered;
 }
 
-int main(int argc, char** argv) {
-  const char* loop = NULL;
-  const char* url = getenv("LCM_DEFAULT_URL");
-  const char* record = NULL;
-  double duration_s = 0;
-  Controller c;
-  memset(&c, 0, sizeof c);
-  c.safe_after = 10;
+/* One FLEXLOOP_SENSOR message's bytes, from either carrier. */
+static void on_message(void* user, const void* data, int size) {
+  Controller* c = user;
+  const int64_t t0 = now_ns();
+  if (!decode_sample(data, size, c->ns, &c->sample)) {
+    ++c->undecoded; /* not a sample of this loop */
+    return;
+  }
+  if (!answer(c, &c->sample.msg)) return;
+  const int64_t t1 = now_ns();
+  c->cmd.controller_compute_ns = t1 - t0;
+  c->cmd.t_ns = t1;
+  send_command(c);
+}
+
+typedef struct {
+  const char* loop;
+  const char* url;
+  const char* record;
+  int iceoryx, spin;
+  double duration_s;
+} Options;
+
+static void usage(void) {
+  printf(
+      "usage: flexloop-c-controller LOOP.json [--transport lcm|iceoryx] [--url URL] [--spin]\n"
+      "                             [--duration S] [--safe-after N] [--record FILE]\n"
+      "Answers every FLEXLOOP_SENSOR sample with the loop artefact's state-space controller.\n"
+      "--transport: LCM (default; --url, else $LCM_DEFAULT_URL, ttl=0) or iceoryx (the host's\n"
+      "  RouDi: start `flexloop roudi` first).\n"
+      "--spin: poll for samples instead of sleeping until one comes (use a core of its own).\n"
+      "--record FILE: at the end, the samples not answered (flexloop replay "
+      "--controller-record).\n"
+      "Example, inside one tools/netns-run -- bash:\n"
+      "  flexloop build tools/scenes/metrology_frame_lqg.toml -o /tmp/lqg.json\n"
+      "  flexloop-c-controller /tmp/lqg.json --duration 7 &\n"
+      "  flexloop plant /tmp/lqg.json --duration 5 --cpu 0 --json /tmp/plant.json\n"
+      "  (then: flexloop replay /tmp/lqg.json --plant-report /tmp/plant.json)\n"
+      "Over iceoryx (no namespace needed: nothing leaves the host's shared memory):\n"
+      "  flexloop roudi &\n"
+      "  flexloop-c-controller /tmp/lqg.json --transport iceoryx --duration 7 &\n"
+      "  flexloop plant /tmp/lqg.json --transport iceoryx --duration 5 --json /tmp/plant.json\n");
+}
+
+static int bad_argument(const char* argument) {
+  fprintf(stderr, "flexloop-c-controller: unknown argument '%s' (see --help)\n", argument);
+  return 2;
+}
+
+/* 0 when the options are read, else the exit code (0 after --help is -1). */
+static int parse(int argc, char** argv, Options* o, Controller* c) {
   for (int i = 1; i < argc; ++i) {
-    if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-      printf(
-          "usage: flexloop-c-controller LOOP.json [--url URL] [--duration S] [--safe-after N]\n"
-          "                             [--record FILE]\n"
-          "Answers every FLEXLOOP_SENSOR sample with the loop artefact's state-space controller.\n"
-          "--record FILE: at the end, the samples not answered (flexloop replay "
-          "--controller-record).\n"
-          "Example, inside one tools/netns-run -- bash:\n"
-          "  flexloop build tools/scenes/metrology_frame_lqg.toml -o /tmp/lqg.json\n"
-          "  flexloop-c-controller /tmp/lqg.json --duration 7 &\n"
-          "  flexloop plant /tmp/lqg.json --duration 5 --cpu 0 --json /tmp/plant.json\n"
-          "  (then: flexloop replay /tmp/lqg.json --plant-report /tmp/plant.json)\n");
-      return 0;
-    } else if (strcmp(argv[i], "--url") == 0 && i + 1 < argc) {
-      url = argv[++i];
-    } else if (strcmp(argv[i], "--duration") == 0 && i + 1 < argc) {
-      duration_s = atof(argv[++i]);
-    } else if (strcmp(argv[i], "--record") == 0 && i + 1 < argc) {
-      record = argv[++i];
-    } else if (strcmp(argv[i], "--safe-after") == 0 && i + 1 < argc) {
-      c.safe_after = atoll(argv[++i]);
-    } else if (argv[i][0] != '-' && !loop) {
-      loop = argv[i];
+    const char* a = argv[i];
+    const int has_value = i + 1 < argc;
+    if (strcmp(a, "--help") == 0 || strcmp(a, "-h") == 0) {
+      usage();
+      return -1;
+    } else if (strcmp(a, "--transport") == 0 && has_value) {
+      const char* t = argv[++i];
+      if (strcmp(t, "lcm") != 0 && strcmp(t, "iceoryx") != 0) {
+        fprintf(stderr, "flexloop-c-controller: --transport is lcm or iceoryx (got %s)\n", t);
+        return 2;
+      }
+      o->iceoryx = strcmp(t, "iceoryx") == 0;
+    } else if (strcmp(a, "--url") == 0 && has_value) {
+      o->url = argv[++i];
+    } else if (strcmp(a, "--spin") == 0) {
+      o->spin = 1;
+    } else if (strcmp(a, "--duration") == 0 && has_value) {
+      o->duration_s = atof(argv[++i]);
+    } else if (strcmp(a, "--record") == 0 && has_value) {
+      o->record = argv[++i];
+    } else if (strcmp(a, "--safe-after") == 0 && has_value) {
+      c->safe_after = atoll(argv[++i]);
+    } else if (a[0] != '-' && !o->loop) {
+      o->loop = a;
     } else {
-      fprintf(stderr, "flexloop-c-controller: unknown argument '%s' (see --help)\n", argv[i]);
-      return 2;
+      return bad_argument(a);
     }
   }
-  if (!loop) {
+  if (!o->loop) {
     fprintf(stderr, "flexloop-c-controller: give a loop artefact (see --help)\n");
     return 2;
   }
-  if (!url) url = "udpm://239.255.76.67:7667?ttl=0";
-  if (strstr(url, "ttl=0") == NULL) {
-    fprintf(stderr, "flexloop-c-controller: the LCM URL must have ttl=0 (got %s)\n", url);
+  if (o->iceoryx && o->url) {
+    fprintf(stderr, "flexloop-c-controller: --url is for --transport lcm\n");
     return 2;
   }
-  load(&c, loop);
-  c.lcm = lcm_create(url);
-  if (!c.lcm) {
-    fprintf(stderr, "flexloop-c-controller: LCM unavailable at %s\n", url);
-    return 1;
+  return 0;
+}
+
+int main(int argc, char** argv) {
+  Options o = {.url = NULL};
+  static Controller c; /* static: its gap record is large */
+  c.safe_after = 10;
+  const int parsed = parse(argc, argv, &o, &c);
+  if (parsed != 0) return parsed < 0 ? 0 : parsed;
+  if (!decode_sample_matches_lcm_gen()) {
+    fprintf(stderr,
+            "flexloop-c-controller: sample_decode.c does not follow "
+            "msgs/sensor_sample_t.lcm (its fields changed): update it\n");
+    return 2;
+  }
+  load(&c, o.loop);
+  if (o.iceoryx) {
+    c.carrier = carrier_iceoryx_open(on_message, &c);
+  } else {
+    const char* url = o.url ? o.url : getenv("LCM_DEFAULT_URL");
+    c.carrier = carrier_lcm_open(url ? url : "udpm://239.255.76.67:7667?ttl=0", on_message, &c);
   }
   signal(SIGINT, on_signal);
   signal(SIGTERM, on_signal);
-  flexloop_msgs_sensor_sample_t_subscribe(c.lcm, "FLEXLOOP_SENSOR", on_sample, &c);
-  printf("flexloop-c-controller: %s, %d states, %d sensors -> %d actuators, LCM %s\n", loop, c.nx,
-         c.ns, c.nc, url);
+  printf("flexloop-c-controller: %s, %d states, %d sensors -> %d actuators, %s%s\n", o.loop, c.nx,
+         c.ns, c.nc, c.carrier->description, o.spin ? ", spinning" : "");
   fflush(stdout);
-  const int64_t end = duration_s > 0 ? now_ns() + (int64_t)(duration_s * 1e9) : INT64_MAX;
-  while (!stop_requested && now_ns() < end) lcm_handle_timeout(c.lcm, 100);
-  printf("flexloop-c-controller: answered %lld samples\n", (long long)c.answered);
-  lcm_destroy(c.lcm);
-  if (record && !write_record(&c, record)) {
-    fprintf(stderr, "flexloop-c-controller: %s: cannot be written\n", record);
+  const int64_t end = o.duration_s > 0 ? now_ns() + (int64_t)(o.duration_s * 1e9) : INT64_MAX;
+  int failed = 0;
+  while (!stop_requested && now_ns() < end && !failed)
+    failed = c.carrier->receive(c.carrier, o.spin ? 0 : 100) < 0;
+  printf(
+      "flexloop-c-controller: answered %lld samples (%lld messages not this loop's samples, "
+      "%lld answers not sent)\n",
+      (long long)c.answered, (long long)c.undecoded, (long long)c.unsent);
+  c.carrier->close(c.carrier);
+  if (failed) fprintf(stderr, "flexloop-c-controller: receiving failed\n");
+  if (o.record && !write_record(&c, o.record)) {
+    fprintf(stderr, "flexloop-c-controller: %s: cannot be written\n", o.record);
     return 1;
   }
-  return 0;
+  return failed ? 1 : 0;
 }
