@@ -510,7 +510,7 @@ int main(int argc, char** argv) {
   const int64_t end = o.duration_s > 0 ? now_ns() + (int64_t)(o.duration_s * 1e9) : INT64_MAX;
   int failed = 0;
   while (!stop_requested && now_ns() < end && !failed)
-    failed = c.carrier->receive(c.carrier, o.spin ? 0 : 100) < 0;
+    failed = c.carrier->receive(c.carrier, o.spin ? 0 : 100) < 0 && !stop_requested; /* EINTR */
   printf(
       "flexloop-c-controller: answered %lld samples (%lld messages not this loop's samples, "
       "%lld answers not sent)\n",
