@@ -21,13 +21,24 @@
 #     two runs are different draws of the same loop: 1e-4 of the RMS apart on this loop.
 #   - the run and sim's ideal loop are printed side by side: their difference is what the
 #     misses cost (about 10 % on a VM whose timer was late by milliseconds).
-#   tests/hil/external_c_controller.sh FLEXLOOP FLEXLOOP_C_CONTROLLER SOURCE_DIR
+# With TRANSPORT iceoryx (doc/iceoryx.md) the same loop runs over shared memory instead, on the
+# host (nothing leaves it): `flexloop roudi` in the background, stopped by its pid (also when the
+# script fails), the C controller and `flexloop plant` with --transport iceoryx, the same figures
+# and the same replay check; afterwards no iox-roudi runs and no RouDi socket (/tmp/roudi), lock
+# (/tmp/*.lock), runtime socket or shared-memory segment (/dev/shm) of the run is left.
+#   tests/hil/external_c_controller.sh FLEXLOOP FLEXLOOP_C_CONTROLLER SOURCE_DIR [lcm|iceoryx]
 set -uo pipefail
-flexloop=$1 ccontroller=$2 root=$3
+flexloop=$1 ccontroller=$2 root=$3 transport=${4:-lcm}
 tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
+roudi_pid="" controller_pid=""
+cleanup() {
+  for pid in $controller_pid $roudi_pid; do kill -TERM "$pid" 2>/dev/null && wait "$pid"; done
+  rm -rf "$tmp"
+}
+trap cleanup EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 duration=6 rate=1000
+[[ $transport == lcm || $transport == iceoryx ]] || fail "TRANSPORT is lcm or iceoryx: $transport"
 
 out=$("$ccontroller" --help) || fail "flexloop-c-controller --help"
 [[ "$out" == *"Example"* ]] || fail "--help has no example: $out"
@@ -69,7 +80,7 @@ sed -e "s|^rate_hz = .*|rate_hz = $rate|" -e "s|^file = .*|file = \"$tmp/lqg_1k.
 
 # The real-time part; run again once when the loop did not close (a stall of the VM can hold
 # either process for tens of milliseconds).
-run_loop() {
+run_loop_lcm() {
   "$root/tools/netns-run" -- bash -c "
     set -e
     chrt -f 80 taskset -c 1 '$ccontroller' '$tmp/loop.json' --duration $((duration + 10)) \
@@ -79,6 +90,43 @@ run_loop() {
       --json '$tmp/plant.json' > '$tmp/plant.txt'
     kill -TERM %1; wait %1" > "$tmp/netns.txt" 2>&1 ||
     fail "in the namespace: $(cat "$tmp/netns.txt" "$tmp/controller.txt" 2>/dev/null)"
+}
+
+# What an iceoryx run may leave: RouDi, its segments in /dev/shm, its socket /tmp/roudi and the
+# runtimes' sockets and locks in /tmp. After a clean run, nothing beside what was there before.
+host_state() {
+  pgrep -a -x iox-roudi
+  ls /dev/shm
+  find /tmp -maxdepth 1 \( -type s -o -name '*.lock' \) | sort
+}
+
+run_loop_iceoryx() {
+  local before
+  before=$(host_state)
+  [[ -e /tmp/roudi ]] && fail "a RouDi runs already (/tmp/roudi): not this test's to stop"
+  "$flexloop" roudi --duration $((duration + 60)) > "$tmp/roudi.txt" 2>&1 &
+  roudi_pid=$!
+  for _ in $(seq 100); do grep -q "ready" "$tmp/roudi.txt" && break; sleep 0.05; done
+  grep -q "ready" "$tmp/roudi.txt" || fail "flexloop roudi is not ready: $(cat "$tmp/roudi.txt")"
+  chrt -f 80 taskset -c 1 "$ccontroller" "$tmp/loop.json" --transport iceoryx \
+    --duration $((duration + 10)) --record "$tmp/unanswered.json" > "$tmp/controller.txt" 2>&1 &
+  controller_pid=$!
+  sleep 0.5
+  "$flexloop" plant "$tmp/loop.json" --transport iceoryx --duration $duration \
+    --max-miss-share 100 --start rest --json "$tmp/plant.json" > "$tmp/plant.txt" 2>&1 ||
+    fail "flexloop plant --transport iceoryx: $(cat "$tmp/plant.txt" "$tmp/controller.txt")"
+  kill -TERM $controller_pid
+  wait $controller_pid || fail "the C controller over iceoryx: $(cat "$tmp/controller.txt")"
+  controller_pid=""
+  kill -TERM $roudi_pid
+  wait $roudi_pid || fail "flexloop roudi did not end cleanly: $(cat "$tmp/roudi.txt")"
+  roudi_pid=""
+  [[ "$(host_state)" == "$before" ]] ||
+    fail "left behind by the run: $(diff <(echo "$before") <(host_state))"
+}
+
+run_loop() {
+  "run_loop_$transport"
   grep -q "answered" "$tmp/controller.txt" || fail "controller: $(cat "$tmp/controller.txt")"
   "$flexloop" replay "$tmp/loop.json" --plant-report "$tmp/plant.json" \
     --controller-record "$tmp/unanswered.json" --json "$tmp/replay.json" > "$tmp/replay.txt" 2>&1 ||
@@ -138,4 +186,5 @@ for attempt in 1 2; do
     fail "figures: $(cat "$tmp/plant.txt" "$tmp/replay.txt" "$tmp/sim.txt")"
   echo "the loop did not close, or lost a run of samples, once: running again"
 done
-echo "external C controller: loop closed"
+grep "answered" "$tmp/controller.txt"
+echo "external C controller over $transport: loop closed"
