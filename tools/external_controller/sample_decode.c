@@ -11,7 +11,6 @@ int decode_sample(const void* data, int size, int sensors, SensorSample* s) {
 #define FIELD(decoder, field, count)                                      \
   if ((n = decoder(data, at, size - at, (field), (count))) < 0) return 0; \
   at += n
-  if (size < 8) return 0;
   FIELD(__int64_t_decode_array, &hash, 1);
   if (hash != __flexloop_msgs_sensor_sample_t_get_hash()) return 0;
   FIELD(__int64_t_decode_array, &m->t_ns, 1);

@@ -195,6 +195,8 @@ static void load(Controller* c, const char* file) {
          "scene with a state-space controller)");
   c->ns = count(channels, "sensors", file);
   c->nc = count(channels, "actuators", file);
+  if (c->ns < 1 || c->ns > kMaxChannels || c->nc < 1 || c->nc > kMaxChannels)
+    fail(file, "key 'channels': a loop has 1 to 64 sensors and 1 to 64 actuators");
   const cJSON* states = cJSON_GetObjectItemCaseSensitive(co, "states");
   if (!cJSON_IsNumber(states) || states->valueint < 0) fail(file, "key 'controller': key 'states'");
   c->nx = states->valueint;
