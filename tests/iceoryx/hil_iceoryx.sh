@@ -7,7 +7,8 @@
 #      naming iox-roudi (exit 3); nothing left behind;
 #   3. a RouDi already running (a second loop on this host): refused with its pid (exit 1);
 #   4. `flexloop plant --transport iceoryx` with no RouDi: refused at once, naming the remedy;
-#   5. `flexloop roudi`, `flexloop controller` and `flexloop plant` by hand: the loop closes.
+#   5. `flexloop roudi`, `flexloop controller` and `flexloop plant` by hand: the loop closes;
+#   6. Ctrl-C during the loop: exit 130, the report of what ran; nothing left behind.
 # Usage: hil_iceoryx.sh FLEXLOOP SOURCE_DIR
 set -euo pipefail
 flexloop=$1
@@ -119,6 +120,30 @@ grep -q "iceoryx: the controller connected after" "$work/plant.out" ||
 json "$work/plant.json" "
 assert j['transport'] == 'iceoryx' and j['round_trip_ns']['count'] > 0.9 * j['cycles'], (j['round_trip_ns'], j['cycles'])
 " || fail "plant over iceoryx: the JSON"
+nothing_left
+pass
+
+# 6. Ctrl-C during the loop: SIGINT to the whole process group (python: a child with SIGINT at its
+# default, which a shell's background job would not have). The report covers what ran, RouDi is
+# stopped, the runtimes deregister.
+python3 - "$flexloop" "$scene" "$work/interrupted.json" <<'PY' || fail "Ctrl-C: see above"
+import json, os, signal, subprocess, sys, time
+flexloop, scene, report = sys.argv[1:4]
+p = subprocess.Popen([flexloop, "hil", scene, "--netns", "--transport", "iceoryx", "--duration", "8",
+                      "--baseline-duration", "0.5", "--quiet", "--report", report],
+                     stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True,
+                     preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
+deadline = time.time() + 20
+while not any(f.startswith("plant_") for f in os.listdir("/tmp")) and time.time() < deadline:
+    time.sleep(0.02)
+time.sleep(0.5)  # the loop runs
+os.killpg(p.pid, signal.SIGINT)
+p.wait(timeout=30)
+assert p.returncode == 130, p.returncode
+j = json.load(open(report))
+assert j["partial"] is True and j["verdict"]["result"] == "interrupted" and j["cycles"] > 0, j["verdict"]
+PY
+for _ in $(seq 100); do pgrep -x iox-roudi >/dev/null || break; sleep 0.05; done
 nothing_left
 pass
 
