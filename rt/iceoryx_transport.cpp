@@ -8,6 +8,8 @@
 #include <iceoryx_posh/runtime/posh_runtime.hpp>
 #include <stdexcept>
 
+#include "rt/roudi_process.hpp"
+
 namespace flexloop::rt {
 
 namespace {
@@ -36,7 +38,12 @@ std::vector<std::string> IceoryxTransport::runtime_files(const std::string& regi
 
 IceoryxTransport::IceoryxTransport(const std::string& runtime_name) {
   // iceoryx logs to stdout; a loop's output is its own report, so only warnings and worse.
-  iox::log::LogManager::GetLogManager().SetDefaultLogLevel(iox::log::LogLevel::kWarn);
+  iox::log::LogManager::GetLogManager().SetDefaultLogLevel(iox::log::LogLevel::kWarn,
+                                                           iox::log::LogLevelOutput::kHideLogLevel);
+  // iceoryx's runtime would wait a minute for a RouDi and then abort: say at once that none runs.
+  if (!running_roudi_pid())
+    throw RoudiError(
+        "iceoryx: no RouDi runs on this host (start one: flexloop roudi, or iox-roudi)");
   const std::string name = registered_name(runtime_name);
   iox::runtime::PoshRuntime::initRuntime(
       iox::RuntimeName_t(iox::cxx::TruncateToCapacity, id_string(name).c_str()));
@@ -66,13 +73,19 @@ int IceoryxTransport::poll_ready(std::int64_t timeout_ns) noexcept {
   return waitset_->timedWait(iox::units::Duration::fromNanoseconds(timeout_ns)).empty() ? 0 : 1;
 }
 
+bool IceoryxTransport::subscriptions_connected() const noexcept {
+  for (const Subscription& s : subscriptions_)
+    if (s.subscriber->getSubscriptionState() != iox::SubscribeState::SUBSCRIBED) return false;
+  return true;
+}
+
 int IceoryxTransport::handle_pending() noexcept {
   int handled = 0;
   for (Subscription& s : subscriptions_) {
-    for (;;) {
+    while (s.subscriber->hasData()) {
       const void* chunk = nullptr;
       s.subscriber->take().and_then([&](const void* p) { chunk = p; });
-      if (!chunk) break;
+      if (!chunk) break;  // the queue's chunk was dropped as the oldest meanwhile
       const std::int64_t now = monotonic_now_ns();
       const int size =
           static_cast<int>(iox::mepoo::ChunkHeader::fromUserPayload(chunk)->userPayloadSize());

@@ -39,7 +39,7 @@ iox::capro::ServiceDescription iceoryx_service(const std::string& channel);
 class IceoryxTransport {
  public:
   /// Registers this process with the running RouDi as `runtime_name` (unique on the host; made
-  /// unique with the pid). std::runtime_error when no RouDi answers within iceoryx's wait.
+  /// unique with the pid). RoudiError (rt/roudi_process.hpp) when no RouDi runs.
   explicit IceoryxTransport(const std::string& runtime_name);
   /// The name this process registered with: runtime_name + "_" + pid.
   static std::string registered_name(const std::string& runtime_name);
@@ -60,9 +60,15 @@ class IceoryxTransport {
     subscribe_bytes(channel, &IceoryxTransport::deliver<Msg>, &inbox, queue_capacity);
   }
 
+  /// True when every subscription is connected to a publisher (RouDi's discovery connects them
+  /// some ms after both exist).
+  bool subscriptions_connected() const noexcept;
+
   /// 1 when a chunk is ready, 0 when none came within timeout_ns (0: just look).
   int poll_ready(std::int64_t timeout_ns) noexcept;
-  /// Handles every chunk ready now; returns how many.
+  /// Handles every chunk ready now; returns how many. A subscriber with nothing queued is only
+  /// looked at (hasData reads the queue; take() on an empty queue writes its shared lines too,
+  /// which a spinning receiver would pull away from the publisher's core on every turn).
   int handle_pending() noexcept;
 
   template <class Done>

@@ -76,7 +76,8 @@ std::string make_folder() {
 
 // The child between fork and exec: own process group, ends with its parent, output to the log.
 [[noreturn]] void exec_roudi(const std::string& exe, const std::string& config,
-                             const std::string& log, pid_t parent, int error_fd) {
+                             const char* monitoring, const std::string& log, pid_t parent,
+                             int error_fd) {
   setpgid(0, 0);
   prctl(PR_SET_PDEATHSIG, SIGTERM);
   if (getppid() != parent) _exit(127);
@@ -86,7 +87,7 @@ std::string make_folder() {
     dup2(in, 0);
     dup2(out, 1);
     dup2(out, 2);
-    const char* argv[] = {exe.c_str(), "-c", config.c_str(), nullptr};
+    const char* argv[] = {exe.c_str(), "-c", config.c_str(), "-m", monitoring, nullptr};
     execvp(exe.c_str(), const_cast<char* const*>(argv));
   }
   const int e = errno;
@@ -178,7 +179,9 @@ void RoudiProcess::start(const RoudiOptions& options) {
   std::fflush(nullptr);
   pid_ = fork();
   if (pid_ < 0) fail("fork failed");
-  if (pid_ == 0) exec_roudi(options.executable, config_path_, log_path_, parent, error_pipe[1]);
+  if (pid_ == 0)
+    exec_roudi(options.executable, config_path_, options.monitoring ? "on" : "off", log_path_,
+               parent, error_pipe[1]);
   close(error_pipe[1]);
   int exec_errno = 0;
   const bool exec_failed = read(error_pipe[0], &exec_errno, sizeof exec_errno) ==

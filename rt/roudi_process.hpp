@@ -59,6 +59,11 @@ std::optional<pid_t> running_roudi_pid();
 struct RoudiOptions {
   std::string executable = "iox-roudi";  // looked up on PATH unless it holds a '/'
   std::vector<RoudiMempool> mempools = mempools_for_messages(512, 256);
+  /// RouDi's watch of its clients' keep-alive messages. Off for a loop's RouDi: hil stops the
+  /// controller process (SIGSTOP) between loop segments, and two spinning SCHED_FIFO loops can
+  /// starve the keep-alive threads, either of which RouDi would take for a dead client and
+  /// disconnect. The run's RouDi ends with the run, so nothing is lost by not watching.
+  bool monitoring = true;
   std::int64_t ready_timeout_ns = 5'000'000'000;
   std::int64_t stop_grace_ns = 3'000'000'000;
 };

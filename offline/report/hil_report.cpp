@@ -57,6 +57,18 @@ double percent(double part, double whole) {
   return whole > 0 ? 100.0 * part / whole : 0.0;
 }
 
+// The same run's bare exchanges under the loop's round trip: the ping-pong on the loop's
+// transport, the LCM one beside it (iceoryx runs), and the shared-memory floor under both.
+void print_baseline_round_trips(const nlohmann::json& base) {
+  const auto& pp = base["pingpong"];
+  const std::string own = "  baseline " + pp.value("transport", std::string("lcm")) + " ping-pong";
+  print_line(own.c_str(), pp["round_trip_ns"]);
+  if (const auto lcm = base.find("pingpong_lcm"); lcm != base.end())
+    print_line("  baseline lcm ping-pong", (*lcm)["round_trip_ns"]);
+  if (const auto floor = base.find("shm_floor"); floor != base.end())
+    print_line("  shared-memory floor", (*floor)["round_trip_ns"]);
+}
+
 }  // namespace
 
 std::vector<std::string> write_hil_report(const nlohmann::json& report, const std::string& path) {
@@ -76,7 +88,8 @@ std::vector<std::string> write_hil_report(const nlohmann::json& report, const st
   const std::string rtt_png = stem + "_round_trip.png", late_png = stem + "_wakeup_lateness.png";
   plot_bins(h["round_trip_ns"],
             std::string("round trip at ") + rate + ": " + figures(report["round_trip_ns"]) +
-                "\nbare ping-pong " + figures(base["pingpong"]["round_trip_ns"]),
+                "\nbare " + base["pingpong"].value("transport", "lcm") + " ping-pong " +
+                figures(base["pingpong"]["round_trip_ns"]),
             rtt_png);
   plot_bins(h["wakeup_lateness_ns"],
             std::string("plant wake-up lateness at ") + rate + ": " +
@@ -174,13 +187,14 @@ void print_hil_summary(const nlohmann::json& r) {
   const double cycles = r.value("cycles", 0.0);
   const auto& pp = r["baseline"]["pingpong"];
   const bool own_controller = r["controller"].value("kind", "") != "none";
-  std::printf(
-      "hil: %s at %.6g Hz for %.6g s, wait %s, receive %s, plant CPU %d, %s%s\n",
-      r.value("scene", "?").c_str(), r.value("rate_hz", 0.0), r.value("duration_s", 0.0),
-      r.value("wait_mode", "?").c_str(), r.value("receive_path", "?").c_str(), r.value("cpu", -1),
-      own_controller ? ("controller CPU " + std::to_string(r.value("controller_cpu", -1))).c_str()
-                     : "no controller process",
-      r.value("fifo", false) ? ", SCHED_FIFO" : ", SCHED_FIFO NOT granted");
+  std::printf("hil: %s at %.6g Hz for %.6g s over %s, wait %s, receive %s, plant CPU %d, %s%s\n",
+              r.value("scene", "?").c_str(), r.value("rate_hz", 0.0), r.value("duration_s", 0.0),
+              r.value("transport", "lcm").c_str(), r.value("wait_mode", "?").c_str(),
+              r.value("receive_path", "?").c_str(), r.value("cpu", -1),
+              own_controller
+                  ? ("controller CPU " + std::to_string(r.value("controller_cpu", -1))).c_str()
+                  : "no controller process",
+              r.value("fifo", false) ? ", SCHED_FIFO" : ", SCHED_FIFO NOT granted");
   // The plant alone (no controller process, no answer came): no answers were expected, so
   // nothing about them is shown -- not 100 % deadline misses, not empty round trips.
   const bool open_loop = r.value("open_loop", false);
@@ -211,7 +225,7 @@ void print_hil_summary(const nlohmann::json& r) {
                 r["dropped_messages"].dump().c_str(),
                 controller["dropped_messages"].dump().c_str());
     print_line("round trip", r["round_trip_ns"]);
-    print_line("  baseline LCM ping-pong", pp["round_trip_ns"]);
+    print_baseline_round_trips(r["baseline"]);
   }
   print_line("wake-up lateness", r["wakeup_lateness_ns"]);
   print_line("  baseline bare timer", r["baseline"]["timer"]["wakeup_lateness_ns"]);
@@ -222,9 +236,12 @@ void print_hil_summary(const nlohmann::json& r) {
     if (const auto p = controller.find("real_time_promises");
         p != controller.end() && p->contains("summary"))
       std::printf("  controller's %s\n", (*p)["summary"].get<std::string>().c_str());
-    std::printf("  baseline ping-pong: %lld of %lld pings unanswered within the period (%.3f %%)\n",
-                pp.value("unanswered", 0LL), pp.value("sent", 0LL),
-                percent(pp.value("unanswered", 0.0), pp.value("sent", 0.0)));
+    for (const char* key : {"pingpong", "pingpong_lcm"})
+      if (const auto b = r["baseline"].find(key); b != r["baseline"].end())
+        std::printf(
+            "  baseline %s ping-pong: %lld of %lld pings unanswered within the period (%.3f %%)\n",
+            b->value("transport", std::string("lcm")).c_str(), b->value("unanswered", 0LL),
+            b->value("sent", 0LL), percent(b->value("unanswered", 0.0), b->value("sent", 0.0)));
   }
   const auto& timer = r["baseline"]["timer"];
   if (pp.value("too_short", false) || timer.value("too_short", false))

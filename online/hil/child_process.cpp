@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 
@@ -31,7 +32,7 @@ void write_all(int fd, const std::string& text) {
 
 }  // namespace
 
-ChildProcess::ChildProcess(const Body& body) {
+ChildProcess::ChildProcess(const Body& body, ChildEnd end) {
   int fds[2], resume[2];
   if (pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error("cannot create a pipe");
   if (pipe2(resume, O_CLOEXEC) != 0) {
@@ -70,6 +71,7 @@ ChildProcess::ChildProcess(const Body& body) {
     }
     std::fflush(nullptr);
     write_all(fds[1], out);
+    if (end == ChildEnd::kExit) std::exit(code);
     _exit(code);
   }
   close(fds[1]);

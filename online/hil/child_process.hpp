@@ -8,8 +8,9 @@
 // byte on a second pipe, parent to child, which the parent writes once its on_pause returned
 // (e.g. a baseline segment measured while the loop stands still). The child ends with _exit (the
 // parent's atexit handlers and stdio buffers are not its to run; stdout is flushed before fork and
-// by the child before _exit). A child whose parent dies gets SIGTERM (PR_SET_PDEATHSIG): no loop is
-// left spinning behind.
+// by the child before _exit) -- or, asked for (ChildEnd::kExit), with exit(): a child registered
+// with iceoryx's RouDi deregisters only in the runtime's static destructor. A child whose parent
+// dies gets SIGTERM (PR_SET_PDEATHSIG): no loop is left spinning behind.
 #include <sys/types.h>
 
 #include <cstdint>
@@ -24,12 +25,15 @@ struct ChildLink {
   std::function<void()> pause;  ///< blocks until the parent's on_pause returned
 };
 
+/// How the child leaves once its result is written.
+enum class ChildEnd { kImmediate, kExit };
+
 class ChildProcess {
  public:
   using Body = std::function<std::string(const ChildLink& link)>;
 
   /// Forks and runs body in the child.
-  explicit ChildProcess(const Body& body);
+  explicit ChildProcess(const Body& body, ChildEnd end = ChildEnd::kImmediate);
   ~ChildProcess();  // kills (SIGKILL) and reaps a child still running
   ChildProcess(const ChildProcess&) = delete;
   ChildProcess& operator=(const ChildProcess&) = delete;

@@ -20,6 +20,7 @@
 #include "online/loop/stop_signal.hpp"
 #include "online/sim/scene_runs.hpp"
 #include "rt/loop_process_setup.hpp"
+#include "rt/loop_transport.hpp"
 #include "rt/monotonic_time.hpp"
 #include "rt/pingpong_baseline.hpp"
 #include "rt/timer_baseline.hpp"
@@ -34,19 +35,30 @@ rt::PeriodicClockOptions clock_options(const loop::LoopOptions& o, double rate_h
           .spin_margin_ns = o.spin_margin_ns};
 }
 
-BaselineSettings baseline_settings(const HilOptions& o, double rate_hz, double segment_s) {
+BaselineSettings baseline_settings(const HilOptions& o, double rate_hz, double segment_s,
+                                   rt::RoudiProcess* roudi) {
   return {.clock = clock_options(o.loop, rate_hz),
           .receive_path = o.loop.receive_path,
           .realtime = o.loop.realtime,
           .pong_cpu = o.controller_cpu,
           .url = neighbour_port_url(loop::loop_lcm_url(o.loop.url, o.loop.link)),
-          .segment_s = segment_s};
+          .segment_s = segment_s,
+          .transport = o.loop.transport,
+          .roudi = roudi};
+}
+
+// iceoryx: the run's own RouDi, started by this process, which never registers with it (its
+// children do: the loop's processes and the baselines' ping and pong); none over LCM.
+std::unique_ptr<rt::RoudiProcess> start_roudi(const HilOptions& o) {
+  if (o.loop.transport != rt::TransportKind::kIceoryx) return nullptr;
+  return std::make_unique<rt::RoudiProcess>(rt::loop_roudi_options());
 }
 
 }  // namespace
 
 nlohmann::json run_baselines(const HilOptions& o, double rate_hz) {
-  InterleavedBaselines b(baseline_settings(o, rate_hz, o.baseline_duration_s));
+  const std::unique_ptr<rt::RoudiProcess> roudi = start_roudi(o);
+  InterleavedBaselines b(baseline_settings(o, rate_hz, o.baseline_duration_s, roudi.get()));
   b.measure_segment();
   return b.totals_json();
 }
@@ -126,6 +138,8 @@ HilPlan plan_hil(const HilOptions& o, const artefact::LoopArtefact& loop,
   p.plant_options.quiet = true;
   p.plant_options.status = status;
   p.plant_options.limits.judge_misses = p.has_controller;
+  // Over iceoryx the plant waits for the controller's connection; alone, for nobody.
+  if (!p.has_controller) p.plant_options.connect_timeout_s = 0;
   p.plant_options.lcm_log = o.lcm_log;  // the plant records what it sends and receives
   p.controller_options = p.plant_options;
   p.controller_options.realtime.cpu = o.controller_cpu;
@@ -163,17 +177,43 @@ loop::VerdictFailure interrupted_before_loop() {
   return {130, "interrupted before the loop ran: nothing was written"};
 }
 
+// A child registered with RouDi leaves with exit(), so that iceoryx's runtime deregisters.
+ChildEnd child_end(const HilPlan& p) {
+  return p.plant_options.transport == rt::TransportKind::kIceoryx ? ChildEnd::kExit
+                                                                  : ChildEnd::kImmediate;
+}
+
+// The run's RouDi (iceoryx), looked at while the loop runs: a RouDi that ended stops the run (the
+// plant's figures so far are reported) and fails its verdict, naming how it ended.
+class RoudiWatch {
+ public:
+  explicit RoudiWatch(rt::RoudiProcess* roudi) : roudi_(roudi) {}
+  /// True on the first look that finds RouDi gone (and on every later one).
+  bool lost_now() {
+    if (roudi_ != nullptr && lost_.empty() && !roudi_->alive())
+      lost_ = roudi_->describe() + " during the loop: the run was stopped there";
+    return !lost_.empty();
+  }
+  const std::string& lost() const { return lost_; }
+
+ private:
+  rt::RoudiProcess* roudi_;
+  std::string lost_;
+};
+
 // The controller process, once it has subscribed (so the plant's first sample finds it); none
 // for a loop without a controller.
 std::unique_ptr<ChildProcess> start_controller_process(const HilPlan& p,
                                                        const artefact::LoopArtefact& loop) {
   if (!p.has_controller) return nullptr;
-  auto controller = std::make_unique<ChildProcess>([&](const ChildLink& link) {
-    return loop::controller_result_json(
-               loop::run_controller_loop(p.controller_options, loop, link.ready),
-               p.controller_options)
-        .dump();
-  });
+  auto controller = std::make_unique<ChildProcess>(
+      [&](const ChildLink& link) {
+        return loop::controller_result_json(
+                   loop::run_controller_loop(p.controller_options, loop, link.ready),
+                   p.controller_options)
+            .dump();
+      },
+      child_end(p));
   controller->wait_ready(10 * rt::kNsPerSecond);
   return controller;
 }
@@ -183,12 +223,15 @@ std::unique_ptr<ChildProcess> start_controller_process(const HilPlan& p,
 // error goes on.
 nlohmann::json run_plant_segments(const HilPlan& p, const artefact::LoopArtefact& loop,
                                   const loop::LoopStatus& status, bool status_line,
-                                  InterleavedBaselines& baselines, ChildProcess* controller) {
-  ChildProcess plant([&](const ChildLink& link) {
-    loop::LoopOptions options = p.plant_options;
-    options.between_segments = link.pause;
-    return loop::plant_result_json(loop::run_plant_loop(options, loop), options, true).dump();
-  });
+                                  InterleavedBaselines& baselines, ChildProcess* controller,
+                                  RoudiWatch& roudi) {
+  ChildProcess plant(
+      [&](const ChildLink& link) {
+        loop::LoopOptions options = p.plant_options;
+        options.between_segments = link.pause;
+        return loop::plant_result_json(loop::run_plant_loop(options, loop), options, true).dump();
+      },
+      child_end(p));
   // Between two loop segments: the plant waits, the controller process is stopped (SIGSTOP: it
   // neither spins nor reads), the next baseline segment runs on their CPUs.
   const auto between_segments = [&] {
@@ -206,7 +249,7 @@ nlohmann::json run_plant_segments(const HilPlan& p, const artefact::LoopArtefact
   const auto watch = [&] {
     // Repeated while the stop stands: a stop that came before the plant installed its own
     // handlers is not lost.
-    if (loop::stop_requested()) plant.signal(SIGTERM);
+    if (loop::stop_requested() || roudi.lost_now()) plant.signal(SIGTERM);
     line.tick();
   };
   const auto grace = static_cast<std::int64_t>((p.duration_s + 30) * 1e9);
@@ -258,11 +301,12 @@ void note_machine_could_not_hold_rate(loop::RunVerdict& verdict, nlohmann::json&
   if (verdict.result == loop::RunVerdict::Result::kFail && limits.judge_misses && loop_cycles > 0 &&
       plant_json.value("deadline_misses", 0.0) / loop_cycles > limits.max_miss_share &&
       unanswered_share > limits.max_miss_share) {
+    const bool iceoryx = pp.value("transport", "lcm") == "iceoryx";
     char text[200];
     std::snprintf(text, sizeof text,
-                  "the bare LCM ping-pong, interleaved with the loop, left %.3g %% of its pings "
+                  "the bare %s ping-pong, interleaved with the loop, left %.3g %% of its pings "
                   "unanswered as well: this machine did not hold %.6g Hz during the run",
-                  100 * unanswered_share, rate_hz);
+                  iceoryx ? "iceoryx" : "LCM", 100 * unanswered_share, rate_hz);
     verdict.reasons.push_back(text);
   }
 }
@@ -325,15 +369,21 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   require_long_enough_segments(plan, loop.rate_hz);
 
   const rt::CpuDmaLatencyHold dma;  // for the baselines (each loop process holds its own)
+  const std::unique_ptr<rt::RoudiProcess> roudi = start_roudi(o);
   InterleavedBaselines baselines(
-      baseline_settings(o, loop.rate_hz, plan.baseline_s / plan.segments));
+      baseline_settings(o, loop.rate_hz, plan.baseline_s / plan.segments, roudi.get()));
   baselines.measure_segment();
   if (loop::stop_requested()) throw interrupted_before_loop();
   const std::unique_ptr<ChildProcess> controller = start_controller_process(plan, loop);
-  nlohmann::json plant_json =
-      run_plant_segments(plan, loop, *status.get(), o.status_line, baselines, controller.get());
+  RoudiWatch roudi_watch(roudi.get());
+  nlohmann::json plant_json = run_plant_segments(plan, loop, *status.get(), o.status_line,
+                                                 baselines, controller.get(), roudi_watch);
 
   loop::RunVerdict verdict = loop::verdict_from_json(plant_json["verdict"]);
+  if (roudi_watch.lost_now()) {  // the stop was ours, not the user's: a failure, not a Ctrl-C
+    verdict.result = loop::RunVerdict::Result::kFail;
+    verdict.reasons.push_back(roudi_watch.lost());
+  }
   nlohmann::json controller_json =
       collect_controller(controller.get(), *status.get(), loop.controller, verdict);
   nlohmann::json report;
@@ -349,6 +399,7 @@ nlohmann::json run_hil(const HilOptions& o, const artefact::LoopArtefact& loop) 
   report["duration_s"] = plan.duration_s;
   report["controller_cpu"] = o.controller_cpu;
   report["lcm_url"] = plan.url;
+  report["transport"] = rt::to_string(o.loop.transport);
   report["cpu_dma_latency_held"] = dma.active();
   return report;
 }

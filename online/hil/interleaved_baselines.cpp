@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "online/hil/baseline_json.hpp"
+#include "rt/iceoryx_pingpong_baseline.hpp"
 #include "rt/loop_process_setup.hpp"
 
 namespace flexloop::hil {
@@ -29,14 +30,7 @@ std::string neighbour_port_url(const std::string& url) {
          (port_end == std::string::npos ? "" : url.substr(port_end));
 }
 
-void InterleavedBaselines::measure_segment() {
-  const auto duration_ns = static_cast<std::int64_t>(settings_.segment_s * 1e9);
-  rt::TimerBaselineOptions timer;
-  timer.clock = settings_.clock;
-  timer.duration_ns = duration_ns;
-  timer.realtime = settings_.realtime;
-  rt::TimerBaselineResult t = rt::run_timer_baseline(timer);
-
+rt::PingPongOptions InterleavedBaselines::pingpong_options(std::int64_t duration_ns) const {
   rt::PingPongOptions pp;
   pp.clock = settings_.clock;
   pp.receive_mode = rt::receive_mode_for(settings_.clock.wait_mode);
@@ -46,26 +40,66 @@ void InterleavedBaselines::measure_segment() {
   pp.pong_realtime = settings_.realtime;
   pp.pong_realtime.cpu = settings_.pong_cpu;
   pp.url = settings_.url;
-  rt::PingPongResult p = rt::run_pingpong_baseline(pp);
+  return pp;
+}
+
+namespace {
+
+void merge_pingpong(rt::PingPongResult& total, rt::PingPongResult&& segment, bool first) {
+  if (first)
+    total = std::move(segment);
+  else
+    rt::merge_into(total, segment);
+}
+
+}  // namespace
+
+void InterleavedBaselines::measure_segment() {
+  const auto duration_ns = static_cast<std::int64_t>(settings_.segment_s * 1e9);
+  rt::TimerBaselineOptions timer;
+  timer.clock = settings_.clock;
+  timer.duration_ns = duration_ns;
+  timer.realtime = settings_.realtime;
+  rt::TimerBaselineResult t = rt::run_timer_baseline(timer);
+
+  const rt::PingPongOptions pp = pingpong_options(duration_ns);
+  const bool iceoryx = settings_.transport == rt::TransportKind::kIceoryx;
+  if (iceoryx && settings_.roudi == nullptr)
+    throw std::logic_error("an iceoryx baseline needs the run's RouDi");
+  rt::PingPongResult p = iceoryx ? rt::run_iceoryx_pingpong_baseline(pp, *settings_.roudi)
+                                 : rt::run_pingpong_baseline(pp);
+  const bool first = segments_.empty();
+  if (iceoryx) merge_pingpong(pingpong_lcm_, rt::run_pingpong_baseline(pp), first);
+  if (first && settings_.floor_round_trips > 0) {
+    rt::ShmPingPongOptions floor;
+    floor.round_trips = settings_.floor_round_trips;
+    floor.ping_realtime = pp.ping_realtime;
+    floor.pong_realtime = pp.pong_realtime;
+    floor_ = rt::run_shm_pingpong_baseline(floor);
+  }
 
   segments_.push_back({.pings = p.sent,
                        .unanswered = p.unanswered,
                        .timer_cycles = t.cycles,
                        .pingpong_p99_ns = p.round_trip->percentile(0.99),
                        .timer_p99_ns = t.wakeup_lateness->percentile(0.99)});
-  if (segments_.size() == 1) {
+  if (first)
     timer_ = std::move(t);
-    pingpong_ = std::move(p);
-  } else {
+  else
     rt::merge_into(timer_, t);
-    rt::merge_into(pingpong_, p);
-  }
+  merge_pingpong(pingpong_, std::move(p), first);
 }
 
 nlohmann::json InterleavedBaselines::totals_json() const {
   if (segments_.empty()) throw std::logic_error("no baseline segment was measured");
   nlohmann::json j = {{"timer", timer_baseline_json(timer_)},
                       {"pingpong", pingpong_baseline_json(pingpong_)}};
+  j["pingpong"]["transport"] = rt::to_string(settings_.transport);
+  if (settings_.transport == rt::TransportKind::kIceoryx) {
+    j["pingpong_lcm"] = pingpong_baseline_json(pingpong_lcm_);
+    j["pingpong_lcm"]["transport"] = "lcm";
+  }
+  if (floor_) j["shm_floor"] = shm_pingpong_baseline_json(*floor_);
   j["segments"] = segments();
   return j;
 }

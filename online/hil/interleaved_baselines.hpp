@@ -6,15 +6,22 @@
 // This VM's phases change within a minute, so a baseline taken once before a long loop need not
 // describe the machine the loop saw; each loop segment is compared with the baseline measured
 // just before it, and the report gives each ratio with its spread over the segments.
-// The ping-pong runs on the loop's LCM URL with the port one higher, so that the paused loop's
-// sockets do not queue its traffic. Orchestration: allocates, throws std::runtime_error.
+// The ping-pong runs on the loop's transport: over LCM on the loop's URL with the port one higher,
+// so that the paused loop's sockets do not queue its traffic; over iceoryx on the run's RouDi
+// (services of their own), with the LCM ping-pong beside it for reference. The first segment also
+// measures the shared-memory floor (rt/shm_pingpong_baseline.hpp), which no transport beats.
+// Orchestration: allocates, throws std::runtime_error.
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "rt/periodic_clock.hpp"
 #include "rt/pingpong_baseline.hpp"
+#include "rt/roudi_process.hpp"
+#include "rt/shm_pingpong_baseline.hpp"
 #include "rt/timer_baseline.hpp"
+#include "rt/transport_kind.hpp"
 
 namespace flexloop::hil {
 
@@ -30,6 +37,10 @@ struct BaselineSettings {
   int pong_cpu = 1;              ///< the controller's CPU
   std::string url;               ///< the ping-pong's LCM URL
   double segment_s = 1;          ///< each of timer and ping-pong runs this long per segment
+  /// The loop's transport: the ping-pong on it is the one each loop segment is compared with.
+  rt::TransportKind transport = rt::TransportKind::kLcm;
+  rt::RoudiProcess* roudi = nullptr;  ///< iceoryx: the run's RouDi (this process never registers)
+  std::int64_t floor_round_trips = 100'000;  ///< the shared-memory floor, once (0: not measured)
 };
 
 /// The margins the timing tests hold a loop segment to (README "Tests"): misses within twice the
@@ -65,7 +76,9 @@ class InterleavedBaselines {
   void measure_segment();
   int segments() const { return static_cast<int>(segments_.size()); }
 
-  /// All segments merged: {"timer", "pingpong"} as baseline_json.hpp writes them.
+  /// All segments merged: {"timer", "pingpong" (on the loop's transport, which it names),
+  /// "pingpong_lcm" (iceoryx runs: the LCM one beside it), "shm_floor", "segments"}, as
+  /// baseline_json.hpp writes them.
   nlohmann::json totals_json() const;
 
   /// compare_segments() of the segments measured so far.
@@ -75,10 +88,14 @@ class InterleavedBaselines {
   }
 
  private:
+  rt::PingPongOptions pingpong_options(std::int64_t duration_ns) const;
+
   BaselineSettings settings_;
   std::vector<BaselineSegment> segments_;
   rt::TimerBaselineResult timer_;
   rt::PingPongResult pingpong_;
+  rt::PingPongResult pingpong_lcm_;  // iceoryx runs: the LCM ping-pong beside
+  std::optional<rt::ShmPingPongResult> floor_;
 };
 
 }  // namespace flexloop::hil

@@ -9,7 +9,7 @@
 #include "online/loop/station_start.hpp"
 #include "online/loop/stop_signal.hpp"
 #include "online/sim/loop_hardware.hpp"
-#include "rt/loop_process_setup.hpp"
+#include "rt/loop_transport.hpp"
 #include "rt/monotonic_time.hpp"
 #include "rt/thread_allocations.hpp"
 
@@ -18,11 +18,11 @@ namespace flexloop::loop {
 namespace {
 
 // The cycle: one sample's answer, timed, its allocations counted, published, accounted. No
-// allocation, lock or exception (ControllerStation::answer, LcmPublisher::publish,
+// allocation, lock or exception (ControllerStation::answer, LoopPublisher::publish,
 // LatencyHistogram::record); a controller that allocates is counted, not stopped.
 template <class Controller>
 void answer_sample(ControllerStation<Controller>& station, const flexloop_msgs::sensor_sample_t& s,
-                   rt::LcmPublisher<flexloop_msgs::actuator_command_t>& command,
+                   rt::LoopPublisher<flexloop_msgs::actuator_command_t>& command,
                    ControllerLoopResult& r, LoopStatus* status) noexcept {
   // For a watcher (hil): the sample being answered, so that a crash in the step is placed.
   if (status) status->controller_sample.store(s.seq, std::memory_order_relaxed);
@@ -82,21 +82,24 @@ ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
   // The start the plant process draws: the same artefact, the same seeds, the same numbers.
   auto station = std::make_unique<ControllerStation<Controller>>(
       std::move(controller), o.safe_after, controller_start(loop, o.start));
-  rt::LcmTransport lcm(url, o.receive_path);
-  lcm.subscribe(o.channels.sensor, station->samples());
-  rt::LcmPublisher<flexloop_msgs::actuator_command_t> command(lcm, o.channels.command);
+  rt::LoopTransport transport({.kind = o.transport,
+                               .url = url,
+                               .receive_path = o.receive_path,
+                               .runtime_name = "controller"});
+  transport.subscribe(o.channels.sensor, station->samples());
+  rt::LoopPublisher<flexloop_msgs::actuator_command_t> command(transport, o.channels.command);
   const rt::CpuDmaLatencyHold dma;
-  const rt::LoopProcessSetup setup = rt::set_up_loop_process(lcm, o.realtime);
+  const rt::LoopProcessSetup setup = rt::set_up_loop_process(transport, o.realtime);
   r.fifo = setup.fifo;
   r.setup = setup.text + (dma.active() ? "  ok    " : "  WARN  ") + dma.message() + "\n";
   if (!o.quiet)
     std::printf(
         "controller: %s, %s, %ld sensors -> %ld actuators at %.6g Hz, wait %s, safe after %d "
-        "misses, LCM %s\n%s",
+        "misses, %s\n%s",
         loop.name.c_str(), artefact::to_string(loop.controller).c_str(),
         static_cast<long>(station->controller().sensors()),
         static_cast<long>(station->controller().actuators()), loop.rate_hz, rt::to_string(o.wait),
-        o.safe_after, url.c_str(), r.setup.c_str());
+        o.safe_after, transport.describe().c_str(), r.setup.c_str());
   std::fflush(stdout);
   if (ready) ready();
 
@@ -111,7 +114,7 @@ ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
   while (!stop_requested()) {
     const std::int64_t now = rt::monotonic_now_ns();
     if (now >= end) break;
-    lcm.handle_until(now + kLookNs < end ? now + kLookNs : end, receive, wake, spin_from);
+    transport.handle_until(now + kLookNs < end ? now + kLookNs : end, receive, wake, spin_from);
     if (const flexloop_msgs::sensor_sample_t* s = station->samples().take()) {
       record_unanswered(*s, epoch, last_seq, r.unanswered);
       answer_sample(*station, *s, command, r, o.status);
@@ -133,7 +136,8 @@ ControllerLoopResult run_with(Controller controller, const LoopOptions& o,
 
 ControllerLoopResult run_controller_loop(const LoopOptions& o, const artefact::LoopArtefact& loop,
                                          const std::function<void()>& ready) {
-  require_private_network("flexloop controller", o.link);
+  if (o.transport == rt::TransportKind::kLcm)
+    require_private_network("flexloop controller", o.link);
   return with_loop_controller(
       loop, [&](auto controller) { return run_with(std::move(controller), o, loop, ready); });
 }
@@ -159,6 +163,7 @@ nlohmann::json controller_result_json(const ControllerLoopResult& r, const LoopO
       {"response_ns", summary_json(*r.response)},
       {"cpu", o.realtime.cpu},
       {"fifo", r.fifo},
+      {"transport", rt::to_string(o.transport)},
       {"controller_setup", r.setup},
       {"unanswered_samples", r.unanswered.to_json()},
       {"real_time_promises", real_time_promises_json(answer_watch(r))}};

@@ -6,7 +6,8 @@
 // sampled at the loop's rate (pass the plant's --rate). Waiting for a sample: block (sleep),
 // hybrid (sleep until spin_margin before the next sample is due, then poll) or poll (spin).
 // Runs until SIGINT / SIGTERM (or duration_s > 0 elapsed). Per message: no allocation, no
-// exception; system calls: ppoll, read, sendmsg.
+// exception; system calls over LCM: ppoll, read, sendmsg; over iceoryx none while it spins
+// (a futex wait in block mode).
 #include <cstdint>
 #include <functional>
 #include <memory>

@@ -6,14 +6,15 @@
 // when a publication is due it summarises one histogram per call (a summary walks ~9000 bins,
 // a few us) and publishes on the fifth call, so no single cycle pays for all four. The counts
 // are taken at publication, and copied to a watcher's LoopStatus (online/loop/loop_status.hpp)
-// when there is one. poll() is noexcept and allocation-free; publishing is one sendmsg.
+// when there is one. poll() is noexcept and allocation-free; publishing is one sendmsg (LCM) or one
+// chunk (iceoryx).
 #include <cstdint>
 #include <flexloop_msgs/loop_stats_t.hpp>
 #include <memory>
 
 #include "online/loop/loop_status.hpp"
 #include "rt/latency_histogram.hpp"
-#include "rt/lcm_transport.hpp"
+#include "rt/loop_transport.hpp"
 
 namespace flexloop::loop {
 
@@ -37,9 +38,9 @@ struct LoopCounts {
 class StatsPublisher {
  public:
   /// status: where a watching process reads the same figures (nullptr: nobody watches).
-  StatsPublisher(rt::LcmTransport& lcm, const std::string& channel, double rate_hz,
+  StatsPublisher(rt::LoopTransport& transport, const std::string& channel, double rate_hz,
                  LoopStatus* status = nullptr, std::int64_t interval_ns = 1'000'000'000)
-      : publisher_(lcm, channel), status_(status), interval_ns_(interval_ns) {
+      : publisher_(transport, channel), status_(status), interval_ns_(interval_ns) {
     msg_.rate_hz = rate_hz;
   }
 
@@ -95,7 +96,7 @@ class StatsPublisher {
     out[4] = s.max;
   }
 
-  rt::LcmPublisher<flexloop_msgs::loop_stats_t> publisher_;
+  rt::LoopPublisher<flexloop_msgs::loop_stats_t> publisher_;
   LoopStatus* status_;
   flexloop_msgs::loop_stats_t msg_{};
   std::int64_t interval_ns_;

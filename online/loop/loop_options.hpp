@@ -1,7 +1,7 @@
 #pragma once
 // Settings shared by the plant and controller processes (flexloop plant | controller | hil):
-// clock and wait mode, CPU and priority, safe-command threshold, LCM URL, channels, and the
-// private link allowed besides loopback (online/loop/private_network.hpp).
+// clock and wait mode, CPU and priority, safe-command threshold, carrier and LCM URL, channels,
+// and the private link allowed besides loopback (online/loop/private_network.hpp).
 #include <cstdint>
 #include <functional>
 #include <string>
@@ -12,6 +12,7 @@
 #include "rt/lcm_transport.hpp"
 #include "rt/periodic_clock.hpp"
 #include "rt/realtime_setup.hpp"
+#include "rt/transport_kind.hpp"
 
 namespace flexloop::loop {
 
@@ -38,6 +39,13 @@ struct LoopOptions {
   int safe_after = 10;  ///< consecutive missed answers before the safe command
   /// Plant: the safe command ramps the held answer to zero over this time [s]; 0: zero at once.
   double safe_ramp_s = 0.5;
+  /// The carrier of the loop's messages: LCM, or iceoryx's shared memory on this host (a RouDi
+  /// must run: `flexloop roudi`, or hil starts one).
+  rt::TransportKind transport = rt::TransportKind::kLcm;
+  /// Plant over iceoryx: wait this long at start-up for a controller's subscription and answer
+  /// to be connected (RouDi connects them some ms after both exist); 0: do not wait (the plant
+  /// alone). Unused over LCM, which has no connections.
+  double connect_timeout_s = 2.0;
   std::string url;   ///< empty: see loop_lcm_url()
   std::string link;  ///< a veth allowed besides lo (two-namespace runs)
   LoopChannels channels;

@@ -11,7 +11,8 @@
 namespace flexloop::loop {
 
 PlantLoopResult run_plant_loop(const LoopOptions& o, const artefact::LoopArtefact& loop) {
-  require_private_network("flexloop plant", o.link);
+  // Multicast only in the private namespace; iceoryx sends nothing on any network.
+  if (o.transport == rt::TransportKind::kLcm) require_private_network("flexloop plant", o.link);
   const std::string url = loop_lcm_url(o.url, o.link);
   install_stop_handlers();
   PlantLoopResult r;
@@ -93,6 +94,7 @@ nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o,
       {"publish_failures", r.publish_failures},
       {"cpu", o.realtime.cpu},
       {"fifo", r.fifo},
+      {"transport", rt::to_string(o.transport)},
       {"plant_setup", r.setup},
       {"divergence",
        r.divergence.happened() ? nlohmann::json(r.divergence_message) : nlohmann::json(nullptr)},

@@ -50,9 +50,9 @@ class PlantLoopRun {
         periods_(static_cast<std::int64_t>(duration_s_ * loop.rate_hz + 0.5)),
         station_(make_station(std::move(hw))),
         recorder_(make_recorder(loop, o)),
-        lcm_(make_transport(url)),
-        sensor_(*lcm_, o.channels.sensor),
-        stats_(*lcm_, o.channels.stats, loop.rate_hz, o.status),
+        transport_(make_transport(url)),
+        sensor_(*transport_, o.channels.sensor),
+        stats_(*transport_, o.channels.stats, loop.rate_hz, o.status),
         receive_(rt::receive_mode_for(o.wait)),
         segments_(std::max(1, o.segments)),
         // The overrun policy (online/loop/run_verdict.hpp): 0 = go on whatever misses.
@@ -61,15 +61,16 @@ class PlantLoopRun {
     if (o.status != nullptr) o.status->periods_planned.store(periods_, std::memory_order_relaxed);
     r.rate_hz = loop.rate_hz;
     r.spin_margin_ns = rt::effective_spin_margin_ns(clock_options_);
-    const rt::LoopProcessSetup setup = rt::set_up_loop_process(*lcm_, o.realtime);
+    const rt::LoopProcessSetup setup = rt::set_up_loop_process(*transport_, o.realtime);
     r.fifo = setup.fifo;
-    r.setup = setup.text + (dma_.active() ? "  ok    " : "  WARN  ") + dma_.message() + "\n";
+    r.setup = setup.text + (dma_.active() ? "  ok    " : "  WARN  ") + dma_.message() + "\n" +
+              wait_for_controller();
     r.segments.reserve(static_cast<std::size_t>(segments_));
     if (!o.quiet)
       std::printf(
-          "plant: %s, %.6g Hz for %.6g s (%lld periods), wait %s, LCM %s\nstart: %s\n%s",
+          "plant: %s, %.6g Hz for %.6g s (%lld periods), wait %s, %s\nstart: %s\n%s",
           loop.name.c_str(), loop.rate_hz, duration_s_, static_cast<long long>(periods_),
-          rt::to_string(o.wait), url.c_str(),
+          rt::to_string(o.wait), transport_->describe().c_str(),
           sim::describe_start(o.start, sim::run_start(loop), sim::run_loop_name(loop)).c_str(),
           r.setup.c_str());
     std::fflush(stdout);
@@ -139,8 +140,8 @@ class PlantLoopRun {
  private:
   /// One period: wait for its deadline, apply the command the last answer settles, sample and
   /// publish, wait for the answer. No allocation or exception, and no lock but LCM's own queue's
-  /// on its receive-thread path (rt/lcm_transport.hpp). False: the plant's outputs left the
-  /// finite range (a divergence; nothing published).
+  /// on its receive-thread path (rt/lcm_transport.hpp) or iceoryx's uncontended one in publish.
+  /// False: the plant's outputs left the finite range (a divergence; nothing published).
   bool cycle() noexcept {
     LoopAccounts& a = r_.accounts;
     const rt::CycleStart c = clock_.wait_next();
@@ -168,7 +169,7 @@ class PlantLoopRun {
         station_->consecutive_misses() < station_->settings().safe_after
             ? published_ns_
             : std::max(published_ns_, clock_.next_deadline_ns() - r_.spin_margin_ns);
-    lcm_->handle_until(
+    transport_->handle_until(
         clock_.next_deadline_ns(), receive_, [this] { return station_->answered(); }, spin_from);
     const LoopCounts counts{clock_.schedule().cycles(), station_->deadline_misses(),
                             clock_.schedule().overruns(), station_->commands().drops().total(),
@@ -242,13 +243,36 @@ class PlantLoopRun {
     return recorder;
   }
 
-  // LCM, recording into the log and delivering answers to the station: wired before the
+  // The carrier, recording into the log and delivering answers to the station: wired before the
   // publishers, which take the recorder when they are made.
-  std::unique_ptr<rt::LcmTransport> make_transport(const std::string& url) {
-    auto lcm = std::make_unique<rt::LcmTransport>(url, o_.receive_path);
-    lcm->record_to(recorder_.get());
-    lcm->subscribe(o_.channels.command, station_->commands());
-    return lcm;
+  std::unique_ptr<rt::LoopTransport> make_transport(const std::string& url) {
+    auto t = std::make_unique<rt::LoopTransport>(
+        rt::LoopTransportOptions{.kind = o_.transport,
+                                 .url = url,
+                                 .receive_path = o_.receive_path,
+                                 .runtime_name = "plant"});
+    t->record_to(recorder_.get());
+    t->subscribe(o_.channels.command, station_->commands());
+    return t;
+  }
+
+  // Over iceoryx the first samples would go nowhere until RouDi has connected the controller's
+  // subscription and its answer (LCM has no connections): wait for both, at most
+  // connect_timeout_s. The set-up line says how long it took, or that nobody came.
+  std::string wait_for_controller() {
+    if (o_.transport != rt::TransportKind::kIceoryx || o_.connect_timeout_s <= 0) return "";
+    const std::int64_t took = rt::wait_until_connected(
+        [this] { return sensor_.has_subscribers() && transport_->subscriptions_connected(); },
+        static_cast<std::int64_t>(o_.connect_timeout_s * 1e9));
+    char text[160];
+    if (took >= 0)
+      std::snprintf(text, sizeof text, "  ok    iceoryx: the controller connected after %.1f ms\n",
+                    took / 1e6);
+    else
+      std::snprintf(text, sizeof text,
+                    "  WARN  iceoryx: no controller connected within %.3g s; the plant runs on\n",
+                    o_.connect_timeout_s);
+    return text;
   }
 
   const artefact::LoopArtefact& loop_;
@@ -260,8 +284,8 @@ class PlantLoopRun {
   std::int64_t periods_;
   std::unique_ptr<PlantStation<Hardware>> station_;
   std::unique_ptr<rt::EventLogRecorder> recorder_;
-  std::unique_ptr<rt::LcmTransport> lcm_;
-  rt::LcmPublisher<flexloop_msgs::sensor_sample_t> sensor_;
+  std::unique_ptr<rt::LoopTransport> transport_;
+  rt::LoopPublisher<flexloop_msgs::sensor_sample_t> sensor_;
   StatsPublisher stats_;
   const rt::CpuDmaLatencyHold dma_;
   rt::ReceiveMode receive_;

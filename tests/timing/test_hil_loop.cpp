@@ -148,3 +148,20 @@ TEST_CASE(
   o.loop.duration_s = kSegments * std::max(1.0, 2000 / rate_hz);
   check_against_baselines(run_judged(o), rate_hz, o.loop.duration_s);
 }
+
+TEST_CASE(
+    "hil over iceoryx at 20 kHz: misses and round-trip p99 within a margin of the same-run "
+    "iceoryx ping-pong") {
+  // Shared memory instead of UDP (rt/loop_transport.hpp), judged against the ping-pong on the
+  // same carrier, interleaved as over LCM. 1 s per segment (20 000 cycles); the baselines 0.5 s
+  // per segment each (timer, iceoryx ping-pong, and the LCM ping-pong beside it).
+  hil::HilOptions o = options(20000, rt::WaitMode::kHybrid);
+  o.loop.transport = rt::TransportKind::kIceoryx;
+  o.loop.duration_s = kSegments * 1.0;
+  o.baseline_duration_s = kSegments * 0.5;
+  if (!in_private_network(o)) return;
+  const nlohmann::json r = run_judged(o);
+  CHECK(r["transport"] == "iceoryx");
+  CHECK(r["baseline"]["pingpong"]["transport"] == "iceoryx");
+  check_against_baselines(r, 20000, o.loop.duration_s);
+}

@@ -13,12 +13,14 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "offline/scene/loop_input.hpp"
 #include "online/hil/baseline_json.hpp"
 #include "online/hil/hil_run.hpp"
 #include "online/loop/channel_map.hpp"
+#include "rt/roudi_process.hpp"
 #include "tests/timing/private_network.hpp"
 
 using namespace flexloop;
@@ -84,6 +86,26 @@ void check_run(const nlohmann::json& r, const artefact::LoopArtefact& a, double 
   }
 }
 
+// Nothing of a run's RouDi or its clients on this host: no iox-roudi process (by its name in
+// /proc), no lock holder, socket, lock file or segment, no runtime file of a plant, controller,
+// ping or pong in /tmp.
+void check_nothing_of_iceoryx_left() {
+  for (const auto& e : std::filesystem::directory_iterator("/proc")) {
+    std::ifstream comm(e.path() / "comm");
+    std::string name;
+    if (comm >> name) CHECK(name != "iox-roudi");
+  }
+  CHECK_FALSE(rt::running_roudi_pid().has_value());
+  for (const char* path : {rt::kRoudiSocket, rt::kRoudiSocketLock, rt::kRoudiLockFile,
+                           "/dev/shm/iceoryx_mgmt", "/dev/shm/root"})
+    CHECK_FALSE(std::filesystem::exists(path));
+  for (const auto& e : std::filesystem::directory_iterator("/tmp")) {
+    const std::string name = e.path().filename().string();
+    for (const char* client : {"plant_", "controller_", "flexloop_ping_", "flexloop_pong_"})
+      CHECK(name.rfind(client, 0) != 0);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("hil machines: any channel counts run as plant and controller processes over LCM",
@@ -95,6 +117,34 @@ TEST_CASE("hil machines: any channel counts run as plant and controller processe
     if (!in_private_network(o)) return;
     const auto a = scene::load_loop(scene);
     check_run(hil::run_hil(o, a), a, 2);
+  }
+}
+
+TEST_CASE(
+    "hil machines: over iceoryx a loop is the loop it timed, answers without allocating, and "
+    "leaves no RouDi, segment or socket behind",
+    "[hil][iceoryx]") {
+  // The same checks as over LCM, on the general path (two-mass chain) and a compiled one (the
+  // metrology frame), with the run's own RouDi: its ping-pong on iceoryx, the LCM one beside it,
+  // the shared-memory floor under both.
+  for (const char* scene :
+       {"tools/scenes/two_mass_chain.toml", "tools/scenes/metrology_frame.toml"}) {
+    CAPTURE(scene);
+    hil::HilOptions o = options(scene, 1);
+    o.loop.transport = rt::TransportKind::kIceoryx;
+    if (!in_private_network(o)) return;
+    const auto a = scene::load_loop(scene);
+    const nlohmann::json r = hil::run_hil(o, a);
+    check_run(r, a, 1);
+    CHECK(r["transport"] == "iceoryx");
+    const auto& base = r["baseline"];
+    CHECK(base["pingpong"]["transport"] == "iceoryx");
+    CHECK(base["pingpong"]["answered"].get<double>() > 0);
+    CHECK(base["pingpong_lcm"]["transport"] == "lcm");
+    CHECK(base["pingpong_lcm"]["answered"].get<double>() > 0);
+    CHECK(base["shm_floor"]["round_trips"] == 100'000);
+    CHECK(r["controller"]["answered"].get<double>() > 0);
+    check_nothing_of_iceoryx_left();
   }
 }
 

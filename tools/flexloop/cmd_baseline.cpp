@@ -15,6 +15,7 @@
 #include "plant/lti/state_space_json.hpp"
 #include "rt/iceoryx_pingpong_baseline.hpp"
 #include "rt/loop_process_setup.hpp"
+#include "rt/loop_transport.hpp"
 #include "rt/message_validation.hpp"
 #include "rt/pingpong_baseline.hpp"
 #include "rt/shm_pingpong_baseline.hpp"
@@ -98,11 +99,7 @@ void run_timer(const BaselineArgs& a) {
 
 // The ping-pong over iceoryx, against a RouDi started for it (and stopped after it).
 rt::PingPongResult run_iceoryx_pingpong(const rt::PingPongOptions& o) {
-  rt::RoudiOptions roudi_options;
-  const int largest = std::max(rt::max_encoded_size<flexloop_msgs::sensor_sample_t>(),
-                               rt::max_encoded_size<flexloop_msgs::actuator_command_t>());
-  roudi_options.mempools = rt::mempools_for_messages(static_cast<std::size_t>(largest), 256);
-  rt::RoudiProcess roudi(roudi_options);
+  rt::RoudiProcess roudi(rt::loop_roudi_options());
   return rt::run_iceoryx_pingpong_baseline(o, roudi);
 }
 

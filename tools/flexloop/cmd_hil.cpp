@@ -4,8 +4,11 @@
 // on the two cores for the duration; writes the report JSON and the round-trip and wake-up
 // histograms (PNG) beside it, prints a summary. --sweep runs the rates 1, 2, 5, 10, 20 kHz
 // (or --sweep-rates) one after another, writes OUT.json as {"sweep": [report, ...]} plus one
-// PNG pair per rate, and prints a Markdown table. Without --netns it must run inside
+// PNG pair per rate, prints a Markdown table and the highest rate that held (it and every rate
+// below it passed). --transport iceoryx: over shared memory, with the run's own RouDi and the
+// iceoryx ping-pong as the baseline the loop is judged against. Without --netns it must run inside
 // tools/netns-run (it refuses otherwise, exit 1).
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -33,8 +36,11 @@ struct HilArgs : LoopArgs {
   hil::HilOptions hil;
   bool sweep = false;
   bool quiet = false;
-  std::vector<double> sweep_rates{1000, 2000, 5000, 10000, 20000};
+  std::vector<double> sweep_rates;  // empty: kSweepRates, and over iceoryx kFastSweepRates after
 };
+
+const std::vector<double> kSweepRates{1000, 2000, 5000, 10000, 20000};
+const std::vector<double> kFastSweepRates{30000, 40000, 50000};
 
 // The offline pipeline runs once per rate, here; the plant and controller start from its artefact.
 artefact::LoopArtefact load_hil_loop(const hil::HilOptions& o) {
@@ -61,10 +67,27 @@ void run_one(const HilArgs& a, hil::HilOptions o) {
   loop::throw_unless_pass(loop::verdict_from_json(report["verdict"]));
 }
 
+// The highest rate of the sweep (run in rising order) below which every rate passed; 0: none.
+double highest_rate_held(const std::vector<nlohmann::json>& reports) {
+  double held = 0;
+  for (const auto& r : reports) {
+    if (loop::verdict_from_json(r["verdict"]).result != loop::RunVerdict::Result::kPass) break;
+    held = r.value("rate_hz", 0.0);
+  }
+  return held;
+}
+
 void run_sweep(const HilArgs& a, hil::HilOptions o) {
   std::vector<nlohmann::json> reports;
   const auto stem = std::filesystem::path(a.report).replace_extension("").string();
-  for (const double rate : a.sweep_rates) {
+  std::vector<double> rates = a.sweep_rates;
+  if (rates.empty()) {
+    rates = kSweepRates;
+    if (o.loop.transport == rt::TransportKind::kIceoryx)
+      rates.insert(rates.end(), kFastSweepRates.begin(), kFastSweepRates.end());
+  }
+  std::sort(rates.begin(), rates.end());
+  for (const double rate : rates) {
     o.loop.rate_hz = rate;
     std::printf("\n--- %.6g Hz ---\n", rate);
     std::fflush(stdout);
@@ -83,9 +106,16 @@ void run_sweep(const HilArgs& a, hil::HilOptions o) {
     r.erase("histograms");
     all["sweep"].push_back(r);
   }
+  report::print_sweep_table(reports);
+  const double held = highest_rate_held(reports);
+  all["highest_rate_held_hz"] = held > 0 ? nlohmann::json(held) : nlohmann::json(nullptr);
   plant::lti::write_json_atomically(a.report, all);
   std::printf("wrote %s\n", a.report.c_str());
-  report::print_sweep_table(reports);
+  if (held > 0)
+    std::printf("\nhighest rate that held over %s: %.6g Hz (it and every rate below it passed)\n",
+                a.transport.c_str(), held);
+  else
+    std::printf("\nno rate held over %s (the lowest failed)\n", a.transport.c_str());
   // The sweep runs every rate whatever each one's verdict; the worst decides the exit.
   loop::RunVerdict worst;
   for (const auto& r : reports) {
@@ -118,7 +148,8 @@ void register_hil(CLI::App& app) {
   auto* cmd = app.add_subcommand(
       "hil",
       "Hardware-in-the-loop rehearsal: baselines, then plant and controller processes over LCM");
-  add_loop_options(cmd, *args, 0, kSceneOrArtefactHelp);
+  add_loop_options(cmd, *args, 0, kSceneOrArtefactHelp,
+                   "hil starts iox-roudi for the run and stops it; refused when one already runs");
   add_safe_ramp_option(cmd, *args);
   add_verdict_options(cmd, *args);
   cmd->add_flag("--quiet", args->quiet,
@@ -150,8 +181,9 @@ void register_hil(CLI::App& app) {
                   "map, into this LCM log file (flexloop log FILE -o OUT.csv|.mat; replay: "
                   "lcm-logplayer-gui FILE)");
   cmd->add_flag("--sweep", args->sweep, "Run every rate of --sweep-rates and print a table");
-  cmd->add_option("--sweep-rates", args->sweep_rates, "Rates for --sweep [Hz]")
-      ->capture_default_str();
+  cmd->add_option("--sweep-rates", args->sweep_rates,
+                  "Rates for --sweep [Hz] (default: 1, 2, 5, 10, 20 kHz; over iceoryx also 30, "
+                  "40, 50 kHz)");
   cmd->footer(
       "Examples:\n"
       "  flexloop hil tools/scenes/metrology_frame.toml --rate 1000 --duration 10 --netns \\\n"
@@ -160,6 +192,9 @@ void register_hil(CLI::App& app) {
       "      --wait hybrid --duration 10 --report out/hil/10khz.json --lcm-log out/hil/run.lcmlog\n"
       "  flexloop hil tools/scenes/metrology_frame.toml --netns --sweep --duration 5 \\\n"
       "      --report out/hil/sweep.json\n"
+      "  flexloop hil tools/scenes/metrology_frame.toml --netns --transport iceoryx --rate 20000 "
+      "\\\n"
+      "      --wait hybrid --duration 10 --report out/hil/20khz_iceoryx.json\n"
       "Exit: 0 pass; 3 verdict fail (deadline misses above --max-miss-share, stopped by "
       "--stop-after-misses, the controller process failed, the --lcm-log file could not be written "
       "or lost messages); 130 interrupted "

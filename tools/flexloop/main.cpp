@@ -26,5 +26,6 @@ int main(int argc, char** argv) {
   flexloop::cli::register_replay(app);
   flexloop::cli::register_tradeoff(app);
   flexloop::cli::register_campaign(app);
+  flexloop::cli::register_roudi(app);
   return flexloop::cli::run_command_line(app, argc, argv);
 }

@@ -23,5 +23,6 @@ void register_tradeoff(CLI::App& app);
 void register_reduce(CLI::App& app);
 void register_export_fmu(CLI::App& app);
 void register_campaign(CLI::App& app);
+void register_roudi(CLI::App& app);
 
 }  // namespace flexloop::cli

@@ -45,14 +45,18 @@ void run(const LoopArgs& a, const LoopSource& source) {
 
 void configure_controller_command(CLI::App* cmd, const LoopSource& source) {
   auto args = std::make_shared<LoopArgs>();
-  add_loop_options(cmd, *args, 1, source.help);
+  add_loop_options(cmd, *args, 1, source.help, kRoudiNeeded);
   cmd->add_option("--duration", args->options.duration_s,
                   "Stop after this long [s] (default: until SIGINT / SIGTERM)")
       ->check(finite_positive());
   cmd->footer(
       "Example (inside tools/netns-run -- bash, with the plant started afterwards):\n"
       "  " +
-      source.prefix + "controller " + source.example + " --rate 1000 --wait hybrid");
+      source.prefix + "controller " + source.example +
+      " --rate 1000 --wait hybrid\n"
+      "Over iceoryx (no namespace needed; RouDi first: flexloop roudi &):\n"
+      "  " +
+      source.prefix + "controller " + source.example + " --rate 20000 --transport iceoryx");
   cmd->callback([args, source] { run(*args, source); });
 }
 

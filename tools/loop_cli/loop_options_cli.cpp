@@ -22,6 +22,15 @@ void add_receive_path_option(CLI::App* cmd, std::string& path) {
       ->check(CLI::IsMember({"lcm-thread", "direct"}));
 }
 
+void add_transport_option(CLI::App* cmd, std::string& transport, const std::string& iceoryx) {
+  cmd->add_option("--transport", transport,
+                  "The messages' carrier: lcm (UDP multicast, inside a private namespace) | "
+                  "iceoryx (shared memory on this host; " +
+                      iceoryx + ")")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"lcm", "iceoryx"}));
+}
+
 void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock) {
   cmd->add_option("--cpu", cpu, "CPU to pin to (-1: do not pin)")
       ->capture_default_str()
@@ -33,7 +42,8 @@ void add_realtime_options(CLI::App* cmd, int& cpu, int& priority, bool& no_mlock
   cmd->add_flag("--no-mlock", no_mlock, "Do not lock memory");
 }
 
-void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::string& loop_help) {
+void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::string& loop_help,
+                      const std::string& roudi_help) {
   loop::LoopOptions& o = a.options;
   o.realtime.cpu = default_cpu;
   cmd->add_option("loop", o.loop_path, loop_help)->required()->check(CLI::ExistingFile);
@@ -43,6 +53,7 @@ void add_loop_options(CLI::App* cmd, LoopArgs& a, int default_cpu, const std::st
       ->check(finite_range(1.0, 1e6));
   add_wait_options(cmd, a.wait, a.spin_margin_us);
   add_receive_path_option(cmd, a.receive_path);
+  add_transport_option(cmd, a.transport, roudi_help);
   add_realtime_options(cmd, o.realtime.cpu, o.realtime.fifo_priority, a.no_mlock);
   cmd->add_option("--safe-after", o.safe_after,
                   "Consecutive missed answers before the plant applies the safe command (a ramp "
@@ -89,6 +100,7 @@ loop::LoopOptions apply_loop_options(const LoopArgs& a) {
   loop::LoopOptions o = a.options;
   o.wait = rt::parse_wait_mode(a.wait);
   o.receive_path = rt::parse_receive_path(a.receive_path);
+  o.transport = rt::parse_transport(a.transport);
   o.spin_margin_ns = static_cast<std::int64_t>(a.spin_margin_us * 1e3);
   o.realtime.lock_memory = !a.no_mlock;
   o.start = a.start == "rest" ? sim::StartKind::kRest : sim::StartKind::kStationary;

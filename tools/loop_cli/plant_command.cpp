@@ -68,7 +68,12 @@ void run(const PlantArgs& a, const LoopSource& source) {
 
 void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
   auto args = std::make_shared<PlantArgs>();
-  add_loop_options(cmd, *args, 0, source.help);
+  add_loop_options(cmd, *args, 0, source.help, kRoudiNeeded);
+  cmd->add_option("--connect-timeout", args->options.connect_timeout_s,
+                  "iceoryx: wait this long at start for the controller's subscription and answer "
+                  "to be connected [s] (0: do not wait)")
+      ->capture_default_str()
+      ->check(finite_range(0.0, 3600.0));
   add_safe_ramp_option(cmd, *args);
   add_verdict_options(cmd, *args);
   cmd->add_option("--duration", args->options.duration_s,
@@ -88,6 +93,15 @@ void configure_plant_command(CLI::App* cmd, const LoopSource& source) {
       source.prefix + "plant " + source.example +
       " --rate 1000 --duration 10\n"
       "  kill %1\n"
+      "Over iceoryx, shared memory on this host (no namespace needed):\n"
+      "  flexloop roudi &\n"
+      "  " +
+      source.prefix + "controller " + source.example +
+      " --rate 20000 --transport iceoryx &\n"
+      "  " +
+      source.prefix + "plant " + source.example +
+      " --rate 20000 --transport iceoryx --duration 10\n"
+      "  kill %2 %1\n"
       "Exit: 0 pass; 3 verdict fail (deadline misses above --max-miss-share, or stopped by "
       "--stop-after-misses, or the --lcm-log file could not be written or lost messages); 130 "
       "interrupted (SIGINT/SIGTERM: the figures cover what ran, "
