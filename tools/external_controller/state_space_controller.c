@@ -122,10 +122,13 @@ static double* matrix(const cJSON* obj, const char* key, int rows, int cols, con
   return out;
 }
 
+/* The length of channels.<kind>: 1 to 64, as a message carries. */
 static int count(const cJSON* channels, const char* kind, const char* file) {
   const cJSON* list = cJSON_GetObjectItemCaseSensitive(channels, kind);
   if (!cJSON_IsArray(list)) fail(file, "key 'channels': missing a list of channels");
-  return cJSON_GetArraySize(list);
+  const int n = cJSON_GetArraySize(list);
+  if (n < 1 || n > kMaxChannels) fail(file, "key 'channels': a list has 1 to 64 channels");
+  return n;
 }
 
 /* Limits: none, one for every channel, or one per channel. */
@@ -195,8 +198,6 @@ static void load(Controller* c, const char* file) {
          "scene with a state-space controller)");
   c->ns = count(channels, "sensors", file);
   c->nc = count(channels, "actuators", file);
-  if (c->ns < 1 || c->ns > kMaxChannels || c->nc < 1 || c->nc > kMaxChannels)
-    fail(file, "key 'channels': a loop has 1 to 64 sensors and 1 to 64 actuators");
   const cJSON* states = cJSON_GetObjectItemCaseSensitive(co, "states");
   if (!cJSON_IsNumber(states) || states->valueint < 0) fail(file, "key 'controller': key 'states'");
   c->nx = states->valueint;
