@@ -71,7 +71,9 @@ nlohmann::json plant_result_json(const PlantLoopResult& r, const LoopOptions& o,
       {"rate_hz", r.rate_hz},
       {"period_ns", static_cast<std::int64_t>(1e9 / r.rate_hz + 0.5)},
       {"wait_mode", rt::to_string(o.wait)},
-      {"receive_path", rt::to_string(o.receive_path)},
+      // Who reads the socket is LCM's question; iceoryx's receiver reads the shared memory.
+      {"receive_path", o.transport == rt::TransportKind::kIceoryx ? "shared memory"
+                                                                  : rt::to_string(o.receive_path)},
       {"spin_margin_ns", r.spin_margin_ns},
       {"cycles", r.cycles},
       {"samples", r.samples},
