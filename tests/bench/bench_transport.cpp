@@ -22,6 +22,7 @@
 #include "online/loop/private_network.hpp"
 #include "rt/iceoryx_transport.hpp"
 #include "rt/lcm_transport.hpp"
+#include "rt/loop_transport.hpp"
 #include "rt/monotonic_time.hpp"
 #include "rt/roudi_process.hpp"
 #include "tests/support/messages.hpp"
@@ -64,8 +65,12 @@ void BM_IceoryxPublishReceive(benchmark::State& state) {
   if (!subscribed) transport.subscribe(channel, inbox);
   subscribed = true;
   rt::IceoryxPublisher<sensor_sample_t> publisher(transport, channel);
-  while (!publisher.has_subscribers() || !transport.subscriptions_connected()) {
-    // RouDi's discovery connects them within its 100 ms cycle.
+  // RouDi's discovery connects them within its 100 ms cycle.
+  if (rt::wait_until_connected(
+          [&] { return publisher.has_subscribers() && transport.subscriptions_connected(); },
+          2 * rt::kNsPerSecond) < 0) {
+    state.SkipWithError("RouDi did not connect the publisher and the subscriber within 2 s");
+    return;
   }
   auto m = test::sized_sample(6, 6);
   m.seq = inbox.accepted() + 1000;  // after whatever an earlier run of this case sent
