@@ -391,6 +391,7 @@ json start_json(const LoopStart& start_of) {
                   {"controller_states", st.controller_states},
                   {"actuator_lag", st.actuator_lag},
                   {"note", st.note},
+                  {"sensitivity", st.sensitivity},
                   {"floor_gain", common::matrix_to_json(st.floor_gain)},
                   {"covariance", common::matrix_to_json(st.covariance)}};
   }
@@ -411,6 +412,10 @@ void read_stationary_start(const common::JsonReader& s, const LoopArtefact& a,
   out.controller_states = static_cast<int>(s.integer("controller_states", 0, kMaxControllerStates));
   out.actuator_lag = s.boolean("actuator_lag");
   if (s.has("note")) out.note = s.string("note");
+  if (s.has("sensitivity")) {
+    out.sensitivity = s.number("sensitivity");
+    require(out.sensitivity >= 0, s.place("sensitivity"), "must be a number >= 0");
+  }
   const auto n = static_cast<std::size_t>(start_rows(a, out));
   const std::size_t nf = a.floor.spectrum == FloorSpectrum::kWhite ? 0 : kFloorFilterOrder;
   out.floor_gain = s.matrix("floor_gain", n, nf * a.channels.disturbances.size(), "start row",
@@ -582,8 +587,17 @@ LoopArtefact read_loop_artefact(const std::filesystem::path& file, const LoopOve
 }
 
 void write_loop_artefact(const std::filesystem::path& file, const LoopArtefact& a) {
+  const json j = to_json(a);
+  // The writer checks what the reader checks (the JSON holds each double to the bit): an
+  // artefact the reader would refuse is not written, and nothing is left behind.
+  try {
+    loop_artefact_from_json(j, file.string());
+  } catch (const common::InputError& e) {
+    throw std::runtime_error(std::string(e.what()) +
+                             " (not written: the artefact's own reader would refuse it)");
+  }
   common::write_json_atomically(
-      file, to_json(a),
+      file, j,
       {"format", "version", "name", "rate_hz", "method", "prewarp_hz", "channels", "controller",
        "floor", "effects", "run", "provenance", "plant", "form", "states", "spectral_radius",
        "name", "unit", "type"});

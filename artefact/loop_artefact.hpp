@@ -135,7 +135,9 @@ struct LoopOverrides {
 /// it), or when the file is not a loop artefact (build one: flexloop build SCENE -o LOOP.json).
 LoopArtefact read_loop_artefact(const std::filesystem::path& file, const LoopOverrides& o);
 
-/// Writes atomically (a reader never sees half of it). @throws std::runtime_error.
+/// Writes atomically (a reader never sees half of it), after reading the JSON back with
+/// loop_artefact_from_json: an artefact its own reader refuses is not written. @throws
+/// std::runtime_error (the reader's reason, naming the file and key, for such an artefact).
 void write_loop_artefact(const std::filesystem::path& file, const LoopArtefact& a);
 
 /// True when the file is a loop artefact (a JSON object with "format" = kLoopArtefactFormat),

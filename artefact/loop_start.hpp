@@ -23,7 +23,12 @@ namespace flexloop::artefact {
 struct StationaryStart {
   /// Empty: the start exists. Otherwise why the loop has no stationary state (runs start at rest).
   std::string unavailable = "not computed";
-  std::string note;           ///< what the start leaves out (modes on the unit circle), or empty
+  std::string note;  ///< what the start leaves out (modes on the unit circle), or empty
+  /// The relative change of the covariance to expect from rounding the loop's matrix (eps ||A||
+  /// over the distance to the circle of its slowest decaying mode:
+  /// plant/lti/stable_covariance.hpp); 0 where not computed (artefacts written before it was
+  /// stored).
+  double sensitivity = 0;
   int delay = 0;              ///< d of the rows above
   int controller_states = 0;  ///< rows of xc
   bool actuator_lag = false;  ///< rows l present

@@ -1,6 +1,8 @@
 #include "offline/scene/loop_start_builder.hpp"
 
 #include <Eigen/Dense>
+#include <Eigen/SVD>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -239,8 +241,9 @@ NoisyLoop continuous_floor_loop(const ScenePlant& sp, const artefact::LoopArtefa
 constexpr double kMarginalTolerance = 1e-9;
 
 struct Covariance {
-  MatrixXd P;
+  MatrixXd factor;   // P = factor factor^T
   std::string note;  // what the modes on the unit circle do
+  double sensitivity = 0;
 };
 
 // The stationary covariance of the loop without its modes on the unit circle. Those (the
@@ -251,7 +254,8 @@ struct Covariance {
 Covariance stationary_covariance(const NoisyLoop& m) {
   const auto stable = plant::lti::stable_covariance(m.loop.A, m.noise, kMarginalTolerance);
   Covariance c;
-  c.P = stable.P;
+  c.factor = stable.factor;
+  c.sensitivity = stable.sensitivity;
   if (stable.on_circle > 0)
     c.note =
         std::to_string(stable.on_circle) + (stable.on_circle == 1 ? " mode" : " modes") +
@@ -261,35 +265,55 @@ Covariance stationary_covariance(const NoisyLoop& m) {
   return c;
 }
 
+// The distribution of the rest given the floor filters' states, from the factor of the joint
+// covariance [R_r; R_f] [R_r; R_f]^T: with R_f = U S V^T (the floor's directions kept down to
+// sqrt(1e-13) of the largest, i.e. its covariance's eigenvalues down to 1e-13), the gain is
+// P_rf P_ff^+ = R_r V S^-1 U^T and the covariance R_r (I - V V^T) R_r^T, formed as C C^T with
+// C = R_r - (R_r V) V^T: positive semidefinite by construction, where P_rr - gain P_fr loses
+// its definiteness to cancellation when the rest's variance is far below the floor's.
+struct Conditional {
+  MatrixXd gain, covariance;
+};
+
+// C C^T, symmetric to the bit.
+MatrixXd gram(const MatrixXd& c) {
+  MatrixXd g = MatrixXd::Zero(c.rows(), c.rows());
+  g.selfadjointView<Eigen::Lower>().rankUpdate(c);
+  return g.selfadjointView<Eigen::Lower>();
+}
+
+Conditional conditional_on_floor(const MatrixXd& rest, const MatrixXd& floor) {
+  if (floor.rows() == 0 || floor.cols() == 0)
+    return {MatrixXd::Zero(rest.rows(), floor.rows()), gram(rest)};
+  const Eigen::BDCSVD<MatrixXd> svd(floor, Eigen::ComputeThinU | Eigen::ComputeThinV);
+  const Eigen::VectorXd& sigma = svd.singularValues();
+  Index kept = 0;
+  while (kept < sigma.size() && sigma(kept) > std::sqrt(1e-13) * sigma(0)) ++kept;
+  const MatrixXd v = svd.matrixV().leftCols(kept);
+  const MatrixXd rv = rest * v;
+  const MatrixXd c = rest - rv * v.transpose();
+  return {
+      rv * sigma.head(kept).cwiseInverse().asDiagonal() * svd.matrixU().leftCols(kept).transpose(),
+      gram(c)};
+}
+
 // The rows given the floor filters' states, in the layout of artefact/loop_start.hpp.
 artefact::StationaryStart conditioned(const artefact::LoopArtefact& a, const NoisyLoop& m,
                                       const Covariance& c, bool closed) {
-  const MatrixXd& P = c.P;
+  const MatrixXd& R = c.factor;
   const Index nx = a.plant.A.rows(), nf = a.floor.spectrum == artefact::FloorSpectrum::kWhite
                                               ? 0
                                               : artefact::kFloorFilterOrder;
-  const Index n = P.rows(), tail = n - m.augmented, nF = m.floor_rows;
+  const Index n = R.rows(), tail = n - m.augmented, nF = m.floor_rows;
   // Rest: the structure, then everything after the augmented plant.
   std::vector<Index> rest(m.structure.size());
   for (std::size_t s = 0; s < rest.size(); ++s) rest[s] = m.structure_begin + static_cast<Index>(s);
   for (Index t = 0; t < tail; ++t) rest.push_back(m.augmented + t);
-  const MatrixXd P_rr = P(rest, rest);
-  MatrixXd gain = MatrixXd::Zero(static_cast<Index>(rest.size()), nF), covariance = P_rr;
-  if (nF > 0) {
-    const auto floor = Eigen::seqN(0, nF);
-    const Eigen::SelfAdjointEigenSolver<MatrixXd> eig(P(floor, floor));
-    const Eigen::VectorXd l = eig.eigenvalues();
-    const double floor_value = 1e-13 * l.cwiseAbs().maxCoeff();
-    const Eigen::VectorXd inverse =
-        l.unaryExpr([floor_value](double v) { return v > floor_value ? 1 / v : 0.0; });
-    const MatrixXd pinv =
-        eig.eigenvectors() * inverse.asDiagonal() * eig.eigenvectors().transpose();
-    gain = P(rest, floor) * pinv;
-    covariance = P_rr - gain * P(floor, rest);
-  }
+  const auto [gain, covariance] = conditional_on_floor(R(rest, Eigen::all), R.topRows(nF));
   artefact::StationaryStart s;
   s.unavailable.clear();
   s.note = c.note;
+  s.sensitivity = c.sensitivity;
   s.delay = closed ? (a.controller == artefact::ControllerKind::kPiForceFeedback
                           ? a.pi.feedthrough_delay
                           : a.state_space.feedthrough_delay)
@@ -306,7 +330,7 @@ artefact::StationaryStart conditioned(const artefact::LoopArtefact& a, const Noi
   s.floor_gain = MatrixXd::Zero(rows, nF);
   s.covariance = MatrixXd::Zero(rows, rows);
   s.floor_gain(row, Eigen::all) = gain;
-  s.covariance(row, row) = 0.5 * (covariance + covariance.transpose());
+  s.covariance(row, row) = covariance;
   for (const auto& f : artefact::floor_states(a))
     s.floor_gain.block(f.state, f.channel * nf, 1, nf) = a.floor_filter.motion.row(f.motion_row);
   return s;
@@ -339,17 +363,23 @@ artefact::LoopStart stationary_loop_start(const artefact::LoopArtefact& a) {
 
 StationaryMoments stationary_moments(const artefact::LoopArtefact& a, bool closed) {
   const NoisyLoop m = noisy_loop(a, closed);
-  const MatrixXd P = stationary_covariance(m).P;
-  return {(m.performance * P * m.performance.transpose()).diagonal(),
-          (m.loop.command * P * m.loop.command.transpose()).diagonal()};
+  const MatrixXd R = stationary_covariance(m).factor;
+  return {(m.performance * R).rowwise().squaredNorm(),
+          (m.loop.command * R).rowwise().squaredNorm()};
+}
+
+StationaryLoop stationary_loop(const artefact::LoopArtefact& a, bool closed) {
+  NoisyLoop m = noisy_loop(a, closed);
+  auto stable = plant::lti::stable_covariance(m.loop.A, m.noise, kMarginalTolerance);
+  return {std::move(m.loop.A), std::move(m.noise), std::move(stable)};
 }
 
 StationaryMoments continuous_floor_moments(const ScenePlant& p, const artefact::LoopArtefact& a,
                                            bool closed) {
   const NoisyLoop m = continuous_floor_loop(p, a, closed);
-  const MatrixXd P = stationary_covariance(m).P;
-  return {(m.performance * P * m.performance.transpose()).diagonal(),
-          (m.loop.command * P * m.loop.command.transpose()).diagonal()};
+  const MatrixXd R = stationary_covariance(m).factor;
+  return {(m.performance * R).rowwise().squaredNorm(),
+          (m.loop.command * R).rowwise().squaredNorm()};
 }
 
 }  // namespace flexloop::scene

@@ -22,6 +22,7 @@
 // (same seed, same floor as a start from rest).
 #include "artefact/loop_artefact.hpp"
 #include "offline/scene/scene_plant.hpp"
+#include "plant/lti/stable_covariance.hpp"
 
 namespace flexloop::scene {
 
@@ -40,6 +41,16 @@ struct StationaryMoments {
 /// closed: with the artefact's controller (it must have one) or open loop.
 /// @throws std::invalid_argument when the loop has no stationary state (saying why).
 StationaryMoments stationary_moments(const artefact::LoopArtefact& a, bool closed);
+
+/// The loop as one linear system driven by unit white noise, x+ = A x + noise n (states as in
+/// stationary_moments, before the start is conditioned on the floor filters), and the stationary
+/// covariance of its part inside the unit circle: for tests and diagnostics that check the
+/// start against its Lyapunov equation. @throws std::invalid_argument as stationary_moments.
+struct StationaryLoop {
+  Eigen::MatrixXd A, noise;
+  plant::lti::StableCovariance stable;
+};
+StationaryLoop stationary_loop(const artefact::LoopArtefact& a, bool closed);
 
 /// The same moments on the continuous floor (doc/design.md §5a, issue 35 item 2): the scene's
 /// continuous plant and its VC floor filter driven by continuous white noise, sampled exactly

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -18,9 +19,12 @@ void dgees_(const char* jobvs, const char* sort, int (*select)(const double*, co
 void dtrsyl_(const char* trana, const char* tranb, const int* isgn, const int* m, const int* n,
              const double* a, const int* lda, const double* b, const int* ldb, double* c,
              const int* ldc, double* scale, int* info, std::size_t, std::size_t);
-// SLICOT: the discrete Lyapunov equation on a quasi-triangular matrix (SB03MD's kernel).
-void sb03mx_(const char* trana, const int* n, const double* a, const int* lda, double* c,
-             const int* ldc, double* scale, double* dwork, int* info, std::size_t);
+// SLICOT: the Cholesky factor of a convergent discrete Lyapunov equation's solution
+// (Hammarling's method), here on a matrix already in real Schur form (FACT = 'F').
+void sb03od_(const char* dico, const char* fact, const char* trans, const int* n, const int* m,
+             double* a, const int* lda, double* q, const int* ldq, double* b, const int* ldb,
+             double* scale, double* wr, double* wi, double* dwork, const int* ldwork, int* info,
+             std::size_t, std::size_t, std::size_t);
 }
 
 namespace flexloop::plant::lti {
@@ -40,6 +44,7 @@ int strictly_inside(const double* re, const double* im) {
 struct OrderedSchur {
   MatrixXd S, Q;  // balanced A = Q S Q^T, the modes inside first
   int inside = 0;
+  double slowest_inside = 1;  // min (1 - |lambda|) over the modes inside
 };
 
 // The ordered real Schur form of `a` (balanced), its modes with |lambda| < 1 - tol first.
@@ -56,8 +61,11 @@ OrderedSchur ordered_schur(MatrixXd a, double tol) {
          &n, work.data(), &lwork, bwork.data(), &info, 1, 1);
   if (info == n + 2) throw std::invalid_argument("the modes on the unit circle are not resolved");
   if (info != 0) throw std::invalid_argument("the loop's eigenvalues did not converge");
-  for (std::size_t i = 0; i < wr.size(); ++i)
-    if (std::hypot(wr[i], wi[i]) > 1 + tol) throw std::invalid_argument("the loop is unstable");
+  for (std::size_t i = 0; i < wr.size(); ++i) {
+    const double radius = std::hypot(wr[i], wi[i]);
+    if (radius > 1 + tol) throw std::invalid_argument("the loop is unstable");
+    if (radius < 1 - tol) o.slowest_inside = std::min(o.slowest_inside, 1 - radius);
+  }
   o.S = std::move(a);
   return o;
 }
@@ -76,18 +84,24 @@ MatrixXd decoupling(const OrderedSchur& o) {
   return x / scale;
 }
 
-// P11 with S11 P11 S11^T - P11 = -G G^T, S11 quasi-triangular.
-MatrixXd lyapunov_on_schur(const MatrixXd& s11, const MatrixXd& g) {
-  const int k = static_cast<int>(s11.rows());
-  MatrixXd c = -g * g.transpose();
+// U upper triangular with S11 (U U^T) S11^T - U U^T = -G G^T, S11 quasi-triangular with every
+// eigenvalue inside the circle (SB03OD, TRANS = 'T': op(K) = K^T, X = U U^T).
+MatrixXd lyapunov_factor_on_schur(const MatrixXd& s11, const MatrixXd& g) {
+  const int k = static_cast<int>(s11.rows()), m = static_cast<int>(g.cols());
+  MatrixXd a = s11, q = MatrixXd::Identity(k, k), b = MatrixXd::Zero(k, std::max(k, m));
+  b.leftCols(m) = g;
   double scale = 1;
-  std::vector<double> dwork(static_cast<std::size_t>(2 * k));
-  int info = 0;
-  // op(A) = A^T: (A^T)^T X A^T - X = A X A^T - X = scale C.
-  sb03mx_("T", &k, s11.data(), &k, c.data(), &k, &scale, dwork.data(), &info, 1);
-  if (info < 0 || !(scale > 0))
+  std::vector<double> wr(static_cast<std::size_t>(k)), wi(wr.size());
+  int ldwork = std::max(1, 4 * k + std::min(k, m)), info = 0;
+  ldwork = std::max(ldwork, k * std::max(k, m));  // room for the blocked factorisations
+  std::vector<double> dwork(static_cast<std::size_t>(ldwork));
+  sb03od_("D", "F", "T", &k, &m, a.data(), &k, q.data(), &k, b.data(), &k, &scale, wr.data(),
+          wi.data(), dwork.data(), &ldwork, &info, 1, 1, 1);
+  if (info == 3) throw std::invalid_argument("the modes on the unit circle are not resolved");
+  if (info < 0 || info > 1 || !(scale > 0))
     throw std::invalid_argument("the stationary covariance did not settle");
-  return c / scale;
+  // SB03OD leaves rubbish below the diagonal of its workspace-sized array: U is upper.
+  return b.leftCols(k).triangularView<Eigen::Upper>().toDenseMatrix() / scale;
 }
 
 }  // namespace
@@ -98,6 +112,8 @@ StableCovariance stable_covariance(const MatrixXd& A, const MatrixXd& B, double 
     throw std::invalid_argument("stable covariance: the sizes of A and B do not close");
   StableCovariance c;
   c.P = MatrixXd::Zero(n, n);
+  c.factor = MatrixXd::Zero(n, 0);
+  c.stable_noise = MatrixXd::Zero(n, B.cols());
   if (n == 0) return c;
   const Eigen::VectorXd t = balancing_scaling(A);
   const OrderedSchur o = ordered_schur(t.cwiseInverse().asDiagonal() * A * t.asDiagonal(), tol);
@@ -113,10 +129,13 @@ StableCovariance stable_covariance(const MatrixXd& A, const MatrixXd& B, double 
     on << x * b.bottomRows(m), b.bottomRows(m);
     c.driven = (t.asDiagonal() * (o.Q * on)).norm() / std::max(B.norm(), 1e-300);
   }
+  c.stable_noise = t.asDiagonal() * (o.Q.leftCols(k) * g);
   if (k == 0) return c;
-  const MatrixXd p11 = lyapunov_on_schur(o.S.topLeftCorner(k, k), g);
-  const MatrixXd tq1 = t.asDiagonal() * o.Q.leftCols(k);
-  c.P = tq1 * (0.5 * (p11 + p11.transpose())) * tq1.transpose();
+  const MatrixXd u = lyapunov_factor_on_schur(o.S.topLeftCorner(k, k), g);
+  c.factor = t.asDiagonal() * (o.Q.leftCols(k) * u);
+  c.sensitivity =
+      std::numeric_limits<double>::epsilon() * o.S.topLeftCorner(k, k).norm() / o.slowest_inside;
+  c.P = c.factor * c.factor.transpose();
   return c;
 }
 

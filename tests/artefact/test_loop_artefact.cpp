@@ -152,3 +152,26 @@ TEST_CASE("loop artefact: bad artefacts name the file, the key and what is wrong
   CHECK_THROWS_WITH(artefact::read_loop_artefact(broken), Contains("broken.json: not valid JSON"));
   CHECK_FALSE(artefact::is_loop_artefact_file(broken));
 }
+
+TEST_CASE("loop artefact: the writer refuses what its reader would refuse, and writes nothing",
+          "[artefact]") {
+  using Catch::Contains;
+  // A start whose covariance came out indefinite (the arm's before issue 57): build must fail
+  // with the reader's reason instead of writing a file that every later command refuses.
+  artefact::LoopArtefact a = all_effects();
+  a.start.open_loop.covariance(0, 0) = -1;
+  const auto file = temp_file("refused_by_its_reader.json");
+  std::filesystem::remove(file);
+  CHECK_THROWS_WITH(artefact::write_loop_artefact(file, a),
+                    Contains("refused_by_its_reader.json: key 'start': key 'open_loop': key "
+                             "'covariance': not positive semidefinite") &&
+                        Contains("not written"));
+  CHECK_FALSE(std::filesystem::exists(file));
+  // An existing artefact is left as it was.
+  artefact::write_loop_artefact(file, all_effects());
+  const auto before = std::filesystem::file_size(file);
+  CHECK_THROWS(artefact::write_loop_artefact(file, a));
+  CHECK(std::filesystem::file_size(file) == before);
+  CHECK(artefact::read_loop_artefact(file).start.open_loop.covariance ==
+        all_effects().start.open_loop.covariance);
+}

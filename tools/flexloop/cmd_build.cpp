@@ -19,6 +19,18 @@ struct BuildArgs {
   double rate_hz = 0;
 };
 
+// One line per loop start: whether it exists, what it leaves out, and how well its data fix it.
+void print_start(const char* which, const artefact::StationaryStart& s) {
+  if (!s.exists()) {
+    std::printf("start, %s: at rest (%s)\n", which, s.unavailable.c_str());
+    return;
+  }
+  std::printf(
+      "start, %s: stationary, covariance determined to about %.1e relative by the loop's "
+      "matrix%s%s\n",
+      which, s.sensitivity, s.note.empty() ? "" : "; ", s.note.c_str());
+}
+
 void run(const BuildArgs& args) {
   const artefact::LoopArtefact a = scene::load_loop(
       args.scene,
@@ -30,8 +42,10 @@ void run(const BuildArgs& args) {
   std::printf("channels: %ld disturbances, %ld actuators, %ld performance outputs, %ld sensors\n",
               static_cast<long>(a.disturbances()), static_cast<long>(a.actuators()),
               static_cast<long>(a.performance()), static_cast<long>(a.sensors()));
-  std::printf("spectral radius of Ad: %.12f\nwrote %s\n", a.plant.spectral_radius,
-              args.output.c_str());
+  std::printf("spectral radius of Ad: %.12f\n", a.plant.spectral_radius);
+  print_start("open loop", a.start.open_loop);
+  print_start("closed loop", a.start.closed_loop);
+  std::printf("wrote %s\n", args.output.c_str());
 }
 
 }  // namespace
