@@ -54,27 +54,93 @@ Eigen::MatrixXd symmetrised(const Eigen::MatrixXd& a) {
   return 0.5 * (a + a.transpose());
 }
 
-// M must be symmetric positive definite with a condition number well inside double precision.
+// The smallest pivot of the Cholesky (LDL^T) of D^-1/2 S D^-1/2, D = diag(S) > 0: how far each
+// coordinate is from the span of the ones before it, in the units of its own diagonal; -1 when a
+// diagonal entry is not positive or the factorisation fails.
+double smallest_scaled_pivot(const Eigen::MatrixXd& S) {
+  const Eigen::VectorXd d = S.diagonal();
+  if (!(d.minCoeff() > 0)) return -1;
+  const Eigen::VectorXd s = d.cwiseSqrt().cwiseInverse();
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(s.asDiagonal() * S * s.asDiagonal());
+  return ldlt.info() == Eigen::Success ? ldlt.vectorD().minCoeff() : -1;
+}
+
+// Definite beyond rounding: every scaled pivot above 100 n eps.
+bool clearly_definite(const Eigen::MatrixXd& S) {
+  return smallest_scaled_pivot(S) > 100.0 * static_cast<double>(S.rows()) * kEps;
+}
+
+// M must be symmetric positive definite. Judged by what the eigenproblem needs, a Cholesky
+// factor, not by the eigenvalue spread: a lumped chain with small rotary inertia is definite at a
+// condition number of 1e11. The Cholesky runs on the Jacobi-scaled D^-1/2 M D^-1/2 (unit
+// diagonal), whose pivots say how far each coordinate's mass is from the span of the ones before
+// it: a pivot below n eps is a massless coordinate (or combination), not rounding.
 Eigen::MatrixXd checked_mass(const Eigen::MatrixXd& M) {
   const Eigen::Index n = M.rows();
   if (!nearly_symmetric(M))
     throw std::invalid_argument("natural_modes: mass matrix M is not symmetric (max |M - M^T| = " +
                                 num((M - M.transpose()).cwiseAbs().maxCoeff()) + ")");
   Eigen::MatrixXd Ms = symmetrised(M);
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Ms, Eigen::EigenvaluesOnly);
-  if (es.info() != Eigen::Success)
-    throw std::invalid_argument("natural_modes: eigenvalues of the mass matrix did not converge");
-  const double lo = es.eigenvalues().minCoeff(), hi = es.eigenvalues().cwiseAbs().maxCoeff();
-  const double tol = 100.0 * static_cast<double>(n) * kEps * hi;
-  if (hi == 0.0 || lo < -tol)
-    throw std::invalid_argument("natural_modes: mass matrix M is indefinite (smallest eigenvalue " +
-                                num(lo) + ", largest " + num(es.eigenvalues().maxCoeff()) +
-                                "); a mass matrix must be positive definite");
-  if (lo <= tol)
+  const Eigen::VectorXd d = Ms.diagonal();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    if (d(i) < 0)
+      throw std::invalid_argument("natural_modes: mass matrix M is indefinite (M(" +
+                                  std::to_string(i) + "," + std::to_string(i) + ") = " + num(d(i)) +
+                                  "); a mass matrix must be positive definite");
+    if (d(i) == 0)
+      throw std::invalid_argument("natural_modes: mass matrix M is singular: coordinate " +
+                                  std::to_string(i) +
+                                  " has no mass (M(i,i) = 0): massless coordinates; condense them "
+                                  "out statically or give them mass");
+  }
+  if (clearly_definite(Ms)) return Ms;
+  // Refused: say how, with the eigenvalues of the scaled matrix (only on this path).
+  const Eigen::VectorXd s = d.cwiseSqrt().cwiseInverse();
+  const Eigen::MatrixXd scaled = s.asDiagonal() * Ms * s.asDiagonal();
+  const double tol = 100.0 * static_cast<double>(n) * kEps;
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(scaled, Eigen::EigenvaluesOnly);
+  const double smallest = es.eigenvalues().minCoeff(), largest = es.eigenvalues().maxCoeff();
+  if (smallest < -tol * largest)
     throw std::invalid_argument(
-        "natural_modes: mass matrix M is singular (smallest eigenvalue " + num(lo) + ", largest " +
-        num(hi) + "): massless coordinates; condense them out statically or give them mass");
-  return Ms;
+        "natural_modes: mass matrix M is indefinite (scaled to a unit diagonal: smallest "
+        "eigenvalue " +
+        num(smallest) + ", largest " + num(largest) + "); a mass matrix must be positive definite");
+  throw std::invalid_argument(
+      "natural_modes: mass matrix M is singular (scaled to a unit diagonal: smallest eigenvalue " +
+      num(smallest) + ", largest " + num(largest) +
+      "): massless coordinates; condense them out statically or give them mass");
+}
+
+// Symmetric K: w^2 and shapes of (K - w^2 M) phi = 0. With K definite the problem is solved the
+// other way round, M phi = (1 / w^2) K phi (Cholesky of K): each w^2 then comes out to its own
+// relative accuracy, the lowest modes included. The Cholesky of M (the only way when K is singular
+// or indefinite: rigid-body modes, beyond buckling) gives each w^2 to eps max|w^2| absolute, which
+// loses the first mode of a lumped 400-beam chain (w^2 = 9e2 beside 1.6e14) to rounding.
+struct SymmetricModes {
+  Eigen::VectorXd w2;
+  Eigen::MatrixXd shapes;
+  bool from_stiffness = false;  // solved with K's Cholesky: every w^2 > 0 is resolved
+};
+SymmetricModes symmetric_modes(const Eigen::MatrixXd& Ms, const Eigen::MatrixXd& Ks) {
+  SymmetricModes out;
+  if (clearly_definite(Ks)) {
+    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(
+        Ms, Ks, Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
+    if (ges.info() == Eigen::Success && ges.eigenvalues().minCoeff() > 0) {
+      out.w2 = ges.eigenvalues().cwiseInverse();
+      out.shapes = ges.eigenvectors();
+      out.from_stiffness = true;
+      return out;
+    }
+  }
+  // Cholesky M = L L^T, symmetric eigenproblem of L^-1 K L^-T; eigenvectors M-orthonormal.
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(
+      Ks, Ms, Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
+  if (ges.info() != Eigen::Success)
+    throw std::runtime_error("natural_modes: symmetric eigensolver did not converge");
+  out.w2 = ges.eigenvalues();
+  out.shapes = ges.eigenvectors();
+  return out;
 }
 
 // Scale to phi^T M phi = 1 and make the largest-magnitude entry positive (a deterministic sign).
@@ -95,15 +161,12 @@ Modes natural_modes(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K) {
 
   Eigen::VectorXcd w2(n);
   Eigen::MatrixXd shapes(n, n);
+  bool resolved = false;  // every w^2 to its own relative accuracy: none is rounded to zero
   if (nearly_symmetric(K)) {
-    // Symmetric-definite: Cholesky M = L L^T, symmetric eigenproblem of L^-1 K L^-T; eigenvectors
-    // come back M-orthonormal.
-    const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> ges(
-        symmetrised(K), Ms, Eigen::ComputeEigenvectors | Eigen::Ax_lBx);
-    if (ges.info() != Eigen::Success)
-      throw std::runtime_error("natural_modes: symmetric eigensolver did not converge");
-    w2 = ges.eigenvalues().cast<cd>();
-    shapes = ges.eigenvectors();
+    SymmetricModes sm = symmetric_modes(Ms, symmetrised(K));
+    w2 = sm.w2.cast<cd>();
+    shapes = std::move(sm.shapes);
+    resolved = sm.from_stiffness;
   } else {
     // K phi = w^2 M phi by real QZ; betas are nonzero because M is nonsingular.
     const Eigen::GeneralizedEigenSolver<Eigen::MatrixXd> ges(K, Ms, true);
@@ -122,7 +185,7 @@ Modes natural_modes(const Eigen::MatrixXd& M, const Eigen::MatrixXd& K) {
   }
 
   const double scale = w2.cwiseAbs().maxCoeff();
-  const double zero_tol = 100.0 * static_cast<double>(n) * kEps * scale;
+  const double zero_tol = resolved ? 0.0 : 100.0 * static_cast<double>(n) * kEps * scale;
   const double imag_tol = std::sqrt(kEps) * scale;
   Eigen::VectorXd f(n);
   for (Eigen::Index i = 0; i < n; ++i) {

@@ -145,6 +145,34 @@ TEST_CASE("bad mass matrices are refused with the reason", "[analysis][modes]") 
   M << 1, 0.5, 0, 1;
   CHECK_THROWS_WITH(natural_modes(M, K), Catch::Contains("not symmetric"));
   CHECK_THROWS_AS(natural_modes(Eigen::MatrixXd::Identity(3, 3), K), std::invalid_argument);
+  // A massless combination, though every coordinate has mass: M = v v^T with v = [1, 1].
+  M << 1, 1, 1, 1;
+  CHECK_THROWS_WITH(natural_modes(M, K),
+                    Catch::Contains("singular") && Catch::Contains("massless"));
+}
+
+TEST_CASE("a definite mass matrix of condition 1e11 is taken, not called singular",
+          "[analysis][modes]") {
+  // Issue 57: a lumped beam chain's M has translational masses of 1e1..1e7 and rotary inertias of
+  // 1e-4: condition 1e11, positive definite. Reference: two uncoupled oscillators whose mass
+  // spread is 1e11, k/m given exactly: w^2 = k_i / m_i, here 4 and 9 (rad/s)^2, and the same
+  // pair rotated by an orthogonal Q (M = Q D Q^T, K = Q diag(k) Q^T), so that M is full.
+  Eigen::MatrixXd M = Eigen::Vector2d(1e7, 1e-4).asDiagonal(),
+                  K = Eigen::Vector2d(4e7, 9e-4).asDiagonal();
+  auto modes = natural_modes(M, K);
+  CHECK(modes.omega_squared(0).real() == Approx(4).epsilon(1e-12));
+  CHECK(modes.omega_squared(1).real() == Approx(9).epsilon(1e-12));
+  // Coupled: the massive coordinate drives the light one through the mass matrix.
+  M << 1e7, 1e-2, 1e-2, 1e-4;  // determinant 1e3 - 1e-4 > 0: definite, condition ~1e11
+  K = Eigen::Vector2d(4e7, 9e-4).asDiagonal();
+  modes = natural_modes(M, K);
+  // Reference: det(K - w^2 M) = 0, a quadratic in w^2 solved here in closed form.
+  const double a = M.determinant(), b = -(K(0, 0) * M(1, 1) + K(1, 1) * M(0, 0)),
+               c = K(0, 0) * K(1, 1);
+  const double disc = std::sqrt(b * b - 4 * a * c), w2_low = 2 * c / (-b + disc),
+               w2_high = (-b + disc) / (2 * a);
+  CHECK(modes.omega_squared(0).real() == Approx(w2_low).epsilon(1e-9));
+  CHECK(modes.omega_squared(1).real() == Approx(w2_high).epsilon(1e-9));
 }
 
 TEST_CASE("buckling multipliers", "[analysis][buckling]") {
