@@ -37,9 +37,15 @@ if [[ $(id -u) != 0 ]]; then echo "skipped: needs root for the private namespace
 scene=$src/tools/scenes/two_mass_chain.toml
 run=(hil "$scene" --netns --transport iceoryx --baseline-duration 0.5 --quiet)
 
-# 1. A whole run.
-"$flexloop" "${run[@]}" --duration 1 --report "$work/r.json" >"$work/out" 2>&1 ||
-  fail "hil over iceoryx: $(cat "$work/out")"
+# 1. A whole run; run again once when only its deadline-miss budget failed (a stall of the VM
+# can cost 1.6 % of a second's cycles), as the timing tests and the veth loop do.
+whole_run() { "$flexloop" "${run[@]}" --duration 1 --report "$work/r.json" >"$work/out" 2>&1; }
+if ! whole_run; then
+  grep -q "deadline misses" "$work/out" || fail "hil over iceoryx: $(cat "$work/out")"
+  echo "hil over iceoryx: $(grep -o 'deadline misses[^,]*' "$work/out" | head -1) once; running again"
+  nothing_left
+  whole_run || fail "hil over iceoryx: $(cat "$work/out")"
+fi
 json "$work/r.json" "
 a = j['controller']['real_time_promises']['no_allocation']
 assert j['transport'] == 'iceoryx' and j['verdict']['result'] == 'pass', j['verdict']
