@@ -6,6 +6,8 @@
 #include <cmath>
 #include <exception>
 #include <functional>
+#include <iterator>
+#include <string>
 #include <thread>
 
 #include "offline/campaign/sample_table.hpp"
@@ -39,15 +41,22 @@ std::vector<SampleStatus> statuses(const std::vector<json>& samples) {
 }
 
 // The ECDF of xs (sorted here) as a staircase, each quantile's estimate and its interval as a
-// horizontal bar at height p (an unbounded end drawn to the data's end, dashed).
-void draw_ecdf(const std::string& name, std::vector<double> xs, const json& quantiles,
-               const std::string& png) {
+// horizontal bar at height p (an unbounded end drawn to the data's end, dashed). Infinite values
+// (an unbounded margin) count in the heights but cannot be drawn: the staircase ends below 1.
+// False when no value is finite.
+bool draw_ecdf(const std::string& name, std::vector<double> xs, const char* population,
+               const json& quantiles, const std::string& png) {
   std::sort(xs.begin(), xs.end());
-  report::Series ecdf{"ECDF of " + std::to_string(xs.size()) + " stable samples",
-                      {xs.front()},
+  std::vector<double> finite;
+  std::copy_if(xs.begin(), xs.end(), std::back_inserter(finite),
+               [](double x) { return std::isfinite(x); });
+  if (finite.empty()) return false;
+  report::Series ecdf{"ECDF of " + std::to_string(xs.size()) + " " + population,
+                      {finite.front()},
                       {0.0},
                       "steps lw 2 lc rgb '#1f4e79'"};
   for (std::size_t i = 0; i < xs.size(); ++i) {
+    if (!std::isfinite(xs[i])) continue;
     ecdf.x.push_back(xs[i]);
     ecdf.y.push_back(static_cast<double>(i + 1) / static_cast<double>(xs.size()));
   }
@@ -55,8 +64,8 @@ void draw_ecdf(const std::string& name, std::vector<double> xs, const json& quan
   for (const json& q : quantiles) {
     const double p = q["p"].get<double>();
     const bool bounded = q["lo"].is_number() && q["hi"].is_number();
-    const double lo = q["lo"].is_number() ? q["lo"].get<double>() : xs.front();
-    const double hi = q["hi"].is_number() ? q["hi"].get<double>() : xs.back();
+    const double lo = q["lo"].is_number() ? q["lo"].get<double>() : finite.front();
+    const double hi = q["hi"].is_number() ? q["hi"].get<double>() : finite.back();
     const std::string pct = std::to_string(static_cast<int>(std::lround(100 * p)));
     series.push_back(
         {pct + " % quantile, " + (bounded ? "its 95 % interval" : "its interval (unbounded)"),
@@ -69,12 +78,13 @@ void draw_ecdf(const std::string& name, std::vector<double> xs, const json& quan
   report::PlotSpec spec;
   spec.title = name + ": empirical distribution with the 5/50/95 % quantile intervals";
   spec.xlabel = name;
-  spec.ylabel = "fraction of stable samples <= x";
-  if (xs.front() == xs.back()) {  // one value: an axis of +-0.5 % around it, not an empty one
-    const double half = xs.front() != 0.0 ? 0.005 * std::abs(xs.front()) : 0.5;
-    spec.x_min = xs.front() - half, spec.x_max = xs.front() + half;
+  spec.ylabel = std::string("fraction of the ") + population + " <= x";
+  if (finite.front() == finite.back()) {  // one value: an axis of +-0.5 % around it
+    const double half = finite.front() != 0.0 ? 0.005 * std::abs(finite.front()) : 0.5;
+    spec.x_min = finite.front() - half, spec.x_max = finite.front() + half;
   }
   report::plot_lines(spec, series, png);
+  return true;
 }
 
 void draw_histogram(const std::string& name, const std::vector<double>& xs,
@@ -99,9 +109,11 @@ void draw_histogram(const std::string& name, const std::vector<double>& xs,
   report::plot_histogram(spec, edges, counts, png);
 }
 
-// Per grid point: 5/50/95 % (ECDF inverse) and the max of sigma_max over the stable samples.
+// Per grid point: 5/50/95 % (ECDF inverse) and the max of sigma_max over the stable machines
+// (`machines`: the independent evaluations, as the summary's figures).
 bool draw_sigma_envelope(const json& plan, const std::vector<json>& samples,
-                         const std::vector<SampleStatus>& status, const std::string& png) {
+                         const std::vector<SampleStatus>& status, const std::vector<long>& machines,
+                         const std::string& png) {
   if (!plan.contains("sigma_grid_hz") || !plan["sigma_grid_hz"].is_array()) return false;
   const std::vector<double> f = plan["sigma_grid_hz"].get<std::vector<double>>();
   const auto db = [](double s) { return s > 0.0 ? 20.0 * std::log10(s) : kMissing; };
@@ -112,7 +124,8 @@ bool draw_sigma_envelope(const json& plan, const std::vector<json>& samples,
   // The values at each frequency, gathered in one pass over the samples (a lookup of each
   // sample's array per frequency cost 2 million map searches at 10 000 samples).
   std::vector<std::vector<double>> columns(f.size());
-  for (std::size_t i = 0; i < samples.size(); ++i) {
+  for (const long m : machines) {
+    const auto i = static_cast<std::size_t>(m);
     const auto s = samples[i].find("sigma_max");
     if (status[i] != SampleStatus::kStable || s == samples[i].end() || !s->is_array()) continue;
     for (std::size_t j = 0; j < f.size() && j < s->size(); ++j)
@@ -202,7 +215,10 @@ bool draw_sobol(const std::string& figure, const json& sobol, const std::string&
     total.lo.push_back(json_or_nan(p["total"]["lo"]));
     total.hi.push_back(json_or_nan(p["total"]["hi"]));
   }
-  if (names.empty()) return false;
+  // Nothing to draw where the figure does not vary (an indicator with no unstable machine).
+  if (names.empty() || std::none_of(first.value.begin(), first.value.end(),
+                                    [](double v) { return std::isfinite(v); }))
+    return false;
   report::PlotSpec spec;
   spec.title = figure + ": Sobol indices with their 95 % bootstrap intervals (" +
                std::to_string(sobol["base_rows"].get<long>()) + " base rows)";
@@ -268,8 +284,14 @@ std::vector<Picture> draw_side_by_side(const std::vector<PictureTask>& tasks) {
 
 std::vector<Picture> draw_campaign_pictures(const json& plan, const std::vector<json>& samples,
                                             const json& summary, const std::string& out_dir) {
-  const std::vector<SampleStatus> status = statuses(samples);
-  const std::vector<FigureColumn> figures = figure_columns(samples);
+  // Statistics over the independent machines, as the summary's (a Saltelli design's A and B
+  // rows); the scatter against a parameter shows every evaluation.
+  const MachineTable machines = machine_table(plan, samples);
+  const std::vector<SampleStatus>& status = machines.status;
+  const std::vector<FigureColumn>& figures = machines.figures;
+  const std::vector<SampleStatus> every_status = statuses(samples);
+  const std::vector<long> machine_indices =
+      independent_evaluations(plan, static_cast<long>(samples.size()));
   const auto path = [&](const std::string& file) { return out_dir + "/" + file; };
   std::vector<PictureTask> tasks;
   tasks.push_back({{"p_unstable.png", "P(unstable) and its interval against n"}, [&] {
@@ -278,12 +300,12 @@ std::vector<Picture> draw_campaign_pictures(const json& plan, const std::vector<
                    }});
   for (const FigureColumn& f : figures) {
     const std::string file = "ecdf_" + file_stem(f.name) + ".png";
-    tasks.push_back({{file, "ECDF of " + f.name + " with its quantile intervals"}, [&, file] {
-                       const auto xs = stable_values(f, status, static_cast<long>(samples.size()));
-                       if (xs.empty()) return false;
-                       draw_ecdf(f.name, xs, summary["figures"][f.name]["quantiles"], path(file));
-                       return true;
-                     }});
+    tasks.push_back(
+        {{file, "ECDF of " + f.name + " with its quantile intervals"}, [&, file] {
+           const auto xs = population_values(f, status, static_cast<long>(status.size()));
+           return !xs.empty() && draw_ecdf(f.name, xs, to_string(f.population),
+                                           summary["figures"][f.name]["quantiles"], path(file));
+         }});
   }
   for (int r = 1; r <= kHistogramRanks; ++r) {
     const std::string name = "natural_frequency_" + std::to_string(r) + "_hz";
@@ -293,21 +315,22 @@ std::vector<Picture> draw_campaign_pictures(const json& plan, const std::vector<
     const std::string file = "histogram_" + name + ".png";
     tasks.push_back({{file, "histogram of " + name}, [&, it, name, file] {
                        const auto xs =
-                           stable_values(*it, status, static_cast<long>(samples.size()));
+                           population_values(*it, status, static_cast<long>(status.size()));
                        if (xs.empty()) return false;
                        draw_histogram(name, xs, path(file));
                        return true;
                      }});
   }
   tasks.push_back({{"sigma_envelope.png", "closed-loop sigma envelope against the nominal"}, [&] {
-                     return draw_sigma_envelope(plan, samples, status, path("sigma_envelope.png"));
+                     return draw_sigma_envelope(plan, samples, every_status, machine_indices,
+                                                path("sigma_envelope.png"));
                    }});
   if (plan.contains("columns"))
     for (const json& c : plan["columns"]) {
       const std::string column = c.get<std::string>(),
                         file = "scatter_" + file_stem(column) + ".png";
       tasks.push_back({{file, "the worst figures against " + column}, [&, column, file] {
-                         return draw_scatter(column, samples, status, path(file));
+                         return draw_scatter(column, samples, every_status, path(file));
                        }});
     }
   if (summary.contains("sobol"))

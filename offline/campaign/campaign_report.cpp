@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <stdexcept>
@@ -12,6 +14,7 @@
 #include "offline/campaign/designs.hpp"
 #include "offline/campaign/sample_table.hpp"
 #include "offline/campaign/statistics.hpp"
+#include "offline/scene/loop_artefact_builder.hpp"
 
 namespace flexloop::campaign {
 
@@ -31,7 +34,7 @@ std::vector<long> prefixes(long total) {
 
 json quantile_json(const QuantileInterval& q) {
   return {{"p", q.p},
-          {"estimate", number_or_null(q.estimate)},
+          {"estimate", number_or_infinity(q.estimate)},
           {"lo", number_or_null(q.lo)},
           {"hi", number_or_null(q.hi)},
           {"confidence", q.confidence}};
@@ -44,15 +47,35 @@ json quantiles_json(const std::vector<double>& xs) {
   return out;
 }
 
+bool starts_with(const std::string& s, const char* prefix) {
+  return s.rfind(prefix, 0) == 0;
+}
+
+// The SI unit of a figure ("1": a ratio); a channel's figure takes its channel's unit.
+std::string figure_unit(const std::string& name) {
+  for (const char* prefix : {"rms.", "rms_open.", "sim.rms.", "sim.max_abs_command."})
+    if (starts_with(name, prefix)) return scene::channel_unit(name.substr(std::strlen(prefix)));
+  if (starts_with(name, "natural_frequency_")) return "Hz";
+  if (starts_with(name, "disk_margin"))
+    return name.size() > 3 && name.substr(name.size() - 3) == "_db" ? "dB" : "deg";
+  if (name == "peak_sigma") return "performance unit per floor unit";
+  return "1";  // spectral_radius, sim.rms_ratio.*, sim.saturated_share.*
+}
+
 json figure_summary(const FigureColumn& f, const std::vector<SampleStatus>& status) {
   const auto total = static_cast<long>(status.size());
-  const std::vector<double> xs = stable_values(f, status, total);
-  json out{{"n", xs.size()}, {"quantiles", quantiles_json(xs)}};
-  out["min"] = xs.empty() ? json(nullptr) : json(*std::min_element(xs.begin(), xs.end()));
-  out["max"] = xs.empty() ? json(nullptr) : json(*std::max_element(xs.begin(), xs.end()));
+  const std::vector<double> xs = population_values(f, status, total);
+  json out{{"n", xs.size()},
+           {"unit", figure_unit(f.name)},
+           {"population", to_string(f.population)},
+           {"quantiles", quantiles_json(xs)}};
+  out["min"] =
+      xs.empty() ? json(nullptr) : number_or_infinity(*std::min_element(xs.begin(), xs.end()));
+  out["max"] =
+      xs.empty() ? json(nullptr) : number_or_infinity(*std::max_element(xs.begin(), xs.end()));
   json convergence = json::array();
   for (long prefix : prefixes(total)) {
-    const std::vector<double> ys = stable_values(f, status, prefix);
+    const std::vector<double> ys = population_values(f, status, prefix);
     convergence.push_back({{"n", prefix}, {"used", ys.size()}, {"quantiles", quantiles_json(ys)}});
   }
   out["convergence"] = convergence;
@@ -64,26 +87,42 @@ json p_unstable_json(const std::vector<SampleStatus>& status, long prefix) {
   for (long i = 0; i < prefix; ++i) {
     const SampleStatus s = status[static_cast<std::size_t>(i)];
     unstable += s == SampleStatus::kUnstable;
-    judged += s == SampleStatus::kStable || s == SampleStatus::kUnstable;
+    judged += campaign::judged(s);
   }
   const Interval ci = clopper_pearson(unstable, judged, kConfidence);
   return {{"n", prefix},
+          {"samples", prefix},
           {"unstable", unstable},
           {"judged", judged},
           {"estimate", number_or_null(ci.estimate)},
           {"lo", ci.lo},
           {"hi", ci.hi},
-          {"confidence", kConfidence}};
+          {"confidence", kConfidence},
+          {"method", "clopper-pearson"}};
+}
+
+// Every machine that is not shown stable, refused (buckled, statically unstable) and failed ones
+// included, over all the independent machines: what a fleet loses, where P(unstable) is the
+// share of the judged machines.
+json p_not_stable_json(const std::vector<SampleStatus>& status) {
+  const auto all = static_cast<long>(status.size());
+  const long not_stable = all - std::count(status.begin(), status.end(), SampleStatus::kStable);
+  const Interval ci = clopper_pearson(not_stable, all, kConfidence);
+  return {{"samples", all},
+          {"not_stable", not_stable},
+          {"estimate", number_or_null(ci.estimate)},
+          {"lo", ci.lo},
+          {"hi", ci.hi},
+          {"confidence", kConfidence},
+          {"method", "clopper-pearson"}};
 }
 
 json counts_json(const std::vector<SampleStatus>& status) {
-  long counts[4] = {0, 0, 0, 0};
+  long counts[std::size(kStatusNames)] = {};
   for (SampleStatus s : status) ++counts[static_cast<int>(s)];
-  return {{"total", status.size()},
-          {"stable", counts[0]},
-          {"unstable", counts[1]},
-          {"refused", counts[2]},
-          {"error", counts[3]}};
+  json out{{"total", status.size()}};
+  for (std::size_t k = 0; k < std::size(kStatusNames); ++k) out[kStatusNames[k]] = counts[k];
+  return out;
 }
 
 json interval_json(const Interval& i, bool holds_zero) {
@@ -123,6 +162,13 @@ std::vector<std::string> column_paths(const json& plan) {
   return columns;
 }
 
+std::string population_text(const json& plan) {
+  return plan.value("design", std::string()) == "saltelli"
+             ? "the A and B rows of the Saltelli design (2n independent machines; its A_B^i rows "
+               "share all but one parameter with their A row and serve the Sobol indices only)"
+             : "every evaluation";
+}
+
 void check_samples(const json& plan, const std::vector<json>& samples) {
   const long evaluations = plan.at("evaluations").get<long>();
   if (static_cast<long>(samples.size()) != evaluations)
@@ -133,6 +179,16 @@ void check_samples(const json& plan, const std::vector<json>& samples) {
     if (samples[i].value("index", -1L) != static_cast<long>(i))
       throw std::invalid_argument("campaign report: sample " + std::to_string(i) + " has index " +
                                   samples[i].value("index", json()).dump());
+}
+
+void check_saltelli_size(const json& plan, long total) {
+  if (plan.value("design", std::string()) != "saltelli") return;
+  const long n = plan.at("n").get<long>();
+  const auto d = static_cast<int>(column_paths(plan).size());
+  if (total != evaluation_count(DesignKind::kSaltelli, n, d))
+    throw std::invalid_argument("campaign report: a Saltelli plan of n = " + std::to_string(n) +
+                                " and " + std::to_string(d) +
+                                " columns has another number of evaluations");
 }
 
 // The median of finite values, NaN for none.
@@ -183,6 +239,11 @@ json campaign_summary(const json& plan, const std::vector<json>& samples) {
   std::vector<SampleStatus> status;
   for (const json& s : samples) status.push_back(sample_status(s));
   const auto total = static_cast<long>(samples.size());
+  check_saltelli_size(plan, total);
+  // Figures and intervals over independent machines only (doc/campaign_statistics.md).
+  const MachineTable machines = machine_table(plan, samples);
+  const std::vector<SampleStatus>& machine_status = machines.status;
+  const auto m = static_cast<long>(machine_status.size());
   json summary{{"format", "flexloop-campaign-summary"},
                {"version", 1},
                {"plan_id", plan.value("plan_id", json())},
@@ -191,14 +252,15 @@ json campaign_summary(const json& plan, const std::vector<json>& samples) {
                {"evaluations", total},
                {"confidence", kConfidence},
                {"counts", counts_json(status)},
-               {"p_unstable", p_unstable_json(status, total)}};
+               {"machines", {{"count", m}, {"population", population_text(plan)}}},
+               {"p_unstable", p_unstable_json(machine_status, m)},
+               {"p_not_stable", p_not_stable_json(machine_status)}};
   json convergence = json::array();
-  for (long prefix : prefixes(total)) convergence.push_back(p_unstable_json(status, prefix));
+  for (long prefix : prefixes(m)) convergence.push_back(p_unstable_json(machine_status, prefix));
   summary["p_unstable_convergence"] = convergence;
-  const std::vector<FigureColumn> figures = figure_columns(samples);
   json per_figure = json::object(), order = json::array();
-  for (const FigureColumn& f : figures) {
-    per_figure[f.name] = figure_summary(f, status);
+  for (const FigureColumn& f : machines.figures) {
+    per_figure[f.name] = figure_summary(f, machine_status);
     order.push_back(f.name);
   }
   summary["figures"] = per_figure;
@@ -208,12 +270,16 @@ json campaign_summary(const json& plan, const std::vector<json>& samples) {
   if (plan.value("design", std::string()) == "saltelli") {
     const std::vector<std::string> columns = column_paths(plan);
     const long n = plan.at("n").get<long>();
-    if (total != evaluation_count(DesignKind::kSaltelli, n, static_cast<int>(columns.size())))
-      throw std::invalid_argument("campaign report: a Saltelli plan of n = " + std::to_string(n) +
-                                  " and " + std::to_string(columns.size()) +
-                                  " columns has another number of evaluations");
     json sobol = json::object();
-    for (const FigureColumn& f : figures) sobol[f.name] = sobol_figure_json(f, n, columns);
+    for (const FigureColumn& f : figure_columns(samples))
+      sobol[f.name] = sobol_figure_json(f, n, columns);
+    // Which parameter drives P(unstable): the indices of the indicator 1{unstable} (judged
+    // machines; a refused or failed one drops its block like a missing figure).
+    FigureColumn unstable{"unstable", {}, Population::kJudged};
+    for (SampleStatus st : status)
+      unstable.values.push_back(judged(st) ? (st == SampleStatus::kUnstable ? 1.0 : 0.0)
+                                           : kMissing);
+    sobol["unstable"] = sobol_figure_json(unstable, n, columns);
     summary["sobol"] = sobol;
   }
   return summary;
@@ -223,6 +289,7 @@ namespace {
 
 // A number for a table: 4 significant digits; "-inf"/"+inf" for an unbounded end, "-" for none.
 std::string cell(const json& v, const char* unbounded = "-") {
+  if (v.is_string()) return v.get<std::string>();  // "+inf" / "-inf": an infinite order statistic
   if (!v.is_number()) return unbounded;
   std::ostringstream s;
   s.precision(4);
@@ -234,30 +301,64 @@ std::string quantile_cell(const json& q) {
   return cell(q["estimate"]) + " [" + cell(q["lo"], "-inf") + ", " + cell(q["hi"], "+inf") + "]";
 }
 
+// With no failure the interval's lower end is 0 by definition and its upper end is the one-sided
+// 97.5 % bound 1 - 0.025^(1/m); the one-sided 95 % bound 1 - 0.05^(1/m) is the usual claim.
+std::string zero_failures_note(long failures, long m) {
+  if (failures != 0 || m == 0) return "";
+  std::ostringstream md;
+  md << "With none unstable the interval is one-sided: its upper end is the 97.5 % upper bound; "
+     << "the one-sided 95 % upper bound is 1 - 0.05^(1/" << m
+     << ") = " << cell(json(1 - std::pow(0.05, 1.0 / static_cast<double>(m)))) << ".\n\n";
+  return md.str();
+}
+
+// Which interval is valid for how the design drew its machines (doc/campaign_statistics.md).
+std::string design_interval_note(const json& design) {
+  const std::string d = design.is_string() ? design.get<std::string>() : "";
+  if (d == "random") return "The design draws independent machines: the intervals hold as stated.";
+  if (d == "lhs")
+    return "A Latin hypercube spreads its machines more evenly than independent draws: the "
+           "intervals below, computed as for independent machines, are conservative.";
+  return "This design's points are deterministic (unscrambled Sobol points): no confidence "
+         "interval applies; the intervals below are what independent machines would give. Use "
+         "the random or lhs design for a confidence statement.";
+}
+
 std::string counts_markdown(const json& summary) {
   const json& c = summary["counts"];
   const json& p = summary["p_unstable"];
+  const json& q = summary["p_not_stable"];
   std::ostringstream md;
-  md << "## Samples\n\n| evaluations | stable | unstable | refused | error "
-        "|\n|---|---|---|---|---|\n"
+  md << "## Samples\n\n| evaluations | stable | unstable | marginal | refused | error "
+        "|\n|---|---|---|---|---|---|\n"
      << "| " << c["total"] << " | " << c["stable"] << " | " << c["unstable"] << " | "
-     << c["refused"] << " | " << c["error"] << " |\n\n"
-     << "Refused and error samples are not counted as unstable (nor as stable).\n\n"
+     << c["marginal"] << " | " << c["refused"] << " | " << c["error"] << " |\n\n"
+     << "Figures and intervals are over " << summary["machines"]["population"].get<std::string>()
+     << ": " << summary["machines"]["count"] << " machines. "
+     << design_interval_note(summary["design"]) << "\n\n"
      << "**P(unstable)** = " << cell(p["estimate"]) << ", Clopper-Pearson 95 % interval ["
      << cell(p["lo"]) << ", " << cell(p["hi"]) << "] (" << p["unstable"] << " unstable of "
-     << p["judged"] << " judged).\n\n";
+     << p["judged"] << " judged: stable, unstable or marginal).\n\n"
+     << zero_failures_note(p["unstable"].get<long>(), p["judged"].get<long>())
+     << "**P(not stable)** = " << cell(q["estimate"]) << ", Clopper-Pearson 95 % interval ["
+     << cell(q["lo"]) << ", " << cell(q["hi"]) << "] (" << q["not_stable"] << " of " << q["samples"]
+     << " machines unstable, marginal, refused or failed).\n\n";
   return md.str();
 }
 
 std::string figures_markdown(const json& summary) {
   std::ostringstream md;
-  md << "## Figures over the stable samples\n\n"
+  md << "## Figures\n\n"
      << "Each cell: the quantile's estimate [its distribution-free interval, confidence >= 95 "
-        "%]; an unbounded end means too few samples for that confidence.\n\n"
-     << "| figure | n | 5 % | 50 % | 95 % |\n|---|---|---|---|---|\n";
+        "%]; an unbounded end means too few samples for that confidence, +inf an unbounded "
+        "figure (a disk margin no gain increase reaches). Each figure is over the machines that "
+        "have it: the spectral radius, natural frequencies and open-loop RMS over every judged "
+        "machine (stable or unstable), the closed loop's figures over the stable ones.\n\n"
+     << "| figure | over | n | 5 % | 50 % | 95 % |\n|---|---|---|---|---|---|\n";
   for (const json& name : summary["figure_order"]) {
     const json& f = summary["figures"][name.get<std::string>()];
-    md << "| " << name.get<std::string>() << " | " << f["n"];
+    md << "| " << name.get<std::string>() << " [" << f["unit"].get<std::string>() << "] | "
+       << (f["population"] == "stable machines" ? "stable" : "judged") << " | " << f["n"];
     for (const json& q : f["quantiles"]) md << " | " << quantile_cell(q);
     md << " |\n";
   }
@@ -301,16 +402,32 @@ std::string sobol_markdown(const json& summary) {
   std::ostringstream md;
   md << "## Sobol indices (Saltelli design)\n\n"
      << "First order (Saltelli 2010) and total (Jansen) with 95 % bootstrap intervals; "
-        "(0) marks an interval that holds 0.\n\n"
-     << "| figure | parameter | first | total |\n|---|---|---|---|\n";
+        "(0) marks an interval that holds 0. `unstable` is the indicator of an unstable loop: "
+        "which parameter drives P(unstable). A base row is used only when all its d + 2 "
+        "evaluations have the figure; the others are dropped, which conditions the inputs on "
+        "the figure existing.\n\n"
+     << "| figure | base rows used | dropped |\n|---|---|---|\n";
+  std::vector<std::string> names{"unstable"}, warned;
+  for (const json& name : summary["figure_order"]) names.push_back(name.get<std::string>());
+  for (const std::string& name : names) {
+    const json& f = summary["sobol"][name];
+    const long used = f["base_rows"].get<long>(), dropped = f["dropped_rows"].get<long>();
+    md << "| " << name << " | " << used << " | " << dropped << " |\n";
+    if (dropped > 0.05 * static_cast<double>(used + dropped)) warned.push_back(name);
+  }
+  md << "\n";
+  for (const std::string& name : warned)
+    md << "**Warning:** " << name << " dropped more than 5 % of its base rows: its indices "
+       << "describe the machines that have it, not the whole box.\n\n";
+  md << "| figure | parameter | first | total |\n|---|---|---|---|\n";
   const auto index = [](const json& i) {
     return cell(i["estimate"]) + " [" + cell(i["lo"]) + ", " + cell(i["hi"]) + "]" +
            (i["holds_zero"].get<bool>() ? " (0)" : "");
   };
-  for (const json& name : summary["figure_order"])
-    for (const json& p : summary["sobol"][name.get<std::string>()]["parameters"])
-      md << "| " << name.get<std::string>() << " | " << p["path"].get<std::string>() << " | "
-         << index(p["first"]) << " | " << index(p["total"]) << " |\n";
+  for (const std::string& name : names)
+    for (const json& p : summary["sobol"][name]["parameters"])
+      md << "| " << name << " | " << p["path"].get<std::string>() << " | " << index(p["first"])
+         << " | " << index(p["total"]) << " |\n";
   return md.str() + "\n";
 }
 

@@ -20,6 +20,9 @@ double clamp_tails(double u) {
 double truncated_normal_quantile(const Distribution& d, double u) {
   const boost::math::normal_distribution<double> standard(0.0, 1.0);
   const double a = (d.low - d.mean) / d.sd, b = (d.high - d.mean) / d.sd;
+  // An unbounded side is cut at its 1e-9 quantile, as the normal's (u = 0 would map to -inf).
+  if (!std::isfinite(a)) u = std::max(u, kTailProbability);
+  if (!std::isfinite(b)) u = std::min(u, 1 - kTailProbability);
   double z;
   if (a > 0) {
     const double qa = std::isfinite(a) ? cdf(complement(standard, a)) : 1.0;
@@ -29,8 +32,7 @@ double truncated_normal_quantile(const Distribution& d, double u) {
     const double pa = std::isfinite(a) ? cdf(standard, a) : 0.0;
     const double pb = std::isfinite(b) ? cdf(standard, b) : 1.0;
     const double p = pa + u * (pb - pa);
-    // p = 0 only when u = 0 at an infinite lower bound (not allowed: a truncated normal has one).
-    z = p <= 0 ? -std::numeric_limits<double>::infinity() : quantile(standard, std::min(p, 1.0));
+    z = quantile(standard, std::clamp(p, std::numeric_limits<double>::min(), 1.0));
   }
   return std::clamp(d.mean + d.sd * z, d.low, d.high);
 }

@@ -44,18 +44,21 @@ json per_channel(const std::vector<std::string>& channels, const Eigen::VectorXd
   return j;
 }
 
-// The balanced disk's gain margin in dB, 20 log10 of its upper factor (2 + a)/(2 - a): null when
-// the disk reaches a >= 2, where no gain increase destabilises the loop.
+// The balanced disk's gain margin in dB, 20 log10 of its upper factor (2 + a)/(2 - a): "+inf"
+// when the disk reaches a >= 2, where no gain increase destabilises the loop (the best machines:
+// an order statistic, not a missing value).
 json margin_db(const controller::design::DiskMargin& m) {
-  return std::isfinite(m.gain_high) ? json(20 * std::log10(m.gain_high)) : json(nullptr);
+  return std::isfinite(m.gain_high) ? json(20 * std::log10(m.gain_high)) : json("+inf");
 }
 
-// The stationary RMS, or null when the loop has no stationary state (a driven mode on the unit
-// circle): a stable loop can still lack one.
-json rms_or_null(const scene::ScenePlant& p, const scene::SampledScene& sampled, bool closed) {
+// The stationary RMS, or null when the loop has no stationary state (its modes on the unit
+// circle not resolved): a stable loop can still lack one. `why` gets the reason.
+json rms_or_null(const scene::ScenePlant& p, const scene::SampledScene& sampled, bool closed,
+                 std::string* why = nullptr) {
   try {
     return per_channel(p.scene.performance, pipeline::stationary_rms(p, sampled, closed));
-  } catch (const std::invalid_argument&) {
+  } catch (const std::invalid_argument& e) {
+    if (why) *why = e.what();
     return nullptr;
   }
 }
@@ -101,8 +104,12 @@ scene::SampledScene put_loop_figures(const scene::ScenePlant& p, const std::vect
     j["status"] = "unstable";
     return sampled;
   }
-  j["status"] = "stable";
-  j["rms"] = rms_or_null(p, sampled, true);
+  std::string why;
+  j["rms"] = rms_or_null(p, sampled, true, &why);
+  // Judged stable without a stationary state: its own status, not a stable machine without RMS.
+  j["status"] = j["rms"].is_null()
+                    ? "marginal: the closed loop has no stationary state (" + why + ")"
+                    : std::string("stable");
   put_disk_margins(p, j);
   put_sigma(p, sampled, grid_hz, j);
   return sampled;

@@ -4,7 +4,9 @@
 // rate and method, closed with the campaign's controller and judged as the loop runs, with the
 // same figure functions `flexloop analyse` prints (offline/pipeline/loop_figures.hpp):
 //   status                  "stable" | "unstable" (analyse's verdict: the continuous loop, where
-//                           there is one, and the sampled loop as it runs) | "refused: <why>" (a
+//                           there is one, and the sampled loop as it runs) | "marginal: <why>"
+//                           (judged stable, but its closed loop has no stationary state: no
+//                           RMS, though margins and sigma are computed) | "refused: <why>" (a
 //                           statically unstable machine: buckling under preload; a refused
 //                           discretisation) | "error: <what>" (anything unexpected)
 //   spectral_radius         of the sampled loop (scene::sampled_loop)
@@ -13,7 +15,7 @@
 //                           the discrete Lyapunov equation with every noise source of the scene
 //                           (floor filter, sensor noise, the ADC's rounding as LSB²/12)
 //   disk_margin_db/_deg     loop at a time, the worst loop: 20 log10 of the balanced disk's upper
-//                           gain factor (null when unbounded: a disk of size >= 2) and its phase
+//                           gain factor ("+inf" when unbounded: a disk of size >= 2) and its phase
 //   disk_margin_all_db/_deg every loop at once
 //   sigma_max, peak_sigma   the closed loop floor -> performance's largest singular value on the
 //                           settings' grid (analyse's closed loop: continuous where the loop has a

@@ -88,8 +88,10 @@ RankInterval quantile_ranks(long n, double p, double confidence) {
 }
 
 QuantileInterval quantile_interval(std::vector<double> xs, double p, double confidence) {
+  // An infinity is an order statistic like any other (an unbounded margin: the best machine);
+  // NaN has no rank.
   for (double x : xs)
-    if (!std::isfinite(x)) throw std::invalid_argument("quantile_interval: a value is not finite");
+    if (std::isnan(x)) throw std::invalid_argument("quantile_interval: a value is NaN");
   const auto n = static_cast<long>(xs.size());
   const RankInterval ranks = quantile_ranks(n, p, confidence);
   std::sort(xs.begin(), xs.end());

@@ -21,7 +21,8 @@ struct QuantileInterval {
   double p, estimate, lo, hi, confidence;
   long lo_rank, hi_rank;  ///< l and u (1-based ranks; 0 and n + 1 are the infinite ends)
 };
-/// xs: finite values (std::invalid_argument otherwise), any order; 0 < p < 1; 0 < confidence < 1.
+/// xs: any order, +-inf allowed (an order statistic like any other), NaN refused
+/// (std::invalid_argument); 0 < p < 1; 0 < confidence < 1.
 /// An empty sample: estimate NaN, lo = -inf, hi = +inf, confidence 1.
 QuantileInterval quantile_interval(std::vector<double> xs, double p, double confidence = 0.95);
 

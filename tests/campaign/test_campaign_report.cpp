@@ -91,8 +91,12 @@ TEST_CASE("the summary of a synthetic campaign holds the numbers computed by han
   for (long i = 0; i < 100; ++i) samples.push_back(synthetic_sample(i));
   const json summary = campaign_summary(synthetic_plan("random", 100, 100), samples);
 
-  CHECK(summary["counts"] ==
-        json{{"total", 100}, {"stable", 85}, {"unstable", 10}, {"refused", 4}, {"error", 1}});
+  CHECK(summary["counts"] == json{{"total", 100},
+                                  {"stable", 85},
+                                  {"unstable", 10},
+                                  {"marginal", 0},
+                                  {"refused", 4},
+                                  {"error", 1}});
   // P(unstable) over stable + unstable only (refused and error never count), Clopper-Pearson
   // by SciPy's beta quantiles.
   const json scipy = test::outside_reference(
@@ -112,41 +116,62 @@ TEST_CASE("the summary of a synthetic campaign holds the numbers computed by han
   CHECK(conv[4]["judged"] == 15);
   CHECK(conv[4]["hi"].get<double>() == Approx(scipy[1]["hi"].get<double>()).epsilon(1e-10));
   CHECK(conv.back()["n"] == 100);
+  // P(not stable): unstable, refused and failed machines over all of them, 15 of 100.
+  const json scipy_all =
+      test::outside_reference({{"task", "clopper_pearson"}, {"cases", {{15, 100, 0.95}}}});
+  const json& q = summary["p_not_stable"];
+  CHECK(q["not_stable"] == 15);
+  CHECK(q["samples"] == 100);
+  CHECK(q["method"] == "clopper-pearson");
+  CHECK(q["lo"].get<double>() == Approx(scipy_all[0]["lo"].get<double>()).epsilon(1e-10));
+  CHECK(q["hi"].get<double>() == Approx(scipy_all[0]["hi"].get<double>()).epsilon(1e-10));
+  CHECK(summary["machines"]["count"] == 100);
 
-  // The first natural frequency of the stable samples is i + 1: its quantiles are order
-  // statistics of those values, at the ranks SciPy's binomial gives for n = 85.
+  // The first natural frequency of the judged machines (stable and unstable: the passive
+  // machine's, which every judged machine has) is i + 1: its quantiles are order statistics of
+  // those values, at the ranks SciPy's binomial gives for n = 95.
   std::vector<double> stable;
   for (long i = 0; i < 100; ++i)
-    if (samples[static_cast<std::size_t>(i)]["status"] == "stable") stable.push_back(i + 1.0);
-  REQUIRE(stable.size() == 85);
+    if (samples[static_cast<std::size_t>(i)]["status"] == "stable" ||
+        samples[static_cast<std::size_t>(i)]["status"] == "unstable")
+      stable.push_back(i + 1.0);
+  REQUIRE(stable.size() == 95);
   const json ranks =
       test::outside_reference({{"task", "quantile_ranks"},
-                               {"cases", {{85, 0.05, 0.95}, {85, 0.5, 0.95}, {85, 0.95, 0.95}}}});
+                               {"cases", {{95, 0.05, 0.95}, {95, 0.5, 0.95}, {95, 0.95, 0.95}}}});
   const json& f1 = summary["figures"]["natural_frequency_1_hz"];
-  CHECK(f1["n"] == 85);
+  CHECK(f1["n"] == 95);
+  CHECK(f1["unit"] == "Hz");
+  CHECK(f1["population"] == "judged machines (stable, unstable, marginal)");
   CHECK(f1["min"] == 1.0);
   CHECK(f1["max"] == 100.0);
   for (std::size_t k = 0; k < 3; ++k) {
     const json& q = f1["quantiles"][k];
     const double prob = q["p"].get<double>();
-    const auto rank = static_cast<std::size_t>(std::ceil(85 * prob));
+    const auto rank = static_cast<std::size_t>(std::ceil(95 * prob));
     CHECK(q["estimate"].get<double>() == stable[rank - 1]);
     const long l = ranks[k]["lo_rank"], u = ranks[k]["hi_rank"];
     if (l >= 1)
       CHECK(q["lo"].get<double>() == stable[static_cast<std::size_t>(l - 1)]);
     else
       CHECK(q["lo"].is_null());
-    if (u <= 85)
+    if (u <= 95)
       CHECK(q["hi"].get<double>() == stable[static_cast<std::size_t>(u - 1)]);
     else
       CHECK(q["hi"].is_null());
   }
-  // Every figure is there, the unstable samples' spectral radius (1.2) is not among the stable.
-  for (const char* name :
-       {"spectral_radius", "natural_frequency_2_hz", "rms.x", "rms_open.x", "disk_margin_db",
-        "disk_margin_deg", "disk_margin_all_db", "disk_margin_all_deg", "peak_sigma"})
+  // Every figure is there, each over its population: the spectral radius and the natural
+  // frequencies over the judged machines (the unstable ones' radius 1.2 included, not cut at 1),
+  // the closed loop's figures over the stable ones (the synthetic unstable samples carry no
+  // open-loop RMS).
+  for (const char* name : {"spectral_radius", "natural_frequency_2_hz"})
+    CHECK(summary["figures"][name]["n"] == 95);
+  for (const char* name : {"rms.x", "rms_open.x", "disk_margin_db", "disk_margin_deg",
+                           "disk_margin_all_db", "disk_margin_all_deg", "peak_sigma"})
     CHECK(summary["figures"][name]["n"] == 85);
-  CHECK(summary["figures"]["spectral_radius"]["max"].get<double>() < 1.0);
+  CHECK(summary["figures"]["spectral_radius"]["max"].get<double>() == 1.2);
+  CHECK(summary["figures"]["rms.x"]["population"] == "stable machines");
+  CHECK(summary["figures"]["disk_margin_db"]["unit"] == "dB");
   CHECK(summary["figure_order"] == json{"spectral_radius", "natural_frequency_1_hz",
                                         "natural_frequency_2_hz", "rms.x", "rms_open.x",
                                         "disk_margin_db", "disk_margin_deg", "disk_margin_all_db",
@@ -192,6 +217,128 @@ TEST_CASE("a Saltelli campaign's summary has the Sobol indices of each figure",
   }
 }
 
+TEST_CASE("a Saltelli campaign's P(unstable) and quantiles count its independent machines only",
+          "[campaign][report]") {
+  // Issue 54: n = 8 blocks of d + 2 = 4 evaluations (A, B, A_B^1, A_B^2). Block 0 is unstable
+  // throughout (its A_B^i rows are its A machine with one parameter changed), block 1's B row is
+  // refused. Independent machines: the 16 A and B rows; 2 unstable of 15 judged, 3 of 16 not
+  // stable. Pooling all 32 evaluations said 4 of 31.
+  const long n = 8;
+  const int d = 2;
+  const long evaluations = evaluation_count(DesignKind::kSaltelli, n, d);
+  std::vector<json> samples;
+  std::vector<double> stable_machines;
+  for (long i = 0; i < evaluations; ++i) {
+    const long block = i / (d + 2), row = i % (d + 2);
+    const bool refused = block == 1 && row == 1, unstable = block == 0;
+    json s{{"index", i},
+           {"status", refused    ? "refused: synthetic"
+                      : unstable ? "unstable"
+                                 : "stable"},
+           {"parameters", {{"element.k.stiffness", 1.0}, {"node.m.mass", 1.0}}},
+           {"peak_sigma", refused || unstable ? json(nullptr) : json(static_cast<double>(i))}};
+    if (!refused && !unstable && row < 2) stable_machines.push_back(static_cast<double>(i));
+    samples.push_back(s);
+  }
+  const json summary = campaign_summary(synthetic_plan("saltelli", n, evaluations), samples);
+  CHECK(summary["counts"]["total"] == evaluations);
+  CHECK(summary["machines"]["count"] == 16);
+  const json& p = summary["p_unstable"];
+  CHECK(p["unstable"] == 2);
+  CHECK(p["judged"] == 15);
+  CHECK(p["samples"] == 16);
+  CHECK(p["method"] == "clopper-pearson");
+  const json scipy = test::outside_reference(
+      {{"task", "clopper_pearson"}, {"cases", {{2, 15, 0.95}, {3, 16, 0.95}}}});
+  CHECK(p["hi"].get<double>() == Approx(scipy[0]["hi"].get<double>()).epsilon(1e-10));
+  const json& q = summary["p_not_stable"];
+  CHECK(q["not_stable"] == 3);
+  CHECK(q["samples"] == 16);
+  CHECK(q["hi"].get<double>() == Approx(scipy[1]["hi"].get<double>()).epsilon(1e-10));
+  CHECK(summary["p_unstable_convergence"].back()["n"] == 16);
+  // A figure's quantiles: over the 13 stable A and B rows, not the A_B^i rows beside them.
+  const json& f = summary["figures"]["peak_sigma"];
+  CHECK(f["n"] == 13);
+  CHECK(f["max"].get<double>() == stable_machines.back());
+  // The Sobol indices still use every block whose evaluations all have the figure.
+  CHECK(summary["sobol"]["peak_sigma"]["base_rows"] == n - 2);
+}
+
+TEST_CASE("each figure over its population: +inf margins kept, marginal loops their own status",
+          "[campaign][report]") {
+  // Issue 54, part 1.4. Ten machines: 0..5 stable (disk margin i dB, machine 5's unbounded:
+  // "+inf"), 6 and 7 unstable (radius 1.2, 1.3), 8 marginal (no stationary state), 9 refused.
+  std::vector<json> samples;
+  for (long i = 0; i < 10; ++i) {
+    json s{{"index", i}, {"parameters", {{"element.k.stiffness", 1.0}, {"node.m.mass", 1.0}}}};
+    const double x = static_cast<double>(i);
+    if (i == 9) {
+      s["status"] = "refused: buckling under preload";
+    } else {
+      s["status"] = i <= 5 ? "stable" : i <= 7 ? "unstable" : "marginal: no stationary state";
+      s["spectral_radius"] = i <= 5 ? 0.5 + 0.01 * x : i == 6 ? 1.2 : i == 7 ? 1.3 : 1.0;
+      s["natural_frequencies_hz"] = {x + 1.0};
+      s["rms_open"] = {{"acc:y.1", 2 * x}};
+    }
+    if (i <= 5) {
+      s["rms"] = {{"acc:y.1", x}};
+      s["disk_margin_db"] = i == 5 ? json("+inf") : json(x);
+    }
+    if (i == 8) s["disk_margin_db"] = 3.0;
+    samples.push_back(s);
+  }
+  const json summary = campaign_summary(synthetic_plan("random", 10, 10), samples);
+  CHECK(summary["counts"]["marginal"] == 1);
+  CHECK(summary["p_unstable"]["unstable"] == 2);
+  CHECK(summary["p_unstable"]["judged"] == 9);  // the marginal machine is judged, not unstable
+  CHECK(summary["p_not_stable"]["not_stable"] == 4);
+  const json& f = summary["figures"];
+  CHECK(f["spectral_radius"]["n"] == 9);
+  CHECK(f["spectral_radius"]["max"] == 1.3);
+  CHECK(f["natural_frequency_1_hz"]["n"] == 9);
+  CHECK(f["rms_open.acc:y.1"]["n"] == 9);
+  CHECK(f["rms_open.acc:y.1"]["unit"] == "m/s^2");
+  CHECK(f["rms.acc:y.1"]["n"] == 6);
+  // The unbounded margin is the best machine, kept in the order statistics: the maximum and
+  // the 95 % quantile's estimate (rank ceil(6 * 0.95) = 6 of 6) are +inf; the marginal
+  // machine's 3 dB is not among the stable ones.
+  CHECK(f["disk_margin_db"]["n"] == 6);
+  CHECK(f["disk_margin_db"]["max"] == "+inf");
+  CHECK(f["disk_margin_db"]["min"] == 0.0);
+  CHECK(f["disk_margin_db"]["quantiles"][2]["estimate"] == "+inf");
+  CHECK(f["disk_margin_db"]["quantiles"][1]["estimate"] == 2.0);  // rank ceil(6 * 0.5) = 3
+  // The report: the marginal column, P(not stable), +inf in the table, and no unstable
+  // machine in the ECDF of a closed-loop figure.
+  const ReportDir report("flexloop_campaign_populations");
+  write_campaign_report(synthetic_plan("random", 10, 10), samples, report.path.string());
+  std::ifstream md_in(report.path / "report.md");
+  const std::string md((std::istreambuf_iterator<char>(md_in)), std::istreambuf_iterator<char>());
+  CHECK(md.find("| 10 | 6 | 2 | 1 | 1 | 0 |") != std::string::npos);
+  CHECK(md.find("4 of 10 machines unstable, marginal, refused or failed") != std::string::npos);
+  CHECK(md.find("| disk_margin_db [dB] | stable | 6 |") != std::string::npos);
+  CHECK(md.find("+inf [") != std::string::npos);
+  CHECK(is_png(report.path / "ecdf_disk_margin_db.png"));
+}
+
+TEST_CASE("with no unstable machine the report says the interval is one-sided",
+          "[campaign][report]") {
+  std::vector<json> samples;
+  for (long i = 0; i < 100; ++i) {
+    json s = synthetic_sample(i);
+    if (s["status"] == "unstable") s["status"] = "stable";
+    samples.push_back(s);
+  }
+  const json summary = campaign_summary(synthetic_plan("random", 100, 100), samples);
+  CHECK(summary["p_unstable"]["lo"] == 0.0);
+  const ReportDir report("flexloop_campaign_zero_failures");
+  write_campaign_report(synthetic_plan("random", 100, 100), samples, report.path.string());
+  std::ifstream md_in(report.path / "report.md");
+  const std::string md((std::istreambuf_iterator<char>(md_in)), std::istreambuf_iterator<char>());
+  // 95 judged, none unstable: the one-sided 95 % bound 1 - 0.05^(1/95) = 0.03104.
+  CHECK(md.find("interval is one-sided") != std::string::npos);
+  CHECK(md.find("1 - 0.05^(1/95) = 0.03104") != std::string::npos);
+}
+
 TEST_CASE("the report writes summary.json, report.md and valid PNG pictures",
           "[campaign][report]") {
   std::vector<json> samples;
@@ -204,8 +351,11 @@ TEST_CASE("the report writes summary.json, report.md and valid PNG pictures",
   CHECK(summary["counts"]["stable"] == 85);
   std::ifstream md_in(dir / "report.md");
   const std::string md((std::istreambuf_iterator<char>(md_in)), std::istreambuf_iterator<char>());
-  CHECK(md.find("| natural_frequency_1_hz | 85 |") != std::string::npos);
+  CHECK(md.find("| natural_frequency_1_hz [Hz] | judged | 95 |") != std::string::npos);
+  CHECK(md.find("| rms.x [N] | stable | 85 |") != std::string::npos);
   CHECK(md.find("10 unstable of 95 judged") != std::string::npos);
+  CHECK(md.find("**P(not stable)** = 0.15") != std::string::npos);
+  CHECK(md.find("independent machines: the intervals hold as stated") != std::string::npos);
   for (const char* png :
        {"p_unstable.png", "ecdf_natural_frequency_1_hz.png", "ecdf_rms.x.png",
         "ecdf_rms_open.x.png", "histogram_natural_frequency_1_hz.png", "sigma_envelope.png",

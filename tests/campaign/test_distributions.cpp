@@ -96,6 +96,13 @@ TEST_CASE("truncated normal inverse CDFs equal scipy's truncnorm, in either tail
     CHECK(inverse_cdf(both, u) >= 0.7);
     CHECK(inverse_cdf(both, u) <= 1.3);
   }
+  // Bounded above only (issue 54): u = 0 is cut at the 1e-9 quantile as the normal's, not -inf;
+  // u = 1 is the bound.
+  Distribution above;
+  above.kind = DistributionKind::kTruncatedNormal, above.mean = 1, above.sd = 0.1, above.high = 1.1;
+  require_matches(above, "truncnorm(a=-np.inf, b=1, loc=1, scale=0.1)", true, 1e-10);
+  CHECK(std::isfinite(inverse_cdf(above, 0.0)));
+  CHECK(inverse_cdf(above, 1.0) == Approx(1.1).epsilon(1e-12));
 }
 
 TEST_CASE("the unbounded tails are cut at the 1e-9 quantiles, the bounds the planning judges",
