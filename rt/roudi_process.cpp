@@ -5,7 +5,6 @@
 #include <sys/mman.h>
 #include <sys/prctl.h>
 #include <sys/stat.h>
-#include <sys/sysmacros.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -18,6 +17,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "common/file_lock.hpp"
 #include "rt/monotonic_time.hpp"
 #include "rt/reap_child.hpp"
 
@@ -122,20 +122,7 @@ std::string roudi_config_toml(const std::vector<RoudiMempool>& mempools) {
 }
 
 std::optional<pid_t> running_roudi_pid() {
-  struct stat st {};
-  if (stat(kRoudiLockFile, &st) != 0) return std::nullopt;
-  char id[64];  // as /proc/locks writes it: major:minor:inode, major and minor in hex
-  std::snprintf(id, sizeof id, "%02x:%02x:%llu", major(st.st_dev), minor(st.st_dev),
-                static_cast<unsigned long long>(st.st_ino));
-  std::ifstream locks("/proc/locks");
-  std::string line;
-  while (std::getline(locks, line)) {
-    std::istringstream fields(line);
-    std::string index, kind, mode, access, pid, file;
-    if (fields >> index >> kind >> mode >> access >> pid >> file && kind == "FLOCK" && file == id)
-      return static_cast<pid_t>(std::stol(pid));
-  }
-  return std::nullopt;
+  return common::flock_holder(kRoudiLockFile);
 }
 
 RoudiProcess::RoudiProcess(const RoudiOptions& options) : stop_grace_ns_(options.stop_grace_ns) {

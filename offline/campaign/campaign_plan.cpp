@@ -21,11 +21,6 @@ std::string absolute_path(const std::string& path) {
   return std::filesystem::absolute(path).lexically_normal().string();
 }
 
-// The nominal loop artefact as `flexloop build` makes it, by its JSON's SHA-256.
-std::string nominal_artefact_sha256(const std::string& scene_path) {
-  return common::text_sha256(artefact::to_json(scene::load_loop(scene_path)).dump());
-}
-
 std::vector<double> sigma_grid_hz(const PlanRequest& r, const Machine& nominal) {
   if (!(r.f_min_hz > 0 && r.f_max_hz > r.f_min_hz && r.grid_points >= 2))
     throw common::InputError("--fmin/--fmax/--points",
@@ -95,6 +90,11 @@ nlohmann::json make_plan(const PlanRequest& r) {
   plan["uncertain"] = absolute_path(r.uncertain);
   plan["uncertain_sha256"] = common::file_sha256(r.uncertain);
   plan["nominal_artefact_sha256"] = nominal_artefact_sha256(scene_path);
+  // Every other file the scene reads: the state-space controller (or an FMU) by its hash too.
+  if (const std::string& file = docs.nominal_machine().scene.controller.file; !file.empty()) {
+    plan["controller_file"] = absolute_path(file);
+    plan["controller_file_sha256"] = common::file_sha256(file);
+  }
   plan["controller"] = controller;
   plan["design"] = design_name(design);
   plan["seed"] = r.seed;

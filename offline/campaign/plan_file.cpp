@@ -1,5 +1,7 @@
 #include "offline/campaign/plan_file.hpp"
 
+#include "artefact/loop_artefact.hpp"
+#include "common/build_info.hpp"
 #include "common/input_error.hpp"
 #include "common/sha256.hpp"
 #include "common/toml_reader.hpp"
@@ -39,16 +41,48 @@ nlohmann::json read_plan(const std::string& path) {
   return plan;
 }
 
+std::string nominal_artefact_sha256(const std::string& scene_path) {
+  return common::text_sha256(artefact::to_json(scene::load_loop(scene_path)).dump());
+}
+
+namespace {
+
+void require_unchanged(const std::string& plan_path, const std::string& what,
+                       const std::string& planned, const std::string& now) {
+  if (planned != now)
+    throw common::InputError(plan_path, what + " changed since the plan was made (SHA-256 " +
+                                            planned.substr(0, 16) + " in the plan, " +
+                                            now.substr(0, 16) +
+                                            " now): its samples would not be the plan's; make "
+                                            "a new plan");
+}
+
+}  // namespace
+
 void require_plan_inputs_unchanged(const nlohmann::json& plan, const std::string& plan_path) {
-  for (const auto& [file, hash] :
-       {std::pair{"scene", "scene_sha256"}, std::pair{"model", "model_sha256"},
-        std::pair{"uncertain", "uncertain_sha256"}}) {
-    const std::string path = plan.at(file).get<std::string>();
-    if (common::file_sha256(path) != plan.at(hash).get<std::string>())
-      throw common::InputError(plan_path, std::string("the ") + file + " file " + path +
-                                              " changed since the plan was made: its samples "
-                                              "would not be the plan's; make a new plan");
+  struct Input {
+    const char *key, *hash, *name;
+  };
+  for (const Input& in :
+       {Input{"scene", "scene_sha256", "scene"}, Input{"model", "model_sha256", "model"},
+        Input{"uncertain", "uncertain_sha256", "uncertain"},
+        Input{"controller_file", "controller_file_sha256", "controller"}}) {
+    if (!plan.contains(in.key)) continue;  // a scene without a controller file
+    const std::string path = plan.at(in.key).get<std::string>();
+    require_unchanged(plan_path, std::string("the ") + in.name + " file " + path,
+                      plan.at(in.hash).get<std::string>(), common::file_sha256(path));
   }
+  if (plan.contains("nominal_artefact_sha256"))
+    require_unchanged(plan_path,
+                      "the nominal loop artefact (what this flexloop builds from the scene; "
+                      "another flexloop build makes another)",
+                      plan.at("nominal_artefact_sha256").get<std::string>(),
+                      nominal_artefact_sha256(plan.at("scene").get<std::string>()));
+}
+
+nlohmann::json line_build() {
+  static const std::string build = common::file_sha256("/proc/self/exe").substr(0, 16);
+  return {{"version", common::build_info::kVersion}, {"build", build}};
 }
 
 }  // namespace flexloop::campaign

@@ -22,8 +22,18 @@ nlohmann::json with_plan_id(nlohmann::json plan);
 /// format and version, or its plan_id is not that of its content (an edited plan).
 nlohmann::json read_plan(const std::string& path);
 
-/// @throws flexloop::InputError when the scene, its model or the uncertain parameters file
-/// changed since the plan was made (their SHA-256 differ): a sample would not be the plan's.
+/// The nominal loop artefact as `flexloop build` makes it from the scene, by its JSON's SHA-256:
+/// it changes with any file the scene reads and with the build that makes it.
+std::string nominal_artefact_sha256(const std::string& scene_path);
+
+/// @throws flexloop::InputError when the scene, its model, the uncertain parameters file or the
+/// controller file changed since the plan was made (their SHA-256 differ), or the nominal loop
+/// artefact this build makes is not the plan's (another flexloop, or a change the hashes of the
+/// files do not see): a sample would not be the plan's. Both hashes are named.
 void require_plan_inputs_unchanged(const nlohmann::json& plan, const std::string& plan_path);
+
+/// What every shard line says of the program that computed it: {"version", "build"}, the build
+/// being the SHA-256 of the running executable (16 hex digits): two builds of one commit differ.
+nlohmann::json line_build();
 
 }  // namespace flexloop::campaign

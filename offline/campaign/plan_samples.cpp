@@ -3,6 +3,7 @@
 #include "common/input_error.hpp"
 #include "offline/campaign/campaign_plan.hpp"
 #include "offline/campaign/designs.hpp"
+#include "offline/campaign/plan_file.hpp"
 
 namespace flexloop::campaign {
 
@@ -44,11 +45,24 @@ nlohmann::json PlanSamples::line(long index) const {
     figures = figures_not_computed(std::string("error: ") + e.what());
   }
   if (simulate_s > 0) put_simulation_not_run(figures, simulate_s);
+  return with_identity(std::move(figures), index, values);
+}
+
+nlohmann::json PlanSamples::failed_line(long index, const std::string& status) const {
+  nlohmann::json figures = figures_not_computed(status);
+  if (const double simulate_s = plan_simulate_s(plan_); simulate_s > 0)
+    put_simulation_not_run(figures, simulate_s);
+  return with_identity(std::move(figures), index, values(index));
+}
+
+nlohmann::json PlanSamples::with_identity(nlohmann::json figures, long index,
+                                          const ParameterValues& values) const {
   nlohmann::json parameters = nlohmann::json::object();
   for (const auto& [path, value] : values) parameters[path] = value;
   figures["plan_id"] = plan_.at("plan_id");
   figures["index"] = index;
   figures["parameters"] = parameters;
+  figures["flexloop"] = line_build();  // report refuses shards of mixed builds
   return figures;
 }
 

@@ -26,9 +26,15 @@ class PlanSamples {
   /// Its JSONL object: plan_id, index, parameters and the figures. A machine the readers refuse
   /// (a drawn value outside what a file may hold) is status "refused: ..." with null figures.
   nlohmann::json line(long index) const;
+  /// The JSONL object of an evaluation that was not computed (its run crashed on it): its
+  /// parameters, `status` and null figures.
+  nlohmann::json failed_line(long index, const std::string& status) const;
   const MachineDocuments& documents() const { return docs_; }
 
  private:
+  // The figures with the sample's plan_id, index and parameters.
+  nlohmann::json with_identity(nlohmann::json figures, long index,
+                               const ParameterValues& values) const;
   nlohmann::json plan_;
   MachineDocuments docs_;
   std::vector<PlannedColumn> columns_;

@@ -60,9 +60,32 @@ std::string index_ranges(const std::vector<long>& sorted, std::size_t at_most) {
   return out;
 }
 
+namespace {
+
+// One build computed every line (each says which: "flexloop" {version, build}); lines of two
+// builds may differ in their last bits, so a campaign's are not pooled.
+void require_one_build(const std::map<long, ShardLine>& lines) {
+  const ShardLine* first = nullptr;
+  for (const auto& [index, line] : lines) {
+    const nlohmann::json build = line.json.value("flexloop", nlohmann::json());
+    if (!first) {
+      first = &line;
+    } else if (build != first->json.value("flexloop", nlohmann::json())) {
+      throw common::InputError(
+          line.place, "computed by flexloop " + build.dump() + ", but " + first->place + " by " +
+                          first->json.value("flexloop", nlohmann::json()).dump() +
+                          ": a campaign's samples come from one build; run its shards again "
+                          "with one flexloop");
+    }
+  }
+}
+
+}  // namespace
+
 MergedSamples merge_shards(const nlohmann::json& plan, const std::vector<std::string>& files) {
   std::map<long, ShardLine> lines;
   for (const auto& f : files) read_shard(f, plan, lines);
+  require_one_build(lines);
   const long evaluations = plan.at("evaluations").get<long>();
   std::vector<long> missing;
   for (long i = 0; i < evaluations; ++i)

@@ -91,8 +91,12 @@ void run_shard_command(const RunArgs& a) {
   const Shard shard = parse_shard(a.shard);
   const long evaluations = plan.at("evaluations").get<long>();
   common::require_writable(a.output);
+  // One writer per shard file, from before it is read to the end of the run.
+  const auto lock = lock_shard(a.output);
   // Refuse a file of another plan before the evaluator is built (seconds for a large machine).
-  completed_indices(a.output, plan.at("plan_id").get<std::string>(), shard, evaluations);
+  std::string repaired;
+  completed_indices(a.output, plan.at("plan_id").get<std::string>(), shard, evaluations, &repaired);
+  if (!repaired.empty()) std::fprintf(stderr, "note: %s\n", repaired.c_str());
   const PlanSamples samples(plan);
   const auto start = std::chrono::steady_clock::now();
   auto last = start - std::chrono::hours(1);
@@ -101,6 +105,7 @@ void run_shard_command(const RunArgs& a) {
   const ShardRunResult r = run_shard(
       a.output, plan.at("plan_id").get<std::string>(), shard, evaluations,
       [&](long index) { return samples.line(index); },
+      [&](long index, const std::string& status) { return samples.failed_line(index, status); },
       [&](long done, long total) {
         if (before < 0) before = done;
         const auto now = std::chrono::steady_clock::now();
@@ -113,8 +118,13 @@ void run_shard_command(const RunArgs& a) {
                      tty && done < total ? "" : "\n");
       });
   if (!a.quiet)
-    std::printf("shard %s: %ld samples there already, %ld computed\nwrote %s\n", a.shard.c_str(),
-                r.already, r.computed, a.output.c_str());
+    std::printf("shard %s: %ld samples there already, %ld computed%s\nwrote %s\n", a.shard.c_str(),
+                r.already, r.computed,
+                r.crashed > 0 ? (", " + std::to_string(r.crashed) +
+                                 " written as crashed (two runs died computing it)")
+                                    .c_str()
+                              : "",
+                a.output.c_str());
 }
 
 std::vector<std::string> submit(const SubmitArgs& a, const nlohmann::json& plan) {
