@@ -207,4 +207,13 @@ out=$("$flexloop" sim "$tmp/arm4/scene.toml" --duration 0.2 2>&1) || fail "sim o
 [[ "$out" == *"22 states"* && "$out" == *"real time"* ]] || fail "sim of a generated arm: $out"
 out=$("$root/tools/models/make_flexible_arm.py" --help) && [[ "$out" == *"Example"* ]] ||
   fail "make_flexible_arm.py --help has no example"
-echo "cli contract: 26 checks passed"
+# One BLAS thread per process whatever OPENBLAS_NUM_THREADS says (issue 54: spinning OpenBLAS
+# threads halved a campaign's rate); FLEXLOOP_BLAS_THREADS asks for more.
+if "$flexloop" version | grep -q "^blas     OpenBLAS"; then
+  out=$(OPENBLAS_NUM_THREADS=2 "$flexloop" version)
+  [[ "$out" == *", 1 thread"* ]] || fail "OPENBLAS_NUM_THREADS=2 gave more than one BLAS thread: $out"
+  out=$(FLEXLOOP_BLAS_THREADS=2 "$flexloop" version)
+  [[ "$out" == *", 2 threads"* ]] || fail "FLEXLOOP_BLAS_THREADS=2 not honoured: $out"
+fi
+
+echo "cli contract: 27 checks passed"

@@ -1,4 +1,5 @@
 // `flexloop version`: what was built, from which commit, with which compiler and libraries.
+#include <dlfcn.h>
 #include <lcm/lcm.h>
 #include <Eigen/Core>
 #include <cstdio>
@@ -7,6 +8,24 @@
 #include "tools/flexloop/subcommands.hpp"
 
 namespace flexloop::cli {
+
+namespace {
+
+// The BLAS this process runs and its threads (tools/flexloop/blas_threads.hpp).
+void print_blas() {
+  using GetInt = int (*)();
+  using GetText = char* (*)();
+  const auto threads = reinterpret_cast<GetInt>(::dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
+  const auto core = reinterpret_cast<GetText>(::dlsym(RTLD_DEFAULT, "openblas_get_corename"));
+  if (!threads) {
+    std::printf("blas     not OpenBLAS (its own threading)\n");
+    return;
+  }
+  std::printf("blas     OpenBLAS, %s kernel, %d thread%s\n", core ? core() : "?", threads(),
+              threads() == 1 ? "" : "s");
+}
+
+}  // namespace
 
 void register_version(CLI::App& app) {
   auto* cmd =
@@ -20,6 +39,7 @@ void register_version(CLI::App& app) {
     std::printf("eigen    %d.%d.%d\n", EIGEN_WORLD_VERSION, EIGEN_MAJOR_VERSION,
                 EIGEN_MINOR_VERSION);
     std::printf("lcm      %d.%d.%d\n", LCM_MAJOR_VERSION, LCM_MINOR_VERSION, LCM_MICRO_VERSION);
+    print_blas();
   });
 }
 

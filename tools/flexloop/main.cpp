@@ -1,8 +1,10 @@
 // flexloop: finite-element multibody model -> linearised, discretised plant -> real-time loop.
+#include "tools/flexloop/blas_threads.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/loop_commands.hpp"
 
 int main(int argc, char** argv) {
+  flexloop::cli::set_blas_threads();  // one spinning BLAS thread per process (blas_threads.hpp)
   CLI::App app{
       "flexloop: linearise a flexible multibody model, discretise it, and run plant and\n"
       "controller at a hard real-time rate over LCM.\n\n"
