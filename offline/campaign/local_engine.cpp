@@ -72,6 +72,7 @@ std::vector<std::string> run_local(const LocalEngineOptions& o) {
   auto last = start;
   long at_start = 0;
   for (const auto& f : files) at_start += complete_lines(f);
+  GrowingLineCount counter;      // each tick reads only what the shards appended since the last
   std::map<pid_t, int> running;  // child -> shard
   std::vector<std::string> failures;
   int next = 0;
@@ -96,7 +97,7 @@ std::vector<std::string> run_local(const LocalEngineOptions& o) {
     if (o.quiet || now - last < std::chrono::milliseconds(tty ? 250 : 10000)) continue;
     last = now;
     long done = 0;
-    for (const auto& f : files) done += complete_lines(f);
+    for (const auto& f : files) done += counter.lines(f);
     const double s = std::chrono::duration<double>(now - start).count();
     const std::string text = progress_text(done, o.evaluations, s, at_start);
     std::fprintf(stderr, "%s%s%s", tty ? "\r\033[K" : "", text.c_str(), tty ? "" : "\n");

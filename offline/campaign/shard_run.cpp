@@ -242,4 +242,24 @@ long complete_lines(const std::string& file) {
       std::count(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>(), '\n'));
 }
 
+long GrowingLineCount::lines(const std::string& file) {
+  Seen& seen = seen_[file];
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(file, error);
+  if (error) return seen = Seen{}, 0;  // not there (yet)
+  if (size < seen.bytes) seen = Seen{};
+  std::ifstream in(file, std::ios::binary);
+  in.seekg(static_cast<std::streamoff>(seen.bytes));
+  char buffer[1 << 16];
+  while (in && seen.bytes < size) {
+    in.read(buffer, static_cast<std::streamsize>(
+                        std::min<std::uintmax_t>(sizeof buffer, size - seen.bytes)));
+    const std::streamsize got = in.gcount();
+    if (got <= 0) break;
+    seen.lines += std::count(buffer, buffer + got, '\n');
+    seen.bytes += static_cast<std::uintmax_t>(got);
+  }
+  return seen.lines;
+}
+
 }  // namespace flexloop::campaign

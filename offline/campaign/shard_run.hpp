@@ -18,7 +18,9 @@
 // may be the machine's (a lost node, a kill -9): it is computed again, and the rerun's bytes are
 // those of a run never interrupted. After a second death in the same sample the next run writes
 // it as crashed.
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -78,5 +80,21 @@ ShardRunResult run_shard(const std::string& file, const std::string& plan_id, co
 
 /// The number of complete lines ('\n'-terminated) of a file; 0 when it does not exist.
 long complete_lines(const std::string& file);
+
+/// complete_lines for files that grow while they are watched (an engine's progress, every 250
+/// ms): each call reads only the bytes appended since the last one, so that watching a shard to
+/// its end costs one pass over it, not one per tick. A file that shrank (a damaged tail cut) is
+/// counted again from its start.
+class GrowingLineCount {
+ public:
+  long lines(const std::string& file);
+
+ private:
+  struct Seen {
+    std::uintmax_t bytes = 0;
+    long lines = 0;
+  };
+  std::map<std::string, Seen> seen_;
+};
 
 }  // namespace flexloop::campaign

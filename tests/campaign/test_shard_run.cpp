@@ -31,6 +31,7 @@ using flexloop::campaign::complete_lines;
 using flexloop::campaign::completed_indices;
 using flexloop::campaign::Distribution;
 using flexloop::campaign::DistributionKind;
+using flexloop::campaign::GrowingLineCount;
 using flexloop::campaign::index_ranges;
 using flexloop::campaign::inverse_cdf;
 using flexloop::campaign::kPlanFormat;
@@ -406,4 +407,23 @@ TEST_CASE(
       shard_refusal([&] { require_plan_inputs_unchanged(plan, "plan.json"); }),
       Contains("plan.json: the controller file " + plan["controller_file"].get<std::string>() +
                " changed since the plan was made"));
+}
+
+TEST_CASE("an engine's progress reads only what a shard appended since it last looked",
+          "[campaign][shard]") {
+  // Issue 54, 2.5: the local engine read every shard whole every 250 ms.
+  TempDir dir;
+  const std::string file = (dir.path / "growing.jsonl").string();
+  GrowingLineCount count;
+  CHECK(count.lines(file) == 0);  // not there yet
+  std::string text;
+  for (long i = 0; i < kEvaluations; ++i) {
+    text += line_of("plan-a", i).dump() + "\n";
+    { std::ofstream(file, std::ios::binary) << text << "{\"torn"; }
+    CHECK(count.lines(file) == i + 1);
+    CHECK(count.lines(file) == complete_lines(file));
+  }
+  // Cut back (a damaged tail removed by the next run): counted again from the start.
+  { std::ofstream(file, std::ios::binary) << text.substr(0, text.find('\n') + 1); }
+  CHECK(count.lines(file) == 1);
 }
