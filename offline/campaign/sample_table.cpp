@@ -45,14 +45,6 @@ json number_or_infinity(double v) {
 
 namespace {
 
-double number_or_nan(const json& j) {
-  return figure_value(j);
-}
-
-}  // namespace
-
-namespace {
-
 // The value at a dotted field path of a sample ("rms", "sim.rms"), null when it has none.
 const json& field_at(const json& sample, const std::string& field) {
   static const json kNone;
@@ -78,7 +70,7 @@ std::set<std::string> channels(const std::vector<json>& samples, const std::stri
 
 FigureColumn scalar_figure(const std::vector<json>& samples, const std::string& field) {
   FigureColumn f{field, {}, Population::kStable};
-  for (const json& s : samples) f.values.push_back(number_or_nan(s.value(field, json())));
+  for (const json& s : samples) f.values.push_back(figure_value(s.value(field, json())));
   return f;
 }
 
@@ -87,7 +79,7 @@ FigureColumn channel_figure(const std::vector<json>& samples, const std::string&
   FigureColumn f{field + "." + channel, {}, Population::kStable};
   for (const json& s : samples) {
     const json& obj = field_at(s, field);
-    f.values.push_back(obj.is_object() && obj.contains(channel) ? number_or_nan(obj[channel])
+    f.values.push_back(obj.is_object() && obj.contains(channel) ? figure_value(obj[channel])
                                                                 : kMissing);
   }
   return f;
@@ -123,7 +115,7 @@ std::vector<FigureColumn> natural_frequency_figures(const std::vector<json>& sam
     FigureColumn f{"natural_frequency_" + std::to_string(r + 1) + "_hz", {}, Population::kJudged};
     for (const json& s : samples) {
       const json& fs = s.contains("natural_frequencies_hz") ? s["natural_frequencies_hz"] : json();
-      f.values.push_back(fs.is_array() && r < fs.size() ? number_or_nan(fs[r]) : kMissing);
+      f.values.push_back(fs.is_array() && r < fs.size() ? figure_value(fs[r]) : kMissing);
     }
     out.push_back(std::move(f));
   }
