@@ -108,6 +108,8 @@ nlohmann::json make_plan(const PlanRequest& r) {
   const SampleEvaluator evaluator(docs.nominal_machine().scene, docs.nominal_machine().model,
                                   {mode, grid});
   plan["nominal"] = evaluator.nominal();
+  // A scene without a controller: the passive fleet (closed plans carry no key: their ids stay).
+  if (evaluator.open_loop()) plan["loop"] = "open";
   if (r.simulate_s > 0) plan["simulate_s"] = r.simulate_s;
   return with_plan_id(plan);
 }

@@ -62,6 +62,11 @@ std::string figure_unit(const std::string& name) {
   return "1";  // spectral_radius, sim.rms_ratio.*, sim.saturated_share.*
 }
 
+// The figures only a closed loop has: its RMS and its disk margins.
+bool closed_loop_figure(const std::string& name) {
+  return starts_with(name, "rms.") || starts_with(name, "disk_margin");
+}
+
 json figure_summary(const FigureColumn& f, const std::vector<SampleStatus>& status) {
   const auto total = static_cast<long>(status.size());
   const std::vector<double> xs = population_values(f, status, total);
@@ -258,8 +263,11 @@ json campaign_summary(const json& plan, const std::vector<json>& samples) {
   json convergence = json::array();
   for (long prefix : prefixes(m)) convergence.push_back(p_unstable_json(machine_status, prefix));
   summary["p_unstable_convergence"] = convergence;
+  const bool open_loop = plan.value("loop", std::string("closed")) == "open";
+  summary["loop"] = open_loop ? "open" : "closed";
   json per_figure = json::object(), order = json::array();
   for (const FigureColumn& f : machines.figures) {
+    if (open_loop && closed_loop_figure(f.name)) continue;  // no loop: the figure is not defined
     per_figure[f.name] = figure_summary(f, machine_status);
     order.push_back(f.name);
   }
@@ -431,14 +439,24 @@ std::string sobol_markdown(const json& summary) {
   return md.str() + "\n";
 }
 
+// An open-loop campaign says what its verdicts and figures are of: the passive machine.
+std::string loop_markdown(const json& summary) {
+  if (summary.value("loop", std::string()) != "open") return "";
+  return "**Open loop:** the scene has no controller, so this campaign judges the passive "
+         "machine alone: its sampled plant's spectral radius (unstable above the unit circle, "
+         "marginal without a stationary state), its natural frequencies, its RMS under the "
+         "scene's floor and noise (`rms_open`) and the floor -> performance path's largest "
+         "singular value (`peak_sigma`). It has no closed-loop RMS and no disk margins.\n\n";
+}
+
 std::string report_markdown(const json& summary, const std::vector<Picture>& pictures) {
   std::ostringstream md;
   md << "# Campaign report\n\nPlan " << summary["plan_id"].dump() << ", design "
      << summary["design"].dump() << ", n = " << summary["n"].dump() << " ("
      << summary["evaluations"] << " evaluations). The numbers are in summary.json; the "
      << "estimators are described in doc/campaign_statistics.md of flexloop.\n\n"
-     << counts_markdown(summary) << figures_markdown(summary) << simulation_markdown(summary)
-     << sobol_markdown(summary) << "## Pictures\n\n";
+     << loop_markdown(summary) << counts_markdown(summary) << figures_markdown(summary)
+     << simulation_markdown(summary) << sobol_markdown(summary) << "## Pictures\n\n";
   for (const Picture& p : pictures)
     md << "### " << p.caption << "\n\n![" << p.caption << "](" << p.file << ")\n\n";
   return md.str();

@@ -7,8 +7,10 @@
 #include <utility>
 
 #include "common/input_error.hpp"
+#include "controller/design/sampled_loop_stability.hpp"
 #include "offline/pipeline/loop_figures.hpp"
 #include "offline/scene/scene_plant.hpp"
+#include "plant/lti/frequency_response.hpp"
 #include "plant/lti/modal_analysis.hpp"
 
 namespace flexloop::campaign {
@@ -115,6 +117,33 @@ scene::SampledScene put_loop_figures(const scene::ScenePlant& p, const std::vect
   return sampled;
 }
 
+// The passive machine alone (an open-loop campaign: the scene has no controller): its sampled
+// plant's spectral radius, its stationary RMS and the floor -> performance path's sigma. Unstable
+// above the unit circle by more than rounding; marginal without a stationary state (an undamped
+// or rigid-body mode).
+scene::SampledScene put_passive_figures(const scene::ScenePlant& p,
+                                        const std::vector<double>& grid_hz, json& j) {
+  scene::SampledScene sampled = scene::sample_scene(p);
+  const double radius = sampled.plant.spectral_radius;
+  j["spectral_radius"] = radius;
+  if (radius > 1 + controller::design::kSampledRoundingTolerance) {
+    j["status"] = "unstable";
+    return sampled;
+  }
+  std::string why;
+  j["rms_open"] = rms_or_null(p, sampled, false, &why);
+  j["status"] = j["rms_open"].is_null()
+                    ? "marginal: the passive machine has no stationary state (" + why + ")"
+                    : std::string("stable");
+  if (!grid_hz.empty()) {
+    const Eigen::VectorXd sigma = pipeline::largest_singular_values(
+        plant::lti::frequency_response(pipeline::floor_to_performance(p), grid_hz));
+    j["sigma_max"] = to_json(sigma);
+    j["peak_sigma"] = sigma.maxCoeff();
+  }
+  return sampled;
+}
+
 }  // namespace
 
 SampleEvaluator::SampleEvaluator(const scene::Scene& nominal_scene,
@@ -127,9 +156,7 @@ SampleEvaluator::SampleEvaluator(const scene::Scene& nominal_scene,
                              "needs its matrices (use type \"pi_force_feedback\" or "
                              "\"state_space\")");
   const scene::ScenePlant p = scene::build_scene_plant(nominal_scene, nominal_model);
-  if (!scene::has_controller(p))
-    throw common::InputError(nominal_scene.file,
-                             "[controller]: the scene has no controller: a campaign judges a loop");
+  open_loop_ = !scene::has_controller(p);
   if (!p.statics.stable())
     throw common::InputError(nominal_scene.file, "the nominal machine is statically unstable: " +
                                                      plant::lti::to_string(p.statics));
@@ -159,11 +186,9 @@ json SampleEvaluator::machine_figures(const scene::Scene& scene, const plant::mo
       return j;
     }
     j["natural_frequencies_hz"] = to_json(p.natural_frequencies_hz);
-    if (!scene::has_controller(p)) {
-      j["status"] = "refused: the scene has no controller: no loop to judge";
-      return j;
-    }
-    const scene::SampledScene sampled = put_loop_figures(p, settings_.sigma_grid_hz, j);
+    const scene::SampledScene sampled = open_loop_
+                                            ? put_passive_figures(p, settings_.sigma_grid_hz, j)
+                                            : put_loop_figures(p, settings_.sigma_grid_hz, j);
     if (seeds && j["status"] == "stable")
       j["sim"] = simulate_sample(p, sampled, settings_.simulate_s, *seeds);
   } catch (const common::InputError& e) {

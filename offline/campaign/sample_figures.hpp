@@ -51,7 +51,8 @@ struct SampleSettings {
 class SampleEvaluator {
  public:
   /// @throws flexloop::InputError naming the scene for a controller FMU, a nominal machine that
-  /// is statically unstable, or a nominal scene the pipeline refuses.
+  /// is statically unstable, or a nominal scene the pipeline refuses. A scene without a
+  /// controller ([controller] type = "none") makes an open-loop campaign (open_loop()).
   SampleEvaluator(const scene::Scene& nominal_scene, const plant::model::Model& nominal_model,
                   SampleSettings settings);
   /// One machine: its scene and its model (both already carrying the drawn values). Returns the
@@ -61,6 +62,7 @@ class SampleEvaluator {
   nlohmann::json evaluate(const scene::Scene& scene, const plant::model::Model& model,
                           const std::optional<SimulationSeeds>& seeds = std::nullopt) const;
   const nlohmann::json& nominal() const { return nominal_; }
+  bool open_loop() const { return open_loop_; }
 
  private:
   // The figures, and the run when `seeds` are given, of a machine.
@@ -70,6 +72,7 @@ class SampleEvaluator {
   SampleSettings settings_;
   controller::design::PiGains nominal_gains_;  ///< the nominal machine's (PI scenes)
   bool pi_ = false;
+  bool open_loop_ = false;  ///< the scene has no controller: the passive machine is judged
   nlohmann::json nominal_;
 };
 

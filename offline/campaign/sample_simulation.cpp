@@ -79,23 +79,24 @@ json run_figures(const artefact::LoopArtefact& a, double seconds) {
   s.log_every = 1;
   sim::SceneRunOptions o;
   o.start = sim::StartKind::kStationary;
-  o.log_on = true;
-  o.on_only = true;
+  o.log_on = o.log_off = true;
+  o.on_only = true;  // the controller-on run alone; a loop without a controller runs `off` alone
   const sim::BothRuns r = sim::run_artefact(a, s, o);
-  if (r.on.divergence.happened())
+  const sim::RunResult& run = r.controlled ? r.on : r.off;
+  if (run.divergence.happened())
     return empty_simulation(
-        seconds, "error: the run " + plant::runtime::describe(r.on.divergence, a.channels));
-  if (!r.on.controller.failure.empty())
-    return empty_simulation(seconds, "error: the controller: " + r.on.controller.failure);
+        seconds, "error: the run " + plant::runtime::describe(run.divergence, a.channels));
+  if (!run.controller.failure.empty())
+    return empty_simulation(seconds, "error: the controller: " + run.controller.failure);
   json j = empty_simulation(seconds, "ran");
-  j["start"] = r.start_on;
-  j["rms"] = per_channel(a.channels.performance, r.on.rms_performance);
+  j["start"] = r.controlled ? r.start_on : r.start_off;
+  j["rms"] = per_channel(a.channels.performance, run.rms_performance);
   const Eigen::Index nz = a.performance(), first = 1 + a.disturbances();
   Eigen::VectorXd se(nz);
   for (Eigen::Index i = 0; i < nz; ++i)
-    se(i) = rms_standard_error(r.on.log.matrix().col(first + i), kRmsBatches);
+    se(i) = rms_standard_error(run.log.matrix().col(first + i), kRmsBatches);
   j["rms_standard_error"] = per_channel(a.channels.performance, se);
-  put_command_figures(a, r.on.log, j);
+  put_command_figures(a, run.log, j);
   return j;
 }
 

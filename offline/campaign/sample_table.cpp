@@ -92,10 +92,15 @@ std::vector<FigureColumn> simulation_figures(const std::vector<json>& samples) {
   std::vector<FigureColumn> out;
   for (const std::string& c : channels(samples, "sim.rms")) {
     FigureColumn run = channel_figure(samples, "sim.rms", c);
-    const FigureColumn lyapunov = channel_figure(samples, "rms", c);
+    // The Lyapunov RMS of the loop as it ran: the closed loop's, or the passive machine's in an
+    // open-loop campaign (no closed-loop RMS there).
+    const FigureColumn closed = channel_figure(samples, "rms", c);
+    const FigureColumn open = channel_figure(samples, "rms_open", c);
     FigureColumn ratio{"sim.rms_ratio." + c, {}, Population::kStable};
-    for (std::size_t i = 0; i < run.values.size(); ++i)
-      ratio.values.push_back(run.values[i] / lyapunov.values[i]);  // NaN where either is missing
+    for (std::size_t i = 0; i < run.values.size(); ++i) {
+      const double lyapunov = std::isnan(closed.values[i]) ? open.values[i] : closed.values[i];
+      ratio.values.push_back(run.values[i] / lyapunov);  // NaN where either is missing
+    }
     out.push_back(std::move(run));
     out.push_back(std::move(ratio));
   }

@@ -134,4 +134,22 @@ out=$("$flexloop" campaign run "$tmp/sim1.json" --shard 0/1 -o "$tmp/sim_whole.j
   fail "a shard of the plan with another --simulate: exit $rc ($out)"
 pass
 
+# An open-loop campaign: a scene without a controller, the passive fleet (issue 54, 3.1).
+open_scene=$root/tests/fixtures/one_strut_open_loop.toml
+out=$("$flexloop" campaign "$open_scene" -u "$u" -n 10 --simulate 0.2 --out-dir "$tmp/open" --worst 1 -q 2>&1) ||
+  fail "open-loop campaign: $out"
+[[ "$out" == *"controller none: open loop"* ]] || fail "the open-loop plan does not say so: $out"
+/usr/bin/python3 - "$tmp/open/summary.json" <<'PY' || fail "open-loop summary"
+import json, sys
+s = json.load(open(sys.argv[1]))
+assert s["loop"] == "open", s["loop"]
+assert s["counts"]["stable"] == 10, s["counts"]
+order = s["figure_order"]
+assert "rms_open.acc:y.mass" in order and "peak_sigma" in order and "natural_frequency_1_hz" in order, order
+assert not any(f.startswith("rms.") or f.startswith("disk_margin") for f in order), order
+assert s["simulation"]["ran"] == 10, s["simulation"]
+PY
+grep -q '^\*\*Open loop:\*\*' "$tmp/open/report.md" || fail "report.md does not say the campaign is open loop"
+pass
+
 echo "campaign cli: $checks checks passed"

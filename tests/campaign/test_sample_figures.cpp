@@ -18,6 +18,7 @@
 #include "numeric/constants.hpp"
 #include "offline/campaign/sample_figures.hpp"
 #include "offline/pipeline/analyse_scene.hpp"
+#include "offline/pipeline/loop_figures.hpp"
 #include "offline/scene/loop_artefact_builder.hpp"
 #include "offline/scene/scene_plant.hpp"
 #include "online/sim/scene_runs.hpp"
@@ -265,4 +266,44 @@ TEST_CASE(
   fmu.controller.file = "controller.fmu";
   CHECK_THROWS_AS(SampleEvaluator(fmu, plant::model::load_model(kFrameModel), {}),
                   common::InputError);
+}
+
+TEST_CASE(
+    "sample figures: a scene without a controller is an open-loop campaign of the passive "
+    "machine: its figures are the closed-loop scene's passive ones and the plant's own",
+    "[campaign][sample]") {
+  scene::Scene open = scene::load_scene(kFrame);
+  open.controller.type = "none";
+  const scene::Scene closed = scene::load_scene(kFrame);
+  const auto model = plant::model::load_model(kFrameModel);
+  const std::vector<double> grid{1.0, 10.0, 100.0};
+  const SampleEvaluator passive(open, model, {ControllerMode::kFrozen, grid});
+  const SampleEvaluator loop(closed, model, {ControllerMode::kFrozen, grid});
+  CHECK(passive.open_loop());
+  CHECK_FALSE(loop.open_loop());
+  const auto softer = frame_model({0.8, 0.9, 1.0, 1.1, 1.2, 1.0});
+  const auto o = passive.evaluate(open, softer), c = loop.evaluate(closed, softer);
+  REQUIRE(o["status"] == "stable");
+  // The passive machine is the same machine in both campaigns.
+  CHECK(o["natural_frequencies_hz"] == c["natural_frequencies_hz"]);
+  CHECK(o["rms_open"] == c["rms_open"]);
+  // No loop: no closed-loop RMS and no margins; the radius is the sampled plant's own.
+  CHECK(o["rms"].is_null());
+  CHECK(o["disk_margin_db"].is_null());
+  CHECK(o["disk_margin_all_deg"].is_null());
+  const auto p = scene::build_scene_plant(open, softer);
+  CHECK(o["spectral_radius"].get<double>() == scene::sample_scene(p).plant.spectral_radius);
+  CHECK(o["spectral_radius"].get<double>() < 1);
+  // sigma: the passive path floor -> performance on the grid, its largest singular value.
+  const auto g = plant::lti::frequency_response(pipeline::floor_to_performance(p), grid);
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    const Eigen::JacobiSVD<Eigen::MatrixXcd> svd(g[k]);
+    CHECK(o["sigma_max"][k].get<double>() == Approx(svd.singularValues()(0)).epsilon(1e-10));
+  }
+  // A machine run in an open-loop campaign with --simulate runs the plant alone.
+  const auto seeds = campaign::simulation_seeds(1, 0);
+  const SampleEvaluator simulated(open, model, {ControllerMode::kFrozen, {}, 0.2});
+  const auto s = simulated.evaluate(open, softer, seeds);
+  CHECK(s["sim"]["status"] == "ran");
+  CHECK(s["sim"]["rms"].is_object());
 }

@@ -76,13 +76,16 @@ void write_plan(const nlohmann::json& plan, const std::string& path) {
   common::write_text_atomically(path, plan.dump(1) + "\n");
   const std::string simulated =
       plan.contains("simulate_s") ? ", each simulated " + plan["simulate_s"].dump() + " s" : "";
+  const std::string controller = plan.value("loop", std::string()) == "open"
+                                     ? "none: open loop, the passive machine"
+                                     : plan["controller"].get<std::string>();
   std::printf(
       "plan %s: %ld evaluations (%s design, n = %ld, %zu dimensions, seed %llu, "
       "controller %s%s)\nwrote %s\n",
       plan["plan_id"].get<std::string>().substr(0, 12).c_str(), plan["evaluations"].get<long>(),
       plan["design"].get<std::string>().c_str(), plan["n"].get<long>(), plan["columns"].size(),
-      static_cast<unsigned long long>(plan["seed"].get<std::uint64_t>()),
-      plan["controller"].get<std::string>().c_str(), simulated.c_str(), path.c_str());
+      static_cast<unsigned long long>(plan["seed"].get<std::uint64_t>()), controller.c_str(),
+      simulated.c_str(), path.c_str());
 }
 
 void run_shard_command(const RunArgs& a) {
