@@ -44,6 +44,8 @@ find_package(OpenSSL REQUIRED)  # SHA-256 of input files for provenance
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip>=1.7)
 find_package(pugixml 1.13 REQUIRED CONFIG)
+# NLopt (Debian 12: 2.7.1): the derivative-free bounded search of `flexloop campaign worst`.
+find_package(NLopt 2.7 REQUIRED CONFIG)
 
 # Eclipse iceoryx 2.0 (Debian 12: 2.0.3), the same-host shared-memory transport beside LCM (issue
 # 48): the C++ API (posh, hoofs), the C binding for external controllers, and the iox-roudi daemon

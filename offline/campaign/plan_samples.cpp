@@ -31,19 +31,27 @@ nlohmann::json figures_not_computed(const std::string& status) {
   return j;
 }
 
+nlohmann::json PlanSamples::figures_of(const ParameterValues& values,
+                                       const std::optional<SimulationSeeds>& seeds) const {
+  try {
+    const Machine m = docs_.apply(values);
+    return evaluator_.evaluate(m.scene, m.model, seeds);
+  } catch (const common::InputError& e) {
+    return figures_not_computed(std::string("refused: the drawn machine: ") + e.what());
+  } catch (const std::exception& e) {
+    return figures_not_computed(std::string("error: ") + e.what());
+  }
+}
+
+nlohmann::json PlanSamples::figures_at(const ParameterValues& values) const {
+  return figures_of(values, std::nullopt);
+}
+
 nlohmann::json PlanSamples::line(long index) const {
   const ParameterValues values = this->values(index);
   const double simulate_s = plan_simulate_s(plan_);
-  nlohmann::json figures;
-  try {
-    const Machine m = docs_.apply(values);
-    figures = evaluator_.evaluate(m.scene, m.model,
-                                  simulation_seeds(plan_.at("seed").get<std::uint64_t>(), index));
-  } catch (const common::InputError& e) {
-    figures = figures_not_computed(std::string("refused: the drawn machine: ") + e.what());
-  } catch (const std::exception& e) {
-    figures = figures_not_computed(std::string("error: ") + e.what());
-  }
+  nlohmann::json figures =
+      figures_of(values, simulation_seeds(plan_.at("seed").get<std::uint64_t>(), index));
   if (simulate_s > 0) put_simulation_not_run(figures, simulate_s);
   return with_identity(std::move(figures), index, values);
 }

@@ -5,6 +5,7 @@
 // (offline/campaign/parameter_paths.hpp), and its figures by the SampleEvaluator built once from
 // the nominal machine. The line depends on the plan and i alone: the same bytes whatever shard,
 // process or engine computes it.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,13 +27,21 @@ class PlanSamples {
   /// Its JSONL object: plan_id, index, parameters and the figures. A machine the readers refuse
   /// (a drawn value outside what a file may hold) is status "refused: ..." with null figures.
   nlohmann::json line(long index) const;
+  /// The figures of the machine with `values` (any point of the parameters' ranges, not only a
+  /// design's: the worst-machine search), as line() computes them, without the sample's identity
+  /// and without a simulation.
+  nlohmann::json figures_at(const ParameterValues& values) const;
   /// The JSONL object of an evaluation that was not computed (its run crashed on it): its
   /// parameters, `status` and null figures.
   nlohmann::json failed_line(long index, const std::string& status) const;
   const MachineDocuments& documents() const { return docs_; }
+  const std::vector<PlannedColumn>& columns() const { return columns_; }
+  const nlohmann::json& nominal() const { return evaluator_.nominal(); }
 
  private:
   // The figures with the sample's plan_id, index and parameters.
+  nlohmann::json figures_of(const ParameterValues& values,
+                            const std::optional<SimulationSeeds>& seeds) const;
   nlohmann::json with_identity(nlohmann::json figures, long index,
                                const ParameterValues& values) const;
   nlohmann::json plan_;

@@ -63,16 +63,11 @@ std::vector<std::size_t> worst_samples(const std::vector<nlohmann::json>& sample
   return machines;
 }
 
-SampleScene sample_scene(const MachineDocuments& docs, const nlohmann::json& plan,
-                         const nlohmann::json& sample, const std::string& model_file_name) {
-  ParameterValues values;
-  for (const auto& [path, value] : sample.at("parameters").items())
-    values.emplace_back(path, value.get<double>());
-  const long index = sample.at("index").get<long>();
-  std::string header = "# flexloop campaign: sample " + std::to_string(index) + " of plan " +
-                       plan.at("plan_id").get<std::string>() + "\n# scene " +
-                       plan.at("scene").get<std::string>() + ", status " +
-                       sample.value("status", std::string("?")) + "\n# drawn:";
+SampleScene machine_scene(const MachineDocuments& docs, const nlohmann::json& plan,
+                          const ParameterValues& values, const std::string& what,
+                          const std::string& name_suffix, const std::string& model_file_name) {
+  std::string header = "# flexloop campaign: " + what + "\n# scene " +
+                       plan.at("scene").get<std::string>() + "\n# drawn:";
   for (const auto& [path, value] : values)
     header += " " + path + " = " + nlohmann::json(value).dump();
   header += "\n";
@@ -89,9 +84,22 @@ SampleScene sample_scene(const MachineDocuments& docs, const nlohmann::json& pla
   make_absolute(scene, "controller", "file", base);
   auto& scene_table = *scene.get("scene")->as_table();
   const auto name = scene_table.get("name")->value<std::string>().value_or("scene");
-  scene_table.insert_or_assign("name", name + "_sample_" + std::to_string(index));
+  scene_table.insert_or_assign("name", name + name_suffix);
   scene_table.insert_or_assign("model", model_file_name);
   return {header + toml_text(scene), header + toml_text(docs.document(true, values))};
+}
+
+SampleScene sample_scene(const MachineDocuments& docs, const nlohmann::json& plan,
+                         const nlohmann::json& sample, const std::string& model_file_name) {
+  ParameterValues values;
+  for (const auto& [path, value] : sample.at("parameters").items())
+    values.emplace_back(path, value.get<double>());
+  const long index = sample.at("index").get<long>();
+  const std::string what = "sample " + std::to_string(index) + " of plan " +
+                           plan.at("plan_id").get<std::string>() + ", status " +
+                           sample.value("status", std::string("?"));
+  return machine_scene(docs, plan, values, what, "_sample_" + std::to_string(index),
+                       model_file_name);
 }
 
 std::vector<std::string> write_worst_samples(const MachineDocuments& docs,

@@ -28,6 +28,11 @@ struct SampleScene {
 };
 SampleScene sample_scene(const MachineDocuments& docs, const nlohmann::json& plan,
                          const nlohmann::json& sample, const std::string& model_file_name);
+/// The same for any machine of the plan's documents with `values`: `what` heads the comment
+/// ("sample 12 of plan ..."), `name_suffix` is appended to the scene's name.
+SampleScene machine_scene(const MachineDocuments& docs, const nlohmann::json& plan,
+                          const ParameterValues& values, const std::string& what,
+                          const std::string& name_suffix, const std::string& model_file_name);
 
 /// Writes DIR/worst/sample-<index>.toml and sample-<index>_model.toml for each worst sample;
 /// returns the scene files written.

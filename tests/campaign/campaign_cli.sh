@@ -17,7 +17,7 @@ pass() { checks=$((checks + 1)); }
 scene=$root/tests/fixtures/one_strut_campaign.toml
 u=$root/tests/fixtures/one_strut_uncertain.toml
 
-for part in "" plan run submit report; do
+for part in "" plan run submit report worst; do
   out=$("$flexloop" campaign $part --help 2>&1) || fail "campaign $part --help: exit $?"
   [[ "$out" == *"Example:"* ]] || fail "campaign $part --help has no example"
 done
@@ -150,6 +150,19 @@ assert not any(f.startswith("rms.") or f.startswith("disk_margin") for f in orde
 assert s["simulation"]["ran"] == 10, s["simulation"]
 PY
 grep -q '^\*\*Open loop:\*\*' "$tmp/open/report.md" || fail "report.md does not say the campaign is open loop"
+pass
+
+# The worst machine in the box (issue 54, 3.3): worst.json and worst.toml, the scene analyse runs;
+# a figure that is not one exits 2 naming the choices and writes nothing.
+"$flexloop" campaign worst "$scene" -u "$u" --figure peak_sigma -n 16 --evaluations 60 \
+  --out-dir "$tmp/worst_box" -q >/dev/null || fail "campaign worst"
+[[ -s "$tmp/worst_box/worst.json" && -s "$tmp/worst_box/worst_model.toml" ]] || fail "campaign worst wrote no worst.json"
+"$flexloop" analyse "$tmp/worst_box/worst.toml" --out-dir "$tmp/worst_box/analysis" >/dev/null ||
+  fail "analyse of worst.toml"
+out=$("$flexloop" campaign worst "$scene" -u "$u" --figure gain --out-dir "$tmp/worst_bad" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"--figure: 'gain' is not one of spectral_radius, disk_margin_db"* ]] ||
+  fail "campaign worst --figure gain: exit $rc ($out)"
+[[ ! -e "$tmp/worst_bad" ]] || fail "a refused worst search left $tmp/worst_bad"
 pass
 
 echo "campaign cli: $checks checks passed"

@@ -336,6 +336,7 @@ void register_campaign(CLI::App& app) {
   register_run(cmd);
   register_submit(cmd);
   register_report(cmd);
+  register_campaign_worst(cmd);
   cmd->require_subcommand(0, 1);
   // The all-in-one form needs its scene; the parts take their own arguments.
   cmd->callback([a, cmd] {

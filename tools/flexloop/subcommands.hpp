@@ -23,6 +23,8 @@ void register_tradeoff(CLI::App& app);
 void register_reduce(CLI::App& app);
 void register_export_fmu(CLI::App& app);
 void register_campaign(CLI::App& app);
+/// `campaign worst` (cmd_campaign_worst.cpp), on the campaign command.
+void register_campaign_worst(CLI::App* campaign);
 void register_roudi(CLI::App& app);
 
 }  // namespace flexloop::cli
