@@ -25,9 +25,9 @@ struct SlurmOptions {
   std::vector<std::string> sbatch_args;
 };
 
-/// The default shard count: one shard per this many of the plan's evaluations. A sample costs
-/// 10 to 50 ms, so a shard runs about a minute, against the second or two of an array element's
-/// scheduling (doc/campaign_slurm.md, "Why a shard holds many samples").
+/// The default shard count: one shard per this many of the plan's evaluations. At the metrology
+/// frame's 20 to 40 ms a sample a shard runs about a minute, against the second or two of an
+/// array element's scheduling (doc/campaign_slurm.md, "Why a shard holds many samples").
 constexpr long kEvaluationsPerShard = 2000;
 /// Slurm's MaxArraySize when `scontrol show config` does not say.
 constexpr int kSlurmDefaultMaxArraySize = 1001;
