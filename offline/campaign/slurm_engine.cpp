@@ -53,6 +53,70 @@ void check_directive_path(const std::string& option, const std::string& path) {
                                    "(% \" \\ or a control character)");
 }
 
+// A value as an error message shows it: a newline as \n, so that the message stays one line.
+std::string printable(const std::string& value) {
+  std::string shown;
+  for (const char c : value) {
+    if (c == '\n')
+      shown += "\\n";
+    else if (c == '\r')
+      shown += "\\r";
+    else if (std::iscntrl(static_cast<unsigned char>(c)))
+      shown += '?';
+    else
+      shown += c;
+  }
+  return "'" + shown + "'";
+}
+
+std::vector<std::string> blank_separated_words(const std::string& text) {
+  std::vector<std::string> words;
+  std::istringstream in(text);
+  for (std::string word; in >> word;) words.push_back(word);
+  return words;
+}
+
+// The option a word of an #SBATCH line sets that the engine writes itself (its bookkeeping reads
+// the array, the logs, the directory; sbatch --parsable and no --wait are how it submits), or
+// empty. A long option is matched as getopt_long matches it: by any prefix of its name.
+std::string engine_option_in(const std::string& word) {
+  static const char* const kLong[] = {"array",     "output",   "error", "chdir",
+                                      "open-mode", "parsable", "wait",  "wrap",
+                                      "partition", "account",  "time"};
+  static const std::string kShort = "aoeDWpAt";
+  if (word.rfind("--", 0) == 0) {
+    const std::string name = word.substr(2, word.find('=') - 2);
+    for (const std::string owned : kLong)
+      if (!name.empty() && owned.rfind(name, 0) == 0) return "--" + owned;
+    return "";
+  }
+  if (word.size() >= 2 && word[0] == '-' && kShort.find(word[1]) != std::string::npos)
+    return word.substr(0, 2);
+  return "";
+}
+
+// An --sbatch-arg becomes one #SBATCH line as it is: it must be an option, one line, and leave
+// the engine's own options alone (partition, account and time have options of their own).
+void check_sbatch_arg(const std::string& arg) {
+  if (arg.empty() || arg.front() != '-')
+    throw InputError("--sbatch-arg", printable(arg) +
+                                         " is not an sbatch option (one that starts with '-', as "
+                                         "--mem=4G or -M other)");
+  if (std::any_of(arg.begin(), arg.end(),
+                  [](char c) { return std::iscntrl(static_cast<unsigned char>(c)); }))
+    throw InputError("--sbatch-arg", printable(arg) +
+                                         " holds a newline or another control character: each "
+                                         "value is written as one #SBATCH line");
+  for (const std::string& word : blank_separated_words(arg)) {
+    const std::string owned = engine_option_in(word);
+    if (!owned.empty())
+      throw InputError("--sbatch-arg",
+                       printable(arg) + " sets " + owned +
+                           ", which flexloop writes itself (use --partition, --account, "
+                           "--time-limit, --shards, --array-throttle, --work-dir)");
+  }
+}
+
 void check_options(const SlurmOptions& o) {
   if (o.shards < 1)
     throw InputError("--shards", "must be at least 1 (got " + std::to_string(o.shards) + ")");
@@ -64,6 +128,7 @@ void check_options(const SlurmOptions& o) {
   if (o.flexloop_program.empty() || o.flexloop_program.front() != '/')
     throw InputError("flexloop program", "'" + o.flexloop_program + "' is not an absolute path");
   check_directive_path("work directory", o.work_dir);
+  for (const std::string& arg : o.sbatch_args) check_sbatch_arg(arg);
 }
 
 // 'text' for a POSIX shell: everything literal, a quote as '\''.
@@ -157,15 +222,36 @@ std::string last_lines(const std::string& path, std::size_t count) {
   return text;
 }
 
-// `sbatch --parsable` prints "JOBID" or "JOBID;CLUSTER".
-std::string submit_script(const std::string& script_path) {
+SubmittedJob submit_script(const std::string& script_path) {
   const ProgramResult r = run_program({"sbatch", "--parsable", script_path});
-  const std::string job_id = trimmed(r.out.substr(0, r.out.find(';')));
-  if (r.status != 0 || job_id.empty() ||
-      !std::all_of(job_id.begin(), job_id.end(), [](char c) { return std::isdigit(c); }))
+  const SubmittedJob job = parse_sbatch_parsable(r.out);
+  if (r.status != 0 || job.id.empty())
     throw std::runtime_error("sbatch " + script_path + " failed (status " +
                              std::to_string(r.status) + "): " + trimmed(r.err + r.out));
-  return job_id;
+  return job;
+}
+
+// A Slurm client's arguments for this job's cluster: -M CLUSTER right after the program's name.
+std::vector<std::string> on_cluster(std::vector<std::string> argv, const std::string& cluster) {
+  if (!cluster.empty()) argv.insert(argv.begin() + 1, {"-M", cluster});
+  return argv;
+}
+
+// "4242", or "4242 on cluster far" for a job on another cluster.
+std::string job_text(const SubmittedJob& job) {
+  return job.cluster.empty() ? job.id : job.id + " on cluster " + job.cluster;
+}
+
+// The cluster's MaxArraySize, or Slurm's default (with a note) when scontrol does not say.
+int max_array_size(const std::string& cluster) {
+  const ProgramResult r = run_program(on_cluster({"scontrol", "show", "config"}, cluster));
+  const int max = r.status == 0 ? parse_max_array_size(r.out) : -1;
+  if (max >= 0) return max;
+  std::fprintf(stderr,
+               "note: scontrol show config gave no MaxArraySize (%s): assuming Slurm's default, "
+               "%d\n",
+               trimmed(r.err).c_str(), kSlurmDefaultMaxArraySize);
+  return kSlurmDefaultMaxArraySize;
 }
 
 std::string clock_text(double seconds) {
@@ -221,13 +307,14 @@ class Progress {
 
 // Poll squeue until every element has ended (or the controller no longer knows the job). The
 // poll interval grows with the run (1 s at first, at most 15 s): a cluster's controller is shared.
-void wait_until_ended(const std::string& job_id, int shards) {
-  Progress progress(job_id, shards);
+void wait_until_ended(const SubmittedJob& job, int shards) {
+  const std::string& job_id = job.id;
+  Progress progress(job_text(job), shards);
   double failing_since = -1;
   bool seen = false;
   for (;;) {
-    const ProgramResult r =
-        run_program({"squeue", "-h", "-r", "-t", "all", "-j", job_id, "-o", "%i %T"});
+    const ProgramResult r = run_program(
+        on_cluster({"squeue", "-h", "-r", "-t", "all", "-j", job_id, "-o", "%i %T"}, job.cluster));
     if (r.status == 0) {
       failing_since = -1;
       const std::vector<ElementState> elements = parse_squeue_elements(r.out, job_id);
@@ -243,7 +330,7 @@ void wait_until_ended(const std::string& job_id, int shards) {
       failing_since = progress.elapsed();
     } else if (progress.elapsed() - failing_since > 300) {
       throw std::runtime_error("squeue has failed for 5 minutes while waiting for slurm job " +
-                               job_id + ": " + trimmed(r.err));
+                               job_text(job) + ": " + trimmed(r.err));
     }
     const double interval = std::clamp(progress.elapsed() / 20, 1.0, 15.0);
     std::this_thread::sleep_for(std::chrono::duration<double>(interval));
@@ -251,19 +338,21 @@ void wait_until_ended(const std::string& job_id, int shards) {
 }
 
 // Each element's final state: scontrol while the controller remembers the job, else sacct.
-std::map<int, ElementState> final_states(const std::string& job_id, int shards) {
+std::map<int, ElementState> final_states(const SubmittedJob& job, int shards) {
+  const std::string& job_id = job.id;
   std::map<int, ElementState> by_element;
-  const ProgramResult sc = run_program({"scontrol", "show", "job", job_id, "-o"});
+  const ProgramResult sc =
+      run_program(on_cluster({"scontrol", "show", "job", job_id, "-o"}, job.cluster));
   if (sc.status == 0)
     for (const ElementState& e : parse_scontrol_elements(sc.out, job_id)) by_element[e.element] = e;
   if (static_cast<int>(by_element.size()) >= shards) return by_element;
-  const ProgramResult sa =
-      run_program({"sacct", "-n", "-P", "-X", "-j", job_id, "-o", "JobID,State,ExitCode"});
+  const ProgramResult sa = run_program(on_cluster(
+      {"sacct", "-n", "-P", "-X", "-j", job_id, "-o", "JobID,State,ExitCode"}, job.cluster));
   if (sa.status == 0)
     for (const ElementState& e : parse_sacct_elements(sa.out, job_id))
       by_element.emplace(e.element, e);
   if (static_cast<int>(by_element.size()) < shards)
-    throw std::runtime_error("slurm job " + job_id + ": the final state of " +
+    throw std::runtime_error("slurm job " + job_text(job) + ": the final state of " +
                              std::to_string(shards - static_cast<int>(by_element.size())) +
                              " element(s) is known neither to scontrol (" + trimmed(sc.err) +
                              ") nor to sacct (" + trimmed(sa.err) + ")");
@@ -338,9 +427,14 @@ std::string sbatch_script(const std::string& plan_path, const SlurmOptions& o) {
   if (!o.account.empty()) s << "#SBATCH --account=" << o.account << "\n";
   s << "#SBATCH --time=" << static_cast<long>(std::ceil(o.time_limit_min)) << "\n"
     << "#SBATCH --cpus-per-task=1\n"
+    << "#SBATCH --requeue\n"
+    << "#SBATCH --open-mode=append\n"
     << "#SBATCH --chdir=\"" << o.work_dir << "\"\n"
     << "#SBATCH --output=\"" << o.work_dir << "/campaign-%A_%a.out\"\n"
-    << "#SBATCH --error=\"" << o.work_dir << "/campaign-%A_%a.err\"\n"
+    << "#SBATCH --error=\"" << o.work_dir << "/campaign-%A_%a.err\"\n";
+  for (const std::string& arg : o.sbatch_args) s << "#SBATCH " << arg << "\n";
+  s << "# A requeued element (--requeue) runs its shard again: `campaign run` completes it, and\n"
+    << "# --open-mode=append keeps the log of each attempt.\n"
     << "# Written by flexloop campaign submit --engine slurm. Element K of the array runs shard K\n"
     << "# of the plan; `campaign run` is idempotent, so submitting this file again (all of it, or\n"
     << "# one element: sbatch --array=K campaign.sbatch) completes what is missing.\n"
@@ -404,6 +498,84 @@ std::vector<ElementState> parse_sacct_elements(const std::string& text, const st
   return elements;
 }
 
+ShardCount slurm_shard_count(int requested, long evaluations, int max_array_size) {
+  if (max_array_size <= 0)
+    throw std::runtime_error(
+        "this cluster has job arrays disabled (MaxArraySize = 0 in scontrol show config): the "
+        "Slurm engine submits an array; run the shards another way (doc/campaign_slurm.md)");
+  const std::string limit = "MaxArraySize = " + std::to_string(max_array_size) +
+                            " (array indices 0 to " + std::to_string(max_array_size - 1) + ")";
+  if (requested > 0) {
+    if (requested > max_array_size)
+      throw InputError("--shards", std::to_string(requested) + " is more than this cluster's " +
+                                       limit + " allows: give at most " +
+                                       std::to_string(max_array_size) +
+                                       " (each shard then holds more samples: scale --time-limit "
+                                       "with it)");
+    return {requested, ""};
+  }
+  const long wanted = std::max(1L, (evaluations + kEvaluationsPerShard - 1) / kEvaluationsPerShard);
+  const std::string rule = "one per " + std::to_string(kEvaluationsPerShard) + " of the plan's " +
+                           std::to_string(evaluations) + " evaluations";
+  if (wanted > max_array_size)
+    return {max_array_size, std::to_string(max_array_size) + " shards: the default (" + rule +
+                                ", " + std::to_string(wanted) + ") capped at the cluster's " +
+                                limit + "; --shards sets the count"};
+  return {static_cast<int>(wanted),
+          std::to_string(wanted) + " shards: the default (" + rule + "); --shards sets the count"};
+}
+
+int parse_max_array_size(const std::string& scontrol_config) {
+  static const std::regex pattern(R"(^MaxArraySize\s*=\s*(\d{1,9})\s*$)");
+  int smallest = -1;
+  std::istringstream in(scontrol_config);
+  for (std::string line; std::getline(in, line);) {
+    std::smatch m;
+    if (!std::regex_match(line, m, pattern)) continue;
+    const int value = std::stoi(m[1].str());
+    smallest = smallest < 0 ? value : std::min(smallest, value);
+  }
+  return smallest;
+}
+
+std::string cluster_of_sbatch_args(const std::vector<std::string>& sbatch_args) {
+  std::string cluster;
+  for (const std::string& arg : sbatch_args) {
+    const std::vector<std::string> words = blank_separated_words(arg);
+    for (std::size_t i = 0; i < words.size(); ++i) {
+      const std::string& w = words[i];
+      const bool next_is_name = (w == "-M" || w == "--clusters" || w == "--cluster");
+      if (next_is_name && i + 1 < words.size())
+        cluster = words[++i];
+      else if (w.rfind("--clusters=", 0) == 0 || w.rfind("--cluster=", 0) == 0)
+        cluster = w.substr(w.find('=') + 1);
+      else if (w.size() > 2 && w.rfind("-M", 0) == 0)
+        cluster = w.substr(2);
+    }
+  }
+  return cluster;
+}
+
+SubmittedJob parse_sbatch_parsable(const std::string& out) {
+  const std::string text = trimmed(out);
+  const std::size_t semicolon = text.find(';');
+  SubmittedJob job{text.substr(0, semicolon),
+                   semicolon == std::string::npos ? "" : text.substr(semicolon + 1)};
+  const auto all_digits = [](const std::string& s) {
+    return !s.empty() && s.size() <= 18 &&
+           std::all_of(s.begin(), s.end(), [](char c) { return std::isdigit(c); });
+  };
+  const auto is_name = [](const std::string& s) {
+    return std::all_of(s.begin(), s.end(), [](char c) {
+      return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+    });
+  };
+  if (!all_digits(job.id) || !is_name(job.cluster) ||
+      (semicolon != std::string::npos && job.cluster.empty()))
+    return {};
+  return job;
+}
+
 std::vector<std::string> submit_slurm(const std::string& plan_path, const SlurmOptions& options) {
   SlurmOptions o = options;
   namespace fs = std::filesystem;
@@ -412,6 +584,11 @@ std::vector<std::string> submit_slurm(const std::string& plan_path, const SlurmO
   while (o.work_dir.size() > 1 && o.work_dir.back() == '/') o.work_dir.pop_back();
   const std::string plan = fs::absolute(plan_path).lexically_normal().string();
   if (!fs::is_regular_file(plan)) throw InputError(plan_path, "no such plan file");
+  for (const std::string& arg : o.sbatch_args) check_sbatch_arg(arg);  // before scontrol
+  const ShardCount count = slurm_shard_count(o.shards, o.evaluations,
+                                             max_array_size(cluster_of_sbatch_args(o.sbatch_args)));
+  o.shards = count.shards;
+  if (!count.note.empty()) std::fprintf(stderr, "slurm: %s\n", count.note.c_str());
   const std::string script = sbatch_script(plan, o);
   fs::create_directories(o.work_dir);
   const std::string script_path = o.work_dir + "/campaign.sbatch";
@@ -423,11 +600,12 @@ std::vector<std::string> submit_slurm(const std::string& plan_path, const SlurmO
   }
   fs::rename(script_path + ".tmp", script_path);
 
-  const std::string job_id = submit_script(script_path);
-  std::fprintf(stderr, "slurm job %s: %d elements submitted (%s)\n", job_id.c_str(), o.shards,
-               script_path.c_str());
-  wait_until_ended(job_id, o.shards);
-  report_failures(job_id, final_states(job_id, o.shards), o);
+  const SubmittedJob job = submit_script(script_path);
+  std::fprintf(stderr, "slurm job %s: %d elements submitted (%s); to cancel it: scancel%s %s\n",
+               job_text(job).c_str(), o.shards, script_path.c_str(),
+               job.cluster.empty() ? "" : (" -M " + job.cluster).c_str(), job.id.c_str());
+  wait_until_ended(job, o.shards);
+  report_failures(job.id, final_states(job, o.shards), o);
   std::vector<std::string> shard_files;
   for (int k = 0; k < o.shards; ++k) shard_files.push_back(slurm_shard_file(o, k));
   return shard_files;

@@ -2,8 +2,8 @@
 # tests/campaign/slurm_engine.sh TEST_CAMPAIGN REPO: the Slurm engine on a real Slurm. Starts a
 # single-node cluster (tools/slurm/start-local-cluster, root, loopback only), runs the hidden
 # cluster cases of test_campaign ([slurm_cluster]: an array of a stand-in program through
-# submit_slurm, a failing element, the resubmission), then stops the cluster on every exit path and
-# checks that no process of it is left.
+# submit_slurm, a failing element, the resubmission, an element that requeues itself), then stops
+# the cluster on every exit path and checks that no process of it is left.
 set -euo pipefail
 test_campaign=$1 repo=$2
 dir=$(mktemp -d /tmp/flexloop-slurm-test.XXXXXX)

@@ -4,7 +4,11 @@
 //     directory), and its command line as bash itself reads it: the script is run by bash with
 //     SLURM_ARRAY_TASK_ID set and a recording program in place of flexloop, and the arguments it
 //     received are compared word for word, with paths holding blanks and quotes;
-//   - options Slurm could not take are InputError (nothing submitted);
+//   - options Slurm could not take are InputError (nothing submitted), --sbatch-arg among them;
+//   - elements requeueable with their logs appended to, --sbatch-arg lines written verbatim;
+//   - the shard count: the default from the plan's evaluations, under the cluster's MaxArraySize;
+//   - sbatch --parsable's "JOBID;CLUSTER" and the submission, waiting and final states through
+//     fake sbatch / squeue / scontrol programs on PATH: every client after sbatch gets -M CLUSTER;
 //   - the parsers on squeue / scontrol text captured from the local cluster
 //     (tools/slurm/start-local-cluster, Slurm 22.05.8: an array 0-4%2 whose elements ran,
 //     completed, exited 5, were cancelled, killed themselves, timed out), and sacct's documented -P
@@ -211,4 +215,223 @@ TEST_CASE("sacct -P: states with their reasons cut, exit codes", "[slurm]") {
   CHECK(e[2].state == "OUT_OF_MEMORY");
   CHECK(e[3].element == 3);
   for (int i = 1; i < 4; ++i) CHECK(element_outcome(e[i]) == ElementOutcome::kFailed);
+}
+
+TEST_CASE("sbatch script: requeueable elements whose logs are appended to, and --sbatch-arg lines",
+          "[slurm]") {
+  SlurmOptions o = options_in("/scratch/w");
+  const std::string plain = sbatch_script("/data/plan.json", o);
+  // A requeued element reruns its shard (campaign run resumes it); its log keeps both attempts.
+  CHECK(has_line(plain, "#SBATCH --requeue"));
+  CHECK(has_line(plain, "#SBATCH --open-mode=append"));
+
+  o.sbatch_args = {"--mem=2G",     "--qos=long", "--constraint=skylake|icelake",
+                   "--gres=gpu:1", "-M other",   "--comment=\"two words\""};
+  const std::string script = sbatch_script("/data/plan.json", o);
+  // Each one verbatim on its own line, after the engine's own (a later line wins in sbatch), and
+  // before the first command (sbatch stops reading directives there).
+  std::size_t previous = script.find("#SBATCH --error=");
+  for (const std::string& arg : o.sbatch_args) {
+    INFO(arg);
+    CHECK(has_line(script, "#SBATCH " + arg));
+    const std::size_t at = script.find("#SBATCH " + arg + "\n");
+    CHECK(at > previous);
+    previous = at;
+  }
+  CHECK(previous < script.find("\nset -eu\n"));
+}
+
+TEST_CASE(
+    "sbatch script: an --sbatch-arg is refused with a newline, as no option, or as one of "
+    "the engine's own",
+    "[slurm]") {
+  using flexloop::common::InputError;
+  const SlurmOptions good = options_in("/scratch/w");
+  const auto refusal = [&](const std::string& arg) {
+    SlurmOptions o = good;
+    o.sbatch_args = {"--mem=1G", arg};
+    try {
+      sbatch_script("/p.json", o);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(accepted)");
+  };
+  // A newline would start a line of the script's own: another directive, or a command.
+  const std::string newline = refusal("--mem=1G\necho owned");
+  CHECK_THAT(newline, Catch::Contains("--sbatch-arg") &&
+                          Catch::Contains("'--mem=1G\\necho owned'") && Catch::Contains("newline"));
+  CHECK_THAT(refusal("--qos=a\rb"), Catch::Contains("--sbatch-arg"));
+  CHECK_THAT(refusal("mem=1G"), Catch::Contains("not an sbatch option"));
+  CHECK_THAT(refusal(""), Catch::Contains("not an sbatch option"));
+  // What the engine's bookkeeping reads, and what has an option of its own; getopt_long takes a
+  // long option by any prefix of its name.
+  for (const std::string owned :
+       {"--array=0-3", "-a 0-3", "--arr=1", "--output=x.out", "-o x", "--error=e", "--chdir=/t",
+        "-D /t", "--open-mode=truncate", "--wait", "--wrap=hostname", "--partition=p", "-p p",
+        "--account=a", "-A a", "--time=5", "-t 5", "--mem=1G --array=1"}) {
+    INFO(owned);
+    CHECK_THAT(refusal(owned), Catch::Contains("--sbatch-arg") && Catch::Contains("writes itself"));
+  }
+  // Options of similar names are not the engine's.
+  for (const std::string own : {"--time-min=5", "--exclusive", "--export=ALL", "--mem-per-cpu=1G",
+                                "-M other", "--clusters=other", "--qos=long", "--no-requeue"}) {
+    INFO(own);
+    CHECK(refusal(own) == "(accepted)");
+  }
+}
+
+TEST_CASE("sbatch --parsable: the job id and the cluster it was sent to", "[slurm]") {
+  CHECK(parse_sbatch_parsable("4242\n").id == "4242");
+  CHECK(parse_sbatch_parsable("4242\n").cluster.empty());
+  const SubmittedJob far = parse_sbatch_parsable("4242;far-away\n");
+  CHECK(far.id == "4242");
+  CHECK(far.cluster == "far-away");
+  CHECK(parse_sbatch_parsable("").id.empty());
+  CHECK(parse_sbatch_parsable("Submitted batch job 12\n").id.empty());
+  CHECK(parse_sbatch_parsable("12;\n").id.empty());
+  CHECK(parse_sbatch_parsable("12;a b\n").id.empty());
+
+  CHECK(cluster_of_sbatch_args({"--mem=1G"}).empty());
+  CHECK(cluster_of_sbatch_args({"-M other"}) == "other");
+  CHECK(cluster_of_sbatch_args({"-Mother"}) == "other");
+  CHECK(cluster_of_sbatch_args({"--clusters=a", "--qos=q"}) == "a");
+  CHECK(cluster_of_sbatch_args({"--cluster=a", "--clusters b"}) == "b");
+  CHECK(cluster_of_sbatch_args({"--mem=1G"}).empty());
+}
+
+TEST_CASE("shard count: the plan's evaluations by default, under the cluster's MaxArraySize",
+          "[slurm]") {
+  using flexloop::common::InputError;
+  // Captured from the local cluster (Slurm 22.05.8), lines around it included.
+  const std::string config =
+      "Configuration data as of 2026-12-07T15:54:57\n"
+      "MailType                = (null)\nMaxArraySize            = 1001\n"
+      "MaxDBDMsgs              = 20008\nMaxJobCount             = 10000\n";
+  CHECK(parse_max_array_size(config) == 1001);
+  CHECK(parse_max_array_size("MaxArraySize = 5000\nMaxArraySize = 200\n") == 200);
+  CHECK(parse_max_array_size("MaxJobCount = 10000\n") == -1);
+
+  // The default: one shard per kEvaluationsPerShard evaluations, whatever machine submits.
+  CHECK(slurm_shard_count(0, 1, 1001).shards == 1);
+  CHECK(slurm_shard_count(0, kEvaluationsPerShard, 1001).shards == 1);
+  CHECK(slurm_shard_count(0, kEvaluationsPerShard + 1, 1001).shards == 2);
+  const ShardCount saltelli = slurm_shard_count(0, 4352, 1001);
+  CHECK(saltelli.shards == 3);
+  CHECK_THAT(saltelli.note, Catch::Contains("default") && Catch::Contains("4352 evaluations"));
+  // MaxArraySize = N allows the indices 0 .. N-1: N elements at most.
+  const ShardCount capped = slurm_shard_count(0, 1000 * kEvaluationsPerShard, 100);
+  CHECK(capped.shards == 100);
+  CHECK_THAT(capped.note, Catch::Contains("capped") && Catch::Contains("MaxArraySize = 100"));
+  CHECK(slurm_shard_count(0, 100 * kEvaluationsPerShard, 100).shards == 100);
+
+  // A count the user gave is kept, or refused when the cluster cannot take it.
+  CHECK(slurm_shard_count(7, 1, 1001).shards == 7);
+  CHECK(slurm_shard_count(7, 1, 1001).note.empty());
+  CHECK(slurm_shard_count(100, 1, 100).shards == 100);
+  CHECK_THROWS_AS(slurm_shard_count(101, 1, 100), InputError);
+  CHECK_THROWS_WITH(slurm_shard_count(101, 1, 100),
+                    Catch::Contains("--shards") && Catch::Contains("101") &&
+                        Catch::Contains("MaxArraySize = 100") && Catch::Contains("at most 100"));
+  CHECK_THROWS_WITH(slurm_shard_count(0, 10, 0), Catch::Contains("arrays disabled"));
+}
+
+namespace {
+
+// PATH with a directory in front for as long as this lives (each test case runs in a process of
+// its own under ctest).
+class PathInFront {
+ public:
+  explicit PathInFront(const std::string& dir)
+      : old_(std::getenv("PATH") ? std::getenv("PATH") : "") {
+    ::setenv("PATH", (dir + ":" + old_).c_str(), 1);
+  }
+  ~PathInFront() { ::setenv("PATH", old_.c_str(), 1); }
+  PathInFront(const PathInFront&) = delete;
+  PathInFront& operator=(const PathInFront&) = delete;
+
+ private:
+  std::string old_;
+};
+
+// Fake Slurm clients for a job 4242 on cluster "far": each records its arguments (one per line,
+// then a line "--") into calls.txt beside it. sbatch keeps the script it was given; scontrol
+// shows a configuration with MaxArraySize = 4 and every element COMPLETED, as squeue does.
+void write_fake_clients(const std::string& bin, int elements) {
+  const std::string record =
+      "#!/bin/bash\n{ echo \"$(basename \"$0\")\"; printf '%s\\n' \"$@\"; "
+      "echo --; } >> \"$(dirname \"$0\")/calls.txt\"\n";
+  write_file(bin + "/sbatch",
+             record + "cp \"${@: -1}\" \"$(dirname \"$0\")/submitted.sbatch\"\necho '4242;far'\n",
+             true);
+  std::string squeue = record, scontrol = record;
+  scontrol += "if [ \"$*\" = '-M far show job 4242 -o' ]; then\n";
+  for (int k = 0; k < elements; ++k) {
+    squeue += "echo '4242_" + std::to_string(k) + " COMPLETED'\n";
+    scontrol += "  echo 'JobId=" + std::to_string(5000 + k) +
+                " ArrayJobId=4242 ArrayTaskId=" + std::to_string(k) +
+                " JobState=COMPLETED Reason=None ExitCode=0:0'\n";
+  }
+  scontrol +=
+      "elif [ \"$*\" = 'show config' ] || [ \"$*\" = '-M far show config' ]; then\n  echo "
+      "'MaxArraySize            = 4'\n"
+      "else\n  echo \"fake scontrol: $*\" >&2; exit 1\nfi\n";
+  write_file(bin + "/squeue", squeue, true);
+  write_file(bin + "/scontrol", scontrol, true);
+}
+
+// A scratch directory with the fake clients first on PATH, a plan, and options for it.
+struct FakeSlurm {
+  ScratchDir scratch{"slurm fake clients"};
+  std::string bin = scratch / "bin", plan = scratch / "plan.json";
+  SlurmOptions options = options_in(scratch / "work");
+  explicit FakeSlurm(int elements) {
+    write_fake_clients(bin, elements);
+    write_file(plan, "{}\n");
+  }
+  std::string calls() const { return read_file(bin + "/calls.txt"); }
+
+ private:
+  PathInFront path_{bin};
+};
+
+}  // namespace
+
+TEST_CASE(
+    "submit_slurm: a job on another cluster is followed there (-M), MaxArraySize caps the "
+    "default",
+    "[slurm]") {
+  FakeSlurm fake(4);
+  SlurmOptions& o = fake.options;
+  o.shards = 0;                               // the default: 10 shards for these evaluations,
+  o.evaluations = 10 * kEvaluationsPerShard;  // capped at MaxArraySize = 4
+  o.sbatch_args = {"--mem=1G", "-M far"};
+  for (int k = 0; k < 4; ++k) write_file(slurm_shard_file(o, k), "");
+
+  const std::vector<std::string> files = submit_slurm(fake.plan, o);
+  CHECK(files.size() == 4);
+  const std::string script = read_file(fake.bin + "/submitted.sbatch");
+  CHECK(has_line(script, "#SBATCH --array=0-3"));
+  CHECK(has_line(script, "#SBATCH --mem=1G"));
+  CHECK(has_line(script, "#SBATCH -M far"));
+  const std::string calls = fake.calls();
+  INFO(calls);
+  // MaxArraySize of the cluster the job goes to; the job found there by the cluster sbatch named.
+  CHECK(calls.find("scontrol\n-M\nfar\nshow\nconfig\n--\n") != std::string::npos);
+  CHECK(calls.find("sbatch\n--parsable\n") != std::string::npos);
+  CHECK(calls.find("squeue\n-M\nfar\n-h\n-r\n-t\nall\n-j\n4242\n") != std::string::npos);
+  CHECK(calls.find("scontrol\n-M\nfar\nshow\njob\n4242\n-o\n") != std::string::npos);
+  CHECK(calls.find("squeue\n-h") == std::string::npos);
+  CHECK(calls.find("scontrol\nshow\njob") == std::string::npos);
+}
+
+TEST_CASE("submit_slurm: --shards above the cluster's MaxArraySize is refused before sbatch",
+          "[slurm]") {
+  FakeSlurm fake(4);
+  fake.options.shards = 5;
+  CHECK_THROWS_WITH(submit_slurm(fake.plan, fake.options),
+                    Catch::Contains("--shards") && Catch::Contains("MaxArraySize = 4"));
+  const std::string calls = fake.calls();
+  CHECK(calls.find("scontrol\nshow\nconfig\n--\n") != std::string::npos);
+  CHECK(calls.find("sbatch") == std::string::npos);
 }

@@ -53,7 +53,8 @@ struct RunArgs {
 
 struct SubmitArgs {
   std::string plan, engine = "local", work_dir, partition, account;
-  int shards = 0, jobs = all_cores(), array_throttle = 0;
+  std::vector<std::string> sbatch_args;
+  int shards = 0, jobs = all_cores(), array_throttle = 0;  // shards 0: the engine's default
   double time_limit_min = 60;
   bool quiet = false;
 };
@@ -133,11 +134,21 @@ void run_shard_command(const RunArgs& a) {
 std::vector<std::string> submit(const SubmitArgs& a, const nlohmann::json& plan) {
   const std::string work_dir =
       a.work_dir.empty() ? (fs::path(a.plan).parent_path() / "shards").string() : a.work_dir;
+  if (a.engine == "slurm") {
+    // The default shard count comes from the plan, not from the cores of the submitting machine.
+    SlurmOptions o;
+    o.partition = a.partition;
+    o.account = a.account;
+    o.shards = a.shards;
+    o.evaluations = plan.at("evaluations").get<long>();
+    o.array_throttle = a.array_throttle;
+    o.flexloop_program = this_program();
+    o.work_dir = fs::absolute(work_dir).string();
+    o.time_limit_min = a.time_limit_min;
+    o.sbatch_args = a.sbatch_args;
+    return submit_slurm(fs::absolute(a.plan).string(), o);
+  }
   const int shards = a.shards > 0 ? a.shards : a.jobs;
-  if (a.engine == "slurm")
-    return submit_slurm(fs::absolute(a.plan).string(),
-                        {a.partition, a.account, shards, a.array_throttle, this_program(),
-                         fs::absolute(work_dir).string(), a.time_limit_min});
   return run_local({this_program(), fs::absolute(a.plan).string(),
                     plan.at("evaluations").get<long>(), shards, a.jobs, work_dir, a.quiet});
 }
@@ -259,7 +270,11 @@ void register_submit(CLI::App* campaign) {
   cmd->add_option("--engine", a->engine, "local or slurm")
       ->check(CLI::IsMember({"local", "slurm"}))
       ->capture_default_str();
-  cmd->add_option("--shards", a->shards, "Shards (default: --jobs)")->check(CLI::Range(1, 1000000));
+  cmd->add_option("--shards", a->shards,
+                  "Shards (default: local: --jobs; slurm: one per " +
+                      std::to_string(kEvaluationsPerShard) +
+                      " evaluations, at most the cluster's MaxArraySize)")
+      ->check(CLI::Range(1, 1000000));
   cmd->add_option("--jobs,-j", a->jobs, "local: shards at once (default: all cores)")
       ->check(CLI::Range(1, 4096));
   cmd->add_option("--work-dir", a->work_dir,
@@ -272,11 +287,18 @@ void register_submit(CLI::App* campaign) {
   cmd->add_option("--time-limit", a->time_limit_min, "slurm: minutes per array element")
       ->check(finite_positive())
       ->capture_default_str();
+  cmd->add_option("--sbatch-arg", a->sbatch_args,
+                  "slurm: one more sbatch option, written as its own #SBATCH line (repeatable; "
+                  "give it with '=': --sbatch-arg=--mem=2G)")
+      ->expected(1)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
   cmd->add_flag("--quiet,-q", a->quiet, "No progress on stderr");
   cmd->footer(
       "Example:\n  flexloop campaign submit out/c/plan.json --engine local --shards 8\n"
       "  flexloop campaign submit out/c/plan.json --engine slurm --shards 64 "
       "--partition batch --array-throttle 16\n"
+      "  flexloop campaign submit out/c/plan.json --engine slurm --sbatch-arg=--mem=2G "
+      "--sbatch-arg=--qos=long --sbatch-arg='-M other'\n"
       "  flexloop campaign report out/c/plan.json out/c/shards/shard-*.jsonl --out-dir out/c");
   cmd->callback([a] {
     const nlohmann::json plan = read_plan(a->plan);
