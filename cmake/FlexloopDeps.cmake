@@ -44,6 +44,14 @@ find_package(OpenSSL REQUIRED)  # SHA-256 of input files for provenance
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(LIBZIP REQUIRED IMPORTED_TARGET libzip>=1.7)
 find_package(pugixml 1.13 REQUIRED CONFIG)
+# Superelements (issue 58): Spectra (header-only Lanczos on Eigen) and CHOLMOD (SuiteSparse 5,
+# no CMake package in Debian 12: found by name) for the sparse reduction.
+find_package(Spectra 1.0 REQUIRED CONFIG PATHS /usr/share/spectra/cmake)
+find_library(CHOLMOD_LIBRARY NAMES cholmod REQUIRED)
+find_path(CHOLMOD_INCLUDE_DIR NAMES cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+add_library(flexloop_cholmod INTERFACE)
+target_include_directories(flexloop_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(flexloop_cholmod INTERFACE ${CHOLMOD_LIBRARY})
 # NLopt (Debian 12: 2.7.1): the derivative-free bounded search of `flexloop campaign worst`.
 find_package(NLopt 2.7 REQUIRED CONFIG)
 

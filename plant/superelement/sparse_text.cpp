@@ -1,0 +1,252 @@
+#include "plant/superelement/sparse_text.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cmath>
+#include <cstring>
+#include <string_view>
+
+#include "common/input_error.hpp"
+
+namespace flexloop::plant::superelement {
+
+namespace {
+
+using common::InputError;
+
+// A whole file mapped read-only: the text is parsed where it lies, at disk speed.
+class MappedText {
+ public:
+  explicit MappedText(const std::string& path) : path_(path) {
+    const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+    if (fd < 0) throw InputError(path, std::string("cannot read: ") + std::strerror(errno));
+    struct stat st {};
+    if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+      ::close(fd);
+      throw InputError(path, "not a regular file");
+    }
+    size_ = static_cast<std::size_t>(st.st_size);
+    if (size_ > 0) {
+      data_ = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+      if (data_ == MAP_FAILED) {
+        ::close(fd);
+        throw InputError(path, std::string("cannot map: ") + std::strerror(errno));
+      }
+      ::madvise(data_, size_, MADV_SEQUENTIAL);
+    }
+    ::close(fd);
+  }
+  ~MappedText() {
+    if (data_ && data_ != MAP_FAILED) ::munmap(data_, size_);
+  }
+  MappedText(const MappedText&) = delete;
+  MappedText& operator=(const MappedText&) = delete;
+
+  std::string_view text() const {
+    return size_ ? std::string_view(static_cast<const char*>(data_), size_) : std::string_view();
+  }
+
+ private:
+  std::string path_;
+  void* data_ = nullptr;
+  std::size_t size_ = 0;
+};
+
+// The lines of a text, numbered from 1, blank ones included in the count.
+class Lines {
+ public:
+  Lines(std::string_view text, std::string file) : rest_(text), file_(std::move(file)) {}
+  bool next(std::string_view& line) {
+    if (rest_.empty()) return false;
+    const std::size_t end = rest_.find('\n');
+    line = rest_.substr(0, end);
+    rest_ = end == std::string_view::npos ? std::string_view() : rest_.substr(end + 1);
+    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    ++number_;
+    return true;
+  }
+  InputError error(const std::string& what) const {
+    return InputError(file_ + ":" + std::to_string(number_), what);
+  }
+
+ private:
+  std::string_view rest_;
+  std::string file_;
+  long number_ = 0;
+};
+
+bool blank(std::string_view s) {
+  return s.find_first_not_of(" \t") == std::string_view::npos;
+}
+
+// The next whitespace- (or comma-) separated field of `s` as a T, consuming it; false when
+// there is none or it is not a T.
+template <class T>
+bool take(std::string_view& s, T& value, bool comma = false) {
+  const std::size_t start = s.find_first_not_of(comma ? " \t," : " \t");
+  if (start == std::string_view::npos) return false;
+  s.remove_prefix(start);
+  const auto [end, ec] = std::from_chars(s.data(), s.data() + s.size(), value);
+  if (ec != std::errc() || (end != s.data() + s.size() && !std::strchr(" \t,", *end))) return false;
+  s.remove_prefix(static_cast<std::size_t>(end - s.data()));
+  return true;
+}
+
+using Triplets = std::vector<Eigen::Triplet<double, int>>;
+
+// One "row col value" entry (1-based) into `t`, mirrored when `mirror`; checks the range.
+void add_entry(std::string_view line, Lines& lines, Eigen::Index size, bool mirror, bool upper_only,
+               Triplets& t) {
+  long r = 0, c = 0;
+  double v = 0;
+  if (!take(line, r) || !take(line, c) || !take(line, v) || !blank(line))
+    throw lines.error("expected 'row column value'");
+  if (r < 1 || c < 1 || r > size || c > size)
+    throw lines.error("entry (" + std::to_string(r) + ", " + std::to_string(c) +
+                      ") is outside the " + std::to_string(size) + " rows");
+  if (!std::isfinite(v)) throw lines.error("the value is not a finite number");
+  if (upper_only && r > c)
+    throw lines.error("a lower-triangle entry: CalculiX writes the upper triangle (row <= col)");
+  t.emplace_back(static_cast<int>(r - 1), static_cast<int>(c - 1), v);
+  if (mirror && r != c) t.emplace_back(static_cast<int>(c - 1), static_cast<int>(r - 1), v);
+}
+
+SparseMatrix from_triplets(Eigen::Index size, const Triplets& t) {
+  SparseMatrix m(size, size);
+  m.setFromTriplets(t.begin(), t.end());
+  m.makeCompressed();
+  return m;
+}
+
+// The Matrix Market banner: whether the file stores one triangle (symmetric).
+bool matrix_market_symmetric(std::string_view banner, Lines& lines) {
+  std::string b(banner);
+  std::transform(b.begin(), b.end(), b.begin(), [](unsigned char ch) { return std::tolower(ch); });
+  if (b.rfind("%%matrixmarket matrix coordinate", 0) != 0)
+    throw lines.error(
+        "not a Matrix Market coordinate file (its first line must be "
+        "'%%MatrixMarket matrix coordinate real symmetric')");
+  if (b.find(" complex") != std::string::npos || b.find(" pattern") != std::string::npos)
+    throw lines.error("the matrix must be real (or integer): an FE stiffness or mass");
+  if (b.find(" symmetric") != std::string::npos) return true;
+  if (b.find(" general") != std::string::npos) return false;
+  throw lines.error("only 'symmetric' and 'general' matrices are read");
+}
+
+void require_symmetric(const SparseMatrix& m, const std::string& path) {
+  const SparseMatrix t = m.transpose();
+  const SparseMatrix d = m - t;
+  double largest = 0, asymmetry = 0;
+  for (int k = 0; k < m.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(m, k); it; ++it)
+      largest = std::max(largest, std::abs(it.value()));
+  for (int k = 0; k < d.outerSize(); ++k)
+    for (SparseMatrix::InnerIterator it(d, k); it; ++it)
+      asymmetry = std::max(asymmetry, std::abs(it.value()));
+  if (asymmetry > 1e-12 * largest)
+    throw InputError(path, "the matrix is not symmetric: |A - A^T| reaches " +
+                               std::to_string(asymmetry) + " of its largest entry " +
+                               std::to_string(largest) + " (an FE stiffness or mass is symmetric)");
+}
+
+}  // namespace
+
+SparseMatrix read_matrix_market(const std::string& path, Eigen::Index expected_size) {
+  const MappedText file(path);
+  Lines lines(file.text(), path);
+  std::string_view line;
+  if (!lines.next(line)) throw lines.error("the file is empty");
+  const bool symmetric = matrix_market_symmetric(line, lines);
+  while (lines.next(line) && (line.starts_with("%") || blank(line))) {
+  }
+  long rows = 0, cols = 0, entries = 0;
+  if (!take(line, rows) || !take(line, cols) || !take(line, entries) || !blank(line))
+    throw lines.error("expected the size line 'rows columns entries'");
+  if (rows != cols || rows < 1) throw lines.error("the matrix must be square");
+  if (expected_size > 0 && rows != expected_size)
+    throw lines.error("the matrix has " + std::to_string(rows) + " rows, the DOF map " +
+                      std::to_string(expected_size));
+  Triplets t;
+  t.reserve(static_cast<std::size_t>(symmetric ? 2 * entries : entries));
+  long read = 0;
+  while (lines.next(line)) {
+    if (blank(line) || line.starts_with("%")) continue;
+    if (++read > entries)
+      throw lines.error("more entries than the size line's " + std::to_string(entries));
+    add_entry(line, lines, rows, symmetric, false, t);
+  }
+  if (read < entries)
+    throw lines.error("the file ends after " + std::to_string(read) + " of its " +
+                      std::to_string(entries) + " entries");
+  SparseMatrix m = from_triplets(rows, t);
+  if (!symmetric) require_symmetric(m, path);
+  return m;
+}
+
+SparseMatrix read_calculix_matrix(const std::string& path, Eigen::Index size) {
+  const MappedText file(path);
+  Lines lines(file.text(), path);
+  Triplets t;
+  t.reserve(static_cast<std::size_t>(file.text().size() / 16));  // ~40 bytes a line, mirrored
+  std::string_view line;
+  long read = 0;
+  while (lines.next(line)) {
+    if (blank(line)) continue;
+    add_entry(line, lines, size, true, true, t);
+    ++read;
+  }
+  if (read == 0) throw lines.error("no entries: the file is empty");
+  return from_triplets(size, t);
+}
+
+std::vector<DofLabel> read_calculix_dofs(const std::string& path) {
+  const MappedText file(path);
+  Lines lines(file.text(), path);
+  std::vector<DofLabel> out;
+  std::string_view line;
+  while (lines.next(line)) {
+    if (blank(line)) continue;
+    const std::size_t dot = line.find('.');
+    std::string_view node = line.substr(0, dot), direction;
+    if (dot != std::string_view::npos) direction = line.substr(dot + 1);
+    DofLabel d;
+    if (dot == std::string_view::npos || !take(node, d.node) || !blank(node) ||
+        !take(direction, d.direction) || !blank(direction) || d.direction < 1 || d.direction > 6)
+      throw lines.error("expected 'node.direction' (direction 1 to 6), as CalculiX writes");
+    out.push_back(d);
+  }
+  if (out.empty()) throw lines.error("no DOFs: the file is empty");
+  return out;
+}
+
+std::vector<DofLabel> read_dof_csv(const std::string& path) {
+  const MappedText file(path);
+  Lines lines(file.text(), path);
+  std::vector<DofLabel> out;
+  std::string_view line;
+  bool first = true;
+  while (lines.next(line)) {
+    if (blank(line)) continue;
+    DofLabel d;
+    std::string_view rest = line;
+    const bool numbers = take(rest, d.node, true) && take(rest, d.direction, true) && blank(rest);
+    if (!numbers && first) {  // a header line
+      first = false;
+      continue;
+    }
+    first = false;
+    if (!numbers || d.direction < 1 || d.direction > 6)
+      throw lines.error("expected 'node,direction' (direction 1 to 6)");
+    out.push_back(d);
+  }
+  if (out.empty()) throw lines.error("no DOFs: the file is empty");
+  return out;
+}
+
+}  // namespace flexloop::plant::superelement
