@@ -26,6 +26,9 @@ class PlanSamples {
   /// Its JSONL object: plan_id, index, parameters and the figures. A machine the readers refuse
   /// (a drawn value outside what a file may hold) is status "refused: ..." with null figures.
   nlohmann::json line(long index) const;
+  /// The same for a machine with the given drawn values (a point no design of the plan makes:
+  /// subset simulation's chains, offline/campaign/subset_campaign.hpp), numbered `index`.
+  nlohmann::json line_of(const ParameterValues& values, long index) const;
   /// The JSONL object of an evaluation that was not computed (its run crashed on it): its
   /// parameters, `status` and null figures.
   nlohmann::json failed_line(long index, const std::string& status) const;
