@@ -12,7 +12,6 @@
 #include "offline/campaign/plan_samples.hpp"
 #include "offline/campaign/planned_parameters.hpp"
 #include "offline/campaign/sample_table.hpp"
-#include "offline/report/csv_writer.hpp"
 
 namespace flexloop::campaign {
 
@@ -155,9 +154,13 @@ json subset_summary(const json& plan, const SubsetCampaignOptions& o, const Subs
 }
 
 std::string subset_report_markdown(const json& summary) {
-  auto number = [](const json& v) {
+  auto number = [](const json& v) {  // four digits: a table to read, summary.json has them all
     if (v.is_string()) return v.get<std::string>();
-    return v.is_number() ? report::format_number(v.get<double>()) : std::string("-");
+    if (!v.is_number()) return std::string("-");
+    std::ostringstream s;
+    s.precision(4);
+    s << v.get<double>();
+    return s.str();
   };
   const json& p = summary["p_unstable"];
   std::ostringstream md;

@@ -211,10 +211,18 @@ void campaign_subset(CampaignArgs& a, bool design_given) {
   common::write_text_atomically(fs::path(a.out_dir) / "summary.json", summary.dump(1) + "\n");
   common::write_text_atomically(fs::path(a.out_dir) / "report.md", subset_report_markdown(summary));
   const SubsetResult& r = c.result;
+  if (r.estimate > 0)
+    std::printf("P(unstable) = %.4g, CoV %.3g, approximate 95 %% interval [%.4g, %.4g]", r.estimate,
+                r.cov, r.lo, r.hi);
+  else
+    std::printf(
+        "P(unstable) = 0: no failure within %zu levels; at most about %.4g (the last "
+        "level's probability)",
+        r.levels.size() - 1, r.hi);
   std::printf(
-      "P(unstable) = %.4g, CoV %.3g, approximate 95 %% interval [%.4g, %.4g] (subset simulation: "
-      "%ld evaluations in %zu levels, %.1f s)\nwrote %s/summary.json, report.md, samples.jsonl\n",
-      r.estimate, r.cov, r.lo, r.hi, r.evaluations, r.levels.size(), seconds, a.out_dir.c_str());
+      " (subset simulation: %ld evaluations in %zu levels, %.1f s)\nwrote %s/summary.json, "
+      "report.md, samples.jsonl\n",
+      r.evaluations, r.levels.size(), seconds, a.out_dir.c_str());
 }
 
 // `required`: false on `campaign` itself, whose subcommands take their own arguments (its
