@@ -3,7 +3,7 @@
 # "Rare failures"): --help shows it with an example; it writes summary.json with p_unstable
 # {estimate, cov, lo, hi, evaluations, method "subset"} and the levels, report.md and one line
 # per evaluated machine in samples.jsonl; the same seed gives the same bytes; bad input exits 2
-# with its place (n not a multiple of 10, a --design, --simulate).
+# with its place (n not a multiple of 10, a --design, --simulate; --margin without subset).
 set -uo pipefail
 flexloop=$1
 root=$2
@@ -56,6 +56,8 @@ out=$("$flexloop" campaign "$scene" -u "$tmp/gain.toml" -n 100 --method subset -
 [[ $rc -eq 2 && "$out" == *"--design"* ]] || fail "--design with subset: exit $rc ($out)"
 out=$("$flexloop" campaign "$scene" -u "$tmp/gain.toml" -n 100 --method subset --simulate 1 --out-dir "$tmp/c" 2>&1); rc=$?
 [[ $rc -eq 2 && "$out" == *"--simulate"* ]] || fail "--simulate with subset: exit $rc ($out)"
+out=$("$flexloop" campaign "$scene" -u "$tmp/gain.toml" -n 100 --margin disk --out-dir "$tmp/c" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"--margin"*"--method subset"* ]] || fail "--margin without subset: exit $rc ($out)"
 pass
 
 echo "subset cli: $checks checks passed"

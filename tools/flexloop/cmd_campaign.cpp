@@ -404,6 +404,10 @@ void register_campaign(CLI::App& app) {
         if (!given) throw CLI::RequiredError(name);
       if (a->method == "subset")
         campaign_subset(*a, cmd->count("--design") > 0);
+      else if (cmd->count("--margin") > 0)
+        throw common::InputError("--margin",
+                                 "the failure margin steers subset simulation: "
+                                 "give it with --method subset");
       else
         campaign_all(*a);
     }
