@@ -25,8 +25,9 @@ ParameterValues PlanSamples::values(long index) const {
 nlohmann::json figures_not_computed(const std::string& status) {
   nlohmann::json j{{"status", status}};
   for (const char* figure :
-       {"spectral_radius", "natural_frequencies_hz", "rms", "rms_open", "disk_margin_db",
-        "disk_margin_deg", "disk_margin_all_db", "disk_margin_all_deg", "peak_sigma", "sigma_max"})
+       {"spectral_radius", "largest_inner_radius", "natural_frequencies_hz", "rms", "rms_open",
+        "disk_margin_db", "disk_margin_deg", "disk_margin_all_db", "disk_margin_all_deg",
+        "peak_sigma", "sigma_max"})
     j[figure] = nullptr;
   return j;
 }
@@ -48,7 +49,10 @@ nlohmann::json PlanSamples::figures_at(const ParameterValues& values) const {
 }
 
 nlohmann::json PlanSamples::line(long index) const {
-  const ParameterValues values = this->values(index);
+  return line_of(values(index), index);
+}
+
+nlohmann::json PlanSamples::line_of(const ParameterValues& values, long index) const {
   const double simulate_s = plan_simulate_s(plan_);
   nlohmann::json figures =
       figures_of(values, simulation_seeds(plan_.at("seed").get<std::uint64_t>(), index));

@@ -31,6 +31,9 @@ class PlanSamples {
   /// design's: the worst-machine search), as line() computes them, without the sample's identity
   /// and without a simulation.
   nlohmann::json figures_at(const ParameterValues& values) const;
+  /// The same for a machine with the given drawn values (a point no design of the plan makes:
+  /// subset simulation's chains, offline/campaign/subset_campaign.hpp), numbered `index`.
+  nlohmann::json line_of(const ParameterValues& values, long index) const;
   /// The JSONL object of an evaluation that was not computed (its run crashed on it): its
   /// parameters, `status` and null figures.
   nlohmann::json failed_line(long index, const std::string& status) const;

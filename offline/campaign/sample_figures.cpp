@@ -23,6 +23,7 @@ using nlohmann::json;
 json empty_figures() {
   return {{"status", nullptr},
           {"spectral_radius", nullptr},
+          {"largest_inner_radius", nullptr},
           {"natural_frequencies_hz", nullptr},
           {"rms", nullptr},
           {"rms_open", nullptr},
@@ -101,6 +102,9 @@ scene::SampledScene put_loop_figures(const scene::ScenePlant& p, const std::vect
   scene::SampledScene sampled = scene::sample_scene(p);
   const scene::SampledLoop loop = scene::sampled_loop(p);
   j["spectral_radius"] = loop.stability.spectral_radius;
+  // The PI integrator's poles sit on the unit circle (z = 1) in every stable machine, so the
+  // spectral radius is 1 there: the poles inside show how far a machine is from instability.
+  j["largest_inner_radius"] = loop.stability.largest_inner_radius;
   j["rms_open"] = rms_or_null(p, sampled, false);
   if (!pipeline::closed_loop_stable(p, loop.stability)) {
     j["status"] = "unstable";

@@ -10,6 +10,10 @@
 //                           statically unstable machine: buckling under preload; a refused
 //                           discretisation) | "error: <what>" (anything unexpected)
 //   spectral_radius         of the sampled loop (scene::sampled_loop)
+//   largest_inner_radius    the largest |z| of its poles inside the unit circle, those on it left
+//                           out (the PI integrator's at z = 1, which make every stable PI
+//                           machine's spectral radius 1): how far a stable loop is from the
+//                           circle (subset simulation's margin, subset_campaign.hpp)
 //   natural_frequencies_hz  the passive machine's, ascending
 //   rms, rms_open           {performance channel: stationary RMS}, closed and open loop, exact by
 //                           the discrete Lyapunov equation with every noise source of the scene

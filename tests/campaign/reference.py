@@ -18,6 +18,10 @@ REQUEST is {"task": ..., ...}; the answer is JSON. Tasks, each computed by OpenT
                    (first order: the Saltelli 2010 form) and JansenSensitivityAlgorithm (total,
                    OpenTURNS divides by 2N-1; flexloop by 2N: both answers are returned).
   c2_discrepancy   {samples: {name: [[...]]}}: ot.SpaceFillingC2 (centred L2 discrepancy).
+  subset_sampling  {dim, beta, n, p0, seed}: ot.SubsetSampling of the event
+                   (z_1 + ... + z_dim) / sqrt(dim) >= beta, Z ~ N(0, I), n per level: its
+                   estimate, coefficient of variation, evaluations and levels, and the exact
+                   Phi(-beta).
 """
 import json
 import sys
@@ -92,8 +96,27 @@ def c2_discrepancy(req):
     return {name: c2.evaluate(ot.Sample(pts)) for name, pts in req["samples"].items()}
 
 
+def subset_sampling(req):
+    import openturns as ot
+    d, beta = req["dim"], req["beta"]
+    ot.RandomGenerator.SetSeed(req["seed"])
+    names = ["x%d" % i for i in range(d)]
+    g = ot.MemoizeFunction(ot.SymbolicFunction(names, ["(%s) / sqrt(%d)" % ("+".join(names), d)]))
+    event = ot.ThresholdEvent(ot.CompositeRandomVector(g, ot.RandomVector(ot.Normal(d))),
+                              ot.GreaterOrEqual(), beta)
+    algo = ot.SubsetSampling(event)
+    algo.setMaximumOuterSampling(req["n"])
+    algo.setBlockSize(1)
+    algo.setConditionalProbability(req["p0"])
+    algo.run()
+    r = algo.getResult()
+    return {"estimate": r.getProbabilityEstimate(), "cov": r.getCoefficientOfVariation(),
+            "evaluations": g.getInputHistory().getSize(), "levels": algo.getStepsNumber(),
+            "exact": ot.Normal().computeComplementaryCDF(beta)}
+
+
 TASKS = {f.__name__: f for f in (sobol_points, quantile_ranks, wilks, clopper_pearson,
-                                 sobol_indices, c2_discrepancy)}
+                                 sobol_indices, c2_discrepancy, subset_sampling)}
 
 if __name__ == "__main__":
     request = json.load(open(sys.argv[1]))

@@ -23,6 +23,7 @@
 #include "offline/campaign/shard_merge.hpp"
 #include "offline/campaign/shard_run.hpp"
 #include "offline/campaign/slurm_engine.hpp"
+#include "offline/campaign/subset_campaign.hpp"
 #include "offline/campaign/worst_samples.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/number_checks.hpp"
@@ -67,7 +68,7 @@ struct ReportArgs {
 
 struct CampaignArgs {
   PlanRequest request;
-  std::string scene, out_dir;
+  std::string scene, out_dir, method = "sampling", margin = "radius";
   int jobs = all_cores(), worst = 5;
   bool quiet = false;
 };
@@ -190,6 +191,52 @@ void campaign_all(CampaignArgs& a) {
   s.shards = a.jobs;
   s.quiet = a.quiet;
   report(plan_path, submit(s, plan), a.out_dir, a.worst);
+}
+
+// --method subset: P(unstable) by subset simulation (offline/campaign/subset_campaign.hpp), one
+// process, no shards; -n is the samples per level.
+void campaign_subset(CampaignArgs& a, bool design_given) {
+  if (design_given)
+    throw common::InputError("--design", "subset simulation draws its own points: no design");
+  if (a.request.n < 10 || a.request.n % 10 != 0)
+    throw common::InputError("-n",
+                             "subset simulation needs a multiple of 10 samples per level "
+                             "(p0 = 0.1: n / 10 chains of 10), not " +
+                                 std::to_string(a.request.n));
+  a.request.scene = a.scene;
+  fs::create_directories(a.out_dir);
+  const nlohmann::json plan = make_plan(a.request);
+  SubsetCampaignOptions o;
+  o.settings.per_level = a.request.n;
+  o.settings.seed = a.request.seed;
+  o.margin = failure_margin_from_name(a.margin);
+  o.samples_path = (fs::path(a.out_dir) / "samples.jsonl").string();
+  if (!a.quiet)
+    o.level_done = [](int level, const SubsetLevel& l) {
+      std::fprintf(stderr, "level %d: threshold %.6g, P(g >= b) = %.4g, %ld evaluations%s\n", level,
+                   l.threshold, l.fraction, l.evaluations,
+                   level == 0 ? "" : (", acceptance " + std::to_string(l.acceptance)).c_str());
+    };
+  const auto start = std::chrono::steady_clock::now();
+  const SubsetCampaign c = run_subset_campaign(plan, o);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const nlohmann::json summary = subset_summary(plan, o, c);
+  common::write_text_atomically(fs::path(a.out_dir) / "summary.json", summary.dump(1) + "\n");
+  common::write_text_atomically(fs::path(a.out_dir) / "report.md", subset_report_markdown(summary));
+  const SubsetResult& r = c.result;
+  if (r.estimate > 0)
+    std::printf("P(unstable) = %.4g, CoV %.3g, approximate 95 %% interval [%.4g, %.4g]", r.estimate,
+                r.cov, r.lo, r.hi);
+  else
+    std::printf(
+        "P(unstable) = 0: no failure within %zu levels; at most about %.4g (the last "
+        "level's probability)",
+        r.levels.size() - 1, r.hi);
+  std::printf(
+      " (subset simulation: %ld evaluations in %zu levels, %.1f s)\nwrote %s/summary.json, "
+      "report.md, samples.jsonl\n",
+      r.evaluations, r.levels.size(), seconds, a.out_dir.c_str());
 }
 
 // `required`: false on `campaign` itself, whose subcommands take their own arguments (its
@@ -345,6 +392,17 @@ void register_campaign(CLI::App& app) {
       ->check(CLI::Range(0, 100000))
       ->capture_default_str();
   cmd->add_flag("--quiet,-q", a->quiet, "No progress on stderr");
+  cmd->add_option("--method", a->method,
+                  "sampling (the design's machines, P(unstable) with its Clopper-Pearson "
+                  "interval) or subset (subset simulation for a small P(unstable): -n per level, "
+                  "one process, no shards)")
+      ->check(CLI::IsMember({"sampling", "subset"}))
+      ->capture_default_str();
+  cmd->add_option("--margin", a->margin,
+                  "subset: the failure margin the levels follow: radius (the sampled loop's "
+                  "poles) or disk (the disk margin)")
+      ->check(CLI::IsMember({"radius", "disk"}))
+      ->capture_default_str();
   cmd->footer(
       "doc/campaign.md has the U.toml format, the figures and the statistics.\n"
       "Example:\n  flexloop campaign tools/scenes/metrology_frame.toml --uncertain "
@@ -353,7 +411,9 @@ void register_campaign(CLI::App& app) {
       "tools/scenes/metrology_frame_uncertain.toml -n 256 --design saltelli --jobs 2 "
       "--out-dir out/sobol\n"
       "  flexloop campaign tools/scenes/metrology_frame.toml -u "
-      "tools/scenes/metrology_frame_uncertain.toml -n 200 --simulate 1 --out-dir out/simulated");
+      "tools/scenes/metrology_frame_uncertain.toml -n 200 --simulate 1 --out-dir out/simulated\n"
+      "  flexloop campaign tools/scenes/metrology_frame.toml -u "
+      "tools/scenes/metrology_frame_uncertain.toml -n 1000 --method subset --out-dir out/rare");
   register_plan(cmd);
   register_run(cmd);
   register_submit(cmd);
@@ -368,7 +428,14 @@ void register_campaign(CLI::App& app) {
             std::pair{!a->request.uncertain.empty(), "--uncertain"},
             std::pair{cmd->count("-n") > 0, "-n"}, std::pair{!a->out_dir.empty(), "--out-dir"}})
         if (!given) throw CLI::RequiredError(name);
-      campaign_all(*a);
+      if (a->method == "subset")
+        campaign_subset(*a, cmd->count("--design") > 0);
+      else if (cmd->count("--margin") > 0)
+        throw common::InputError("--margin",
+                                 "the failure margin steers subset simulation: "
+                                 "give it with --method subset");
+      else
+        campaign_all(*a);
     }
   });
 }
