@@ -1,5 +1,7 @@
 #include "offline/campaign/sample_figures.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -121,6 +123,17 @@ scene::SampledScene put_loop_figures(const scene::ScenePlant& p, const std::vect
   return sampled;
 }
 
+// The largest |z| of the poles inside the unit circle (not within rounding of it): a passive
+// machine's rigid-body or undamped modes sit on the circle, the rest is how fast it settles.
+double largest_inner_radius(const Eigen::MatrixXd& a) {
+  const Eigen::EigenSolver<Eigen::MatrixXd> es(a, false);
+  double largest = 0;
+  for (const auto& z : es.eigenvalues())
+    if (std::abs(z) < 1 - controller::design::kSampledRoundingTolerance)
+      largest = std::max(largest, std::abs(z));
+  return largest;
+}
+
 // The passive machine alone (an open-loop campaign: the scene has no controller): its sampled
 // plant's spectral radius, its stationary RMS and the floor -> performance path's sigma. Unstable
 // above the unit circle by more than rounding; marginal without a stationary state (an undamped
@@ -130,6 +143,7 @@ scene::SampledScene put_passive_figures(const scene::ScenePlant& p,
   scene::SampledScene sampled = scene::sample_scene(p);
   const double radius = sampled.plant.spectral_radius;
   j["spectral_radius"] = radius;
+  j["largest_inner_radius"] = largest_inner_radius(sampled.plant.sys.A);
   if (radius > 1 + controller::design::kSampledRoundingTolerance) {
     j["status"] = "unstable";
     return sampled;

@@ -168,7 +168,8 @@ void check_request(const WorstRequest& r) {
 
 WorstFigure worst_figure_from_name(const std::string& name,
                                    const std::vector<std::string>& performance_channels) {
-  if (name == "spectral_radius" || name == "peak_sigma") return {name, "", false};
+  if (name == "spectral_radius" || name == "largest_inner_radius" || name == "peak_sigma")
+    return {name, "", false};
   if (name == "disk_margin_db") return {name, "", true};
   std::string channel;
   if (name == "rms" && performance_channels.size() == 1) channel = performance_channels.front();
@@ -176,7 +177,7 @@ WorstFigure worst_figure_from_name(const std::string& name,
   if (!channel.empty() && std::find(performance_channels.begin(), performance_channels.end(),
                                     channel) != performance_channels.end())
     return {"rms." + channel, channel, false};
-  std::string choices = "spectral_radius, disk_margin_db, peak_sigma";
+  std::string choices = "spectral_radius, largest_inner_radius, disk_margin_db, peak_sigma";
   for (const std::string& c : performance_channels) choices += ", rms." + c;
   throw common::InputError("--figure", "'" + name + "' is not one of " + choices);
 }

@@ -35,8 +35,9 @@ struct WorstFigure {
   bool smaller_is_worse = false;  ///< a margin
 };
 
-/// "spectral_radius", "disk_margin_db", "peak_sigma", "rms" (the scene's one performance channel)
-/// or "rms.<channel>". @throws flexloop::InputError naming --figure and the choices.
+/// "spectral_radius", "largest_inner_radius" (the slowest pole inside the circle: a PI loop's
+/// integrator sits on it), "disk_margin_db", "peak_sigma", "rms" (the scene's one performance
+/// channel) or "rms.<channel>". @throws flexloop::InputError naming --figure and the choices.
 WorstFigure worst_figure_from_name(const std::string& name,
                                    const std::vector<std::string>& performance_channels);
 

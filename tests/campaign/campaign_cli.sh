@@ -160,7 +160,7 @@ pass
 "$flexloop" analyse "$tmp/worst_box/worst.toml" --out-dir "$tmp/worst_box/analysis" >/dev/null ||
   fail "analyse of worst.toml"
 out=$("$flexloop" campaign worst "$scene" -u "$u" --figure gain --out-dir "$tmp/worst_bad" 2>&1); rc=$?
-[[ $rc -eq 2 && "$out" == *"--figure: 'gain' is not one of spectral_radius, disk_margin_db"* ]] ||
+[[ $rc -eq 2 && "$out" == *"--figure: 'gain' is not one of spectral_radius, largest_inner_radius, disk_margin_db"* ]] ||
   fail "campaign worst --figure gain: exit $rc ($out)"
 [[ ! -e "$tmp/worst_bad" ]] || fail "a refused worst search left $tmp/worst_bad"
 pass

@@ -70,8 +70,8 @@ void register_campaign_worst(CLI::App* campaign) {
       ->required()
       ->check(CLI::ExistingFile);
   cmd->add_option("--figure", a->request.figure,
-                  "spectral_radius, disk_margin_db, peak_sigma, rms (one performance channel) or "
-                  "rms.<channel>")
+                  "spectral_radius, largest_inner_radius, disk_margin_db, peak_sigma, rms (one "
+                  "performance channel) or rms.<channel>")
       ->capture_default_str();
   cmd->add_option("-n", a->request.plan.n, "Machines sampled first (Latin hypercube)")
       ->check(CLI::Range(1, 1000000))
