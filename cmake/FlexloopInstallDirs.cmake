@@ -1,0 +1,10 @@
+# Where `cmake --install` puts things (doc/install.md), known before the subdirectories' own
+# install() rules read them. GNUInstallDirs gives bin, lib (lib/<multiarch> for prefix /usr),
+# include, share/man and share/doc/flexloop.
+include(GNUInstallDirs)
+set(FLEXLOOP_INSTALL_DATADIR ${CMAKE_INSTALL_DATADIR}/flexloop)
+set(FLEXLOOP_INSTALL_EXAMPLESDIR ${FLEXLOOP_INSTALL_DATADIR}/examples)
+set(FLEXLOOP_INSTALL_CMAKEDIR ${CMAKE_INSTALL_LIBDIR}/cmake/flexloop)
+# For the Python module that is to come (not built yet): where it is to go, as Debian's own.
+set(FLEXLOOP_INSTALL_PYTHONDIR lib/python3/dist-packages CACHE STRING
+    "Where the flexloop Python module installs (relative to the prefix)")
