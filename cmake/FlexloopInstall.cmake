@@ -10,6 +10,8 @@ file(RELATIVE_PATH libdir_from_bindir ${CMAKE_INSTALL_PREFIX}/${CMAKE_INSTALL_BI
 set_target_properties(flexloop-c-controller PROPERTIES INSTALL_RPATH "$ORIGIN/${libdir_from_bindir}")
 install(TARGETS ${flexloop_programs} EXPORT flexloopTargets
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The plant FMU's library, which `flexloop export-fmu` zips (tools/flexloop/cmd_export_fmu.cpp).
+install(TARGETS flexloop_plant LIBRARY DESTINATION ${FLEXLOOP_INSTALL_PLUGINDIR})
 
 # Scenes name their models and controller files relative to themselves (../models/...): the same
 # tree under share/flexloop keeps them working.
@@ -62,6 +64,14 @@ if(HELP2MAN_EXECUTABLE)
   install(FILES ${man_pages} DESTINATION ${CMAKE_INSTALL_MANDIR}/man1)
 else()
   message(WARNING "help2man not found: no man pages installed (tools/lib/common.sh installs it)")
+endif()
+
+# What `cmake --install` and cpack need, without the tests and benchmarks that ALL also builds:
+# `cmake --build DIR --target installables`.
+add_custom_target(installables)
+add_dependencies(installables ${flexloop_programs} flexloop_c_controller flexloop_plant)
+if(TARGET flexloop_man)
+  add_dependencies(installables flexloop_man)
 endif()
 
 # The .deb: `cpack -G DEB` in the build directory. Its dependencies are read from the binaries

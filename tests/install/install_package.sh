@@ -3,7 +3,8 @@
 # (doc/install.md):
 #   - bin/ holds the four programs, and bin/flexloop runs from the prefix;
 #   - include/flexloop/ the C controller library's headers (carrier, sample decoder, the lcm-gen C
-#     types), which compile as C and, inside extern "C", as C++; lib/ the shared library;
+#     types), which compile as C and, inside extern "C", as C++; lib/ the shared library, and
+#     lib/flexloop/ the plant FMU's (for `flexloop export-fmu`);
 #   - lib/pkgconfig/flexloop.pc and lib/cmake/flexloop/ (config, version, targets);
 #   - share/flexloop/ the scenes, models, controllers and the C example; share/man/man1/ a man page
 #     per program (help2man, from --help);
@@ -50,7 +51,7 @@ pc=$(find "$prefix" -name flexloop.pc)
 [[ -n $pc ]] || fail "no flexloop.pc"
 libdir=$(dirname "$(dirname "$pc")")
 for f in cmake/flexloop/flexloopConfig.cmake cmake/flexloop/flexloopConfigVersion.cmake \
-  cmake/flexloop/flexloopTargets.cmake libflexloop_c_controller.so; do
+  cmake/flexloop/flexloopTargets.cmake libflexloop_c_controller.so flexloop/flexloop_plant.so; do
   [[ -e $libdir/$f ]] || fail "no ${libdir#"$prefix"/}/$f"
 done
 for h in carrier.h sample_decode.h flexloop_msgs_sensor_sample_t.h flexloop_msgs_actuator_command_t.h; do
