@@ -5,16 +5,17 @@
 #   - include/flexloop/ the C controller library's headers (carrier, sample decoder, the lcm-gen C
 #     types), which compile as C and, inside extern "C", as C++; lib/ the shared library, and
 #     lib/flexloop/ the plant FMU's (for `flexloop export-fmu`);
-#   - lib/pkgconfig/flexloop.pc and lib/cmake/flexloop/ (config, version, targets);
+#   - lib/pkgconfig/flexloop.pc and lib/cmake/flexloop/ (config, version, and the imported targets
+#     flexloop::c_controller and flexloop::<program>);
 #   - share/flexloop/ the scenes, models, controllers and the C example; share/man/man1/ a man page
 #     per program (help2man, from --help);
 #   - the installed C example builds out of tree against the prefix both with pkg-config and with
 #     its CMake project (find_package(flexloop) -> flexloop::c_controller), and each build closes a
 #     2-s loop on the installed LQG scene (at 1 kHz, its controller designed by the installed
 #     design_lqg.py) against the installed `flexloop plant` inside a private loopback-only
-#     namespace (tools/netns-run). Not a timing test: an answer may be late; judged
-#     are that the controller answered at least half the samples and that the plant dropped no
-#     message as undecodable;
+#     namespace (tools/netns-run; the controller stopped by its pid, also on failure). Not a timing
+#     test: an answer may be late; judged are that the controller answered at least half the
+#     samples and that the plant dropped no message as undecodable;
 #   - `cpack -G DEB` makes a .deb of the same tree under /usr whose dependencies include LCM, and
 #     whose version (+native) and description say so when the build is native (-march=native).
 #   tests/install/install_package.sh BUILD_DIR SOURCE_DIR
@@ -22,12 +23,7 @@ set -uo pipefail
 build=$1 root=$2
 tmp=$(mktemp -d)
 prefix=$tmp/prefix
-controller_pid=""
-cleanup() {
-  [[ -n $controller_pid ]] && kill -TERM "$controller_pid" 2>/dev/null && wait "$controller_pid"
-  rm -rf "$tmp"
-}
-trap cleanup EXIT
+trap 'rm -rf "$tmp"' EXIT
 fail() { echo "FAIL: $*"; exit 1; }
 checks=0
 pass() { checks=$((checks + 1)); }
@@ -53,6 +49,10 @@ libdir=$(dirname "$(dirname "$pc")")
 for f in cmake/flexloop/flexloopConfig.cmake cmake/flexloop/flexloopConfigVersion.cmake \
   cmake/flexloop/flexloopTargets.cmake libflexloop_c_controller.so flexloop/flexloop_plant.so; do
   [[ -e $libdir/$f ]] || fail "no ${libdir#"$prefix"/}/$f"
+done
+for target in c_controller "${programs[@]}"; do
+  grep -q "^add_[a-z]*(flexloop::$target .*IMPORTED" "$libdir/cmake/flexloop/flexloopTargets.cmake" ||
+    fail "find_package(flexloop) gives no imported target flexloop::$target"
 done
 for h in carrier.h sample_decode.h flexloop_msgs_sensor_sample_t.h flexloop_msgs_actuator_command_t.h; do
   [[ -f $prefix/include/flexloop/$h ]] || fail "no include/flexloop/$h"
@@ -110,10 +110,12 @@ run_loop() {
   "$root/tools/netns-run" -- bash -c "
     set -e
     '$controller' '$tmp/loop.json' --duration $((duration + 10)) > '$tmp/$name.txt' 2>&1 &
+    pid=\$!
+    trap 'kill -TERM \$pid 2>/dev/null || true' EXIT
     sleep 0.5
     '$prefix/bin/flexloop' plant '$tmp/loop.json' --duration $duration --max-miss-share 100 \\
       --start rest --json '$tmp/$name.json' > '$tmp/$name-plant.txt' 2>&1
-    kill -TERM %1; wait %1" > "$tmp/netns.txt" 2>&1 ||
+    kill -TERM \$pid; wait \$pid" > "$tmp/netns.txt" 2>&1 ||
     fail "$name in the namespace: $(cat "$tmp/netns.txt" "$tmp/$name.txt" "$tmp/$name-plant.txt")"
   /usr/bin/python3 - "$tmp/$name.json" "$tmp/$name.txt" <<'PY' || fail "$name's loop: $(cat "$tmp/$name.txt")"
 import json, re, sys
