@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The external controller in plain C (tools/external_controller, no flexloop library) closes the
-# loop against `flexloop plant` inside a private loopback-only namespace (tools/netns-run), on the
-# metrology frame under an LQG controller that tools/controllers/design_lqg.py designs here:
+# The external controller in plain C (tools/external_controller; of flexloop, only its C library)
+# closes the loop against `flexloop plant` inside a private loopback-only namespace
+# (tools/netns-run), on the metrology frame under an LQG controller that
+# tools/controllers/design_lqg.py designs here:
 #   - the script reproduces the shipped controller file (tools/controllers/metrology_frame_lqg.json)
 #     from the default scene's artefact, each matrix within 1e-8 of its Frobenius norm;
 #   - at 1 kHz (the script's design for the 1 kHz artefact; the C controller, like a deployed one,

@@ -19,7 +19,7 @@
 #include <sys/un.h>
 #include <unistd.h>
 
-#include "carrier.h"
+#include <flexloop/carrier.h>
 
 /* RouDi's socket: iceoryx 2.0's IOX_UDS_SOCKET_PATH_PREFIX ("/tmp/") and RouDi's name. */
 #define ROUDI_SOCKET "/tmp/roudi"
@@ -38,7 +38,7 @@ enum {
 };
 
 typedef struct {
-  Carrier base; /* first: a Carrier* is an IceoryxCarrier* */
+  FlexloopCarrier base; /* first: a FlexloopCarrier* is an IceoryxCarrier* */
   iox_sub_storage_t sub_storage;
   iox_pub_storage_t pub_storage;
   iox_ws_storage_t ws_storage;
@@ -79,7 +79,7 @@ static int take_all(IceoryxCarrier* self) {
   return handled;
 }
 
-static int iceoryx_receive(Carrier* base, int timeout_ms) {
+static int iceoryx_receive(FlexloopCarrier* base, int timeout_ms) {
   IceoryxCarrier* self = (IceoryxCarrier*)base;
   const int handled = take_all(self);
   if (handled > 0 || timeout_ms <= 0) return handled;
@@ -90,7 +90,7 @@ static int iceoryx_receive(Carrier* base, int timeout_ms) {
   return take_all(self);
 }
 
-static void* iceoryx_loan(Carrier* base, int size) {
+static void* iceoryx_loan(FlexloopCarrier* base, int size) {
   IceoryxCarrier* self = (IceoryxCarrier*)base;
   void* chunk = NULL;
   if (size <= 0 || iox_pub_loan_aligned_chunk(self->pub, &chunk, (uint32_t)size, kAlignment) !=
@@ -99,18 +99,18 @@ static void* iceoryx_loan(Carrier* base, int size) {
   return chunk;
 }
 
-static void iceoryx_send(Carrier* base, void* buffer, int size) {
+static void iceoryx_send(FlexloopCarrier* base, void* buffer, int size) {
   (void)size; /* the chunk was loaned with it */
   iox_pub_publish_chunk(((IceoryxCarrier*)base)->pub, buffer);
 }
 
-static void iceoryx_discard(Carrier* base, void* buffer) {
+static void iceoryx_discard(FlexloopCarrier* base, void* buffer) {
   iox_pub_release_chunk(((IceoryxCarrier*)base)->pub, buffer);
 }
 
 /* The wait set first (it detaches the subscriber), then the ports, then the runtime: the process
  * deregisters from RouDi and its socket and lock in /tmp go. */
-static void iceoryx_close(Carrier* base) {
+static void iceoryx_close(FlexloopCarrier* base) {
   IceoryxCarrier* self = (IceoryxCarrier*)base;
   iox_ws_deinit(self->ws);
   iox_sub_deinit(self->sub);
@@ -172,7 +172,7 @@ static void open_ports(IceoryxCarrier* self) {
     iceoryx_fail("cannot attach the subscriber of " FLEXLOOP_SENSOR_CHANNEL " to the wait set");
 }
 
-Carrier* carrier_iceoryx_open(CarrierDeliver deliver, void* user) {
+FlexloopCarrier* flexloop_carrier_iceoryx_open(FlexloopCarrierDeliver deliver, void* user) {
   require_roudi();
   IceoryxCarrier* self = calloc(1, sizeof *self);
   if (!self) {
@@ -184,13 +184,13 @@ Carrier* carrier_iceoryx_open(CarrierDeliver deliver, void* user) {
   iox_runtime_init(self->name); /* unique on the host: RouDi refuses a name registered twice */
   open_ports(self);
   check_chunk_header(self);
-  self->base = (Carrier){.receive = iceoryx_receive,
-                         .loan = iceoryx_loan,
-                         .send = iceoryx_send,
-                         .discard = iceoryx_discard,
-                         .close = iceoryx_close,
-                         .deliver = deliver,
-                         .user = user};
+  self->base = (FlexloopCarrier){.receive = iceoryx_receive,
+                                 .loan = iceoryx_loan,
+                                 .send = iceoryx_send,
+                                 .discard = iceoryx_discard,
+                                 .close = iceoryx_close,
+                                 .deliver = deliver,
+                                 .user = user};
   snprintf(self->base.description, sizeof self->base.description,
            "iceoryx (RouDi at %s, runtime %s)", ROUDI_SOCKET, self->name);
   return &self->base;

@@ -1,10 +1,10 @@
-#include "sample_decode.h"
+#include <flexloop/sample_decode.h>
 
 #include <lcm/lcm_coretypes.h>
 #include <string.h>
 
 /* Fields in msgs/sensor_sample_t.lcm's order, each with LCM's own decoder of its type. */
-int decode_sample(const void* data, int size, int sensors, SensorSample* s) {
+int flexloop_decode_sample(const void* data, int size, int sensors, FlexloopSensorSample* s) {
   flexloop_msgs_sensor_sample_t* m = &s->msg;
   int64_t hash = 0;
   int at = 0, n;
@@ -18,8 +18,8 @@ int decode_sample(const void* data, int size, int sensors, SensorSample* s) {
   FIELD(__int64_t_decode_array, &m->plant_epoch, 1);
   FIELD(__int16_t_decode_array, &m->n_sensors, 1);
   FIELD(__int16_t_decode_array, &m->n_performance, 1);
-  if (m->n_sensors != sensors || sensors < 1 || sensors > kMaxChannels) return 0;
-  if (m->n_performance < 1 || m->n_performance > kMaxChannels) return 0;
+  if (m->n_sensors != sensors || sensors < 1 || sensors > FLEXLOOP_MAX_CHANNELS) return 0;
+  if (m->n_performance < 1 || m->n_performance > FLEXLOOP_MAX_CHANNELS) return 0;
   m->sensors = s->sensors;
   m->performance = s->performance;
   FIELD(__double_decode_array, m->sensors, m->n_sensors);
@@ -30,7 +30,7 @@ int decode_sample(const void* data, int size, int sensors, SensorSample* s) {
   return at == size;
 }
 
-int decode_sample_matches_lcm_gen(void) {
+int flexloop_decode_sample_matches_lcm_gen(void) {
   double sensors[3] = {1.5, -2.25, 3e-9}, performance[2] = {-4.0, 5.125};
   const flexloop_msgs_sensor_sample_t probe = {.t_ns = 11,
                                                .seq = 12,
@@ -43,8 +43,8 @@ int decode_sample_matches_lcm_gen(void) {
                                                .applied_scale = 0.75};
   unsigned char bytes[256];
   const int size = flexloop_msgs_sensor_sample_t_encode(bytes, 0, sizeof bytes, &probe);
-  SensorSample s;
-  if (size <= 0 || !decode_sample(bytes, size, 3, &s)) return 0;
+  FlexloopSensorSample s;
+  if (size <= 0 || !flexloop_decode_sample(bytes, size, 3, &s)) return 0;
   const flexloop_msgs_sensor_sample_t* m = &s.msg;
   return m->t_ns == probe.t_ns && m->seq == probe.seq && m->plant_epoch == probe.plant_epoch &&
          m->n_sensors == 3 && m->n_performance == 2 &&

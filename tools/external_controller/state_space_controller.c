@@ -1,7 +1,8 @@
 /* An external controller in plain C: what a user's own controller process looks like
- * (doc/external_controller.md is the contract it follows). It links only the LCM C library (or,
- * with --transport iceoryx, iceoryx's C binding: doc/iceoryx.md), cJSON and the C types
- * `lcm-gen -c` makes from msgs/: no flexloop code.
+ * (doc/external_controller.md is the contract it follows). Of flexloop it links only the C
+ * controller library (libflexloop_c_controller: the carriers over the LCM C library or iceoryx's
+ * C binding, doc/iceoryx.md; the sample decoder; the C types `lcm-gen -c` makes from msgs/), as
+ * installed (doc/install.md); besides, cJSON. No flexloop C++ code.
  *
  * It runs the state-space controller of a loop artefact (`flexloop build SCENE -o LOOP.json` of a
  * scene with [controller] type = "state_space": the artefact's "controller" object is the
@@ -23,8 +24,8 @@
  * With --record FILE it writes, when it ends, the samples it did not answer (lost on the way: gaps
  * in seq) as `flexloop replay --controller-record` reads them.
  *
- * The messages travel by a carrier (carrier.h): LCM (carrier_lcm.c, the default) or iceoryx's
- * shared memory (carrier_iceoryx.c); this file sees only their bytes.
+ * The messages travel by a carrier (<flexloop/carrier.h>): LCM (carrier_lcm.c, the default) or
+ * iceoryx's shared memory (carrier_iceoryx.c); this file sees only their bytes.
  *
  *   flexloop-c-controller LOOP.json [--transport lcm|iceoryx] [--url URL] [--spin] [--duration S]
  *                                   [--safe-after N] [--record FILE]
@@ -42,9 +43,9 @@
 #include <string.h>
 #include <time.h>
 
-#include "carrier.h"
-#include "flexloop_msgs_actuator_command_t.h"
-#include "sample_decode.h"
+#include <flexloop/carrier.h>
+#include <flexloop/flexloop_msgs_actuator_command_t.h>
+#include <flexloop/sample_decode.h>
 
 enum { kMaxHistory = 33, kRemembered = 64, kMaxGaps = 4096 };
 
@@ -61,8 +62,8 @@ typedef struct {
   double* held;      /* nc: the answer the plant holds (it may hold one longer than kRemembered) */
   int64_t held_seq;
   double* applied; /* nc: what the plant held over the period before the current sample */
-  Carrier* carrier;
-  SensorSample sample; /* the message being answered, decoded */
+  FlexloopCarrier* carrier;
+  FlexloopSensorSample sample; /* the message being answered, decoded */
   flexloop_msgs_actuator_command_t cmd;
   int64_t answered, undecoded, unsent;
   /* The samples not answered, as ranges of seq (kMaxGaps at most; else, or after a second plant
@@ -127,7 +128,7 @@ static int count(const cJSON* channels, const char* kind, const char* file) {
   const cJSON* list = cJSON_GetObjectItemCaseSensitive(channels, kind);
   if (!cJSON_IsArray(list)) fail(file, "key 'channels': missing a list of channels");
   const int n = cJSON_GetArraySize(list);
-  if (n < 1 || n > kMaxChannels) fail(file, "key 'channels': a list has 1 to 64 channels");
+  if (n < 1 || n > FLEXLOOP_MAX_CHANNELS) fail(file, "key 'channels': a list has 1 to 64 channels");
   return n;
 }
 
@@ -379,7 +380,7 @@ static int answer(Controller* c, const flexloop_msgs_sensor_sample_t* s) {
 /* Encodes c->cmd into a buffer the carrier lends (over iceoryx: a chunk of exactly the encoded
  * size in shared memory) and sends it. */
 static void send_command(Controller* c) {
-  Carrier* carrier = c->carrier;
+  FlexloopCarrier* carrier = c->carrier;
   const int size = flexloop_msgs_actuator_command_t_encoded_size(&c->cmd);
   void* buffer = carrier->loan(carrier, size);
   if (!buffer) {
@@ -399,7 +400,7 @@ static void send_command(Controller* c) {
 static void on_message(void* user, const void* data, int size) {
   Controller* c = user;
   const int64_t t0 = now_ns();
-  if (!decode_sample(data, size, c->ns, &c->sample)) {
+  if (!flexloop_decode_sample(data, size, c->ns, &c->sample)) {
     ++c->undecoded; /* not a sample of this loop */
     return;
   }
@@ -492,7 +493,7 @@ int main(int argc, char** argv) {
   c.safe_after = 10;
   const int parsed = parse(argc, argv, &o, &c);
   if (parsed != 0) return parsed < 0 ? 0 : parsed;
-  if (!decode_sample_matches_lcm_gen()) {
+  if (!flexloop_decode_sample_matches_lcm_gen()) {
     fprintf(stderr,
             "flexloop-c-controller: sample_decode.c does not follow "
             "msgs/sensor_sample_t.lcm (its fields changed): update it\n");
@@ -500,10 +501,11 @@ int main(int argc, char** argv) {
   }
   load(&c, o.loop);
   if (o.iceoryx) {
-    c.carrier = carrier_iceoryx_open(on_message, &c);
+    c.carrier = flexloop_carrier_iceoryx_open(on_message, &c);
   } else {
     const char* url = o.url ? o.url : getenv("LCM_DEFAULT_URL");
-    c.carrier = carrier_lcm_open(url ? url : "udpm://239.255.76.67:7667?ttl=0", on_message, &c);
+    c.carrier =
+        flexloop_carrier_lcm_open(url ? url : "udpm://239.255.76.67:7667?ttl=0", on_message, &c);
   }
   signal(SIGINT, on_signal);
   signal(SIGTERM, on_signal);

@@ -23,13 +23,17 @@ struct ExportArgs {
   double rate_hz = 0;
 };
 
-// The plant FMU library: where this build made it, else beside the flexloop executable.
+// The plant FMU library: where this build made it, else where it is installed relative to the
+// flexloop executable (doc/install.md), else beside it.
 std::filesystem::path plant_library() {
   const std::filesystem::path built = FLEXLOOP_PLANT_FMU_LIBRARY;
   if (std::filesystem::is_regular_file(built)) return built;
   std::error_code ec;
-  const auto self = std::filesystem::read_symlink("/proc/self/exe", ec);
-  return self.parent_path() / (std::string(plant_fmu::kModelIdentifier) + ".so");
+  const auto bin = std::filesystem::read_symlink("/proc/self/exe", ec).parent_path();
+  const std::string name = std::string(plant_fmu::kModelIdentifier) + ".so";
+  const auto installed = bin / FLEXLOOP_PLANT_FMU_INSTALLED_DIR / name;
+  if (std::filesystem::is_regular_file(installed)) return installed;
+  return bin / name;
 }
 
 void run(const ExportArgs& args) {

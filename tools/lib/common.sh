@@ -9,7 +9,7 @@ FLEXLOOP_PACKAGES=(
   libssl-dev iproute2 util-linux bsdutils rt-tests gnuplot-nox python3 python3-matplotlib valgrind
   libcjson-dev libmatio-dev libnlopt-dev libspectra-dev libsuitesparse-dev calculix-ccx gmsh python3-numpy python3-scipy python3-mpmath python3-openturns libslicot-dev
   liblapack-dev libblas-dev libopenblas0-pthread gfortran libzip-dev libpugixml-dev clang libclang-rt-14-dev libxml2-utils
-  slurm-wlm slurmctld slurmd slurm-client munge universal-ctags
+  slurm-wlm slurmctld slurmd slurm-client munge universal-ctags help2man
   libiceoryx-posh-dev libiceoryx-hoofs-dev libiceoryx-binding-c-dev iceoryx
 )
 
