@@ -2,27 +2,37 @@
 # Sourced, not run.
 
 FLEXLOOP_ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
-FLEXLOOP_PACKAGES=(
-  build-essential cmake ninja-build ccache lld git pkg-config clang-format
+# What building and running the `flexloop` program needs (tools/demo installs only these).
+FLEXLOOP_BUILD_PACKAGES=(
+  build-essential cmake ninja-build ccache lld git pkg-config
   libeigen3-dev liblcm-dev liblcm-bin libglib2.0-dev
-  libboost-dev catch2 libbenchmark-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
-  libssl-dev iproute2 util-linux bsdutils rt-tests gnuplot-nox python3 python3-matplotlib valgrind
-  libcjson-dev libmatio-dev libnlopt-dev libspectra-dev libsuitesparse-dev calculix-ccx gmsh python3-numpy python3-scipy python3-mpmath python3-openturns libslicot-dev
-  liblapack-dev libblas-dev libopenblas0-pthread gfortran libzip-dev libpugixml-dev clang libclang-rt-14-dev libxml2-utils
-  slurm-wlm slurmctld slurmd slurm-client munge universal-ctags help2man
+  libboost-dev libtomlplusplus-dev libcli11-dev nlohmann-json3-dev libssl-dev
+  libcjson-dev libmatio-dev libnlopt-dev libspectra-dev libsuitesparse-dev libslicot-dev
+  liblapack-dev libblas-dev libopenblas0-pthread gfortran libzip-dev libpugixml-dev gnuplot-nox
   libiceoryx-posh-dev libiceoryx-hoofs-dev libiceoryx-binding-c-dev iceoryx
+)
+# And what the tests, the sanitizers, the outside references and the engines need (tools/check).
+FLEXLOOP_PACKAGES=(
+  "${FLEXLOOP_BUILD_PACKAGES[@]}"
+  clang-format catch2 libbenchmark-dev iproute2 util-linux bsdutils rt-tests python3
+  python3-matplotlib valgrind python3-numpy python3-scipy python3-mpmath python3-openturns
+  calculix-ccx gmsh clang libclang-rt-14-dev libxml2-utils help2man
+  slurm-wlm slurmctld slurmd slurm-client munge universal-ctags
 )
 
 say() { printf '\033[1m[flexloop]\033[0m %s\n' "$*"; }
 
-# Install the Debian packages that are not installed yet (apt-get update only when needed).
+# Install the Debian packages that are not installed yet (apt-get update only when needed):
+# every one the checks need, or with `build` only what building and running flexloop needs.
 ensure_packages() {
+  local -n wanted=FLEXLOOP_PACKAGES
+  [[ "${1:-}" == build ]] && local -n wanted=FLEXLOOP_BUILD_PACKAGES
   local missing=()
-  for p in "${FLEXLOOP_PACKAGES[@]}"; do
+  for p in "${wanted[@]}"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   if ((${#missing[@]} == 0)); then
-    say "dependencies: all ${#FLEXLOOP_PACKAGES[@]} packages present"
+    say "dependencies: all ${#wanted[@]} packages present"
     return
   fi
   say "installing: ${missing[*]}"
