@@ -62,6 +62,21 @@ for d in scenes/metrology_frame_lqg.toml models/metrology_frame.toml \
   examples/c_controller/CMakeLists.txt; do
   [[ -f $prefix/share/flexloop/$d ]] || fail "no share/flexloop/$d"
 done
+# The Python module from the prefix (issue 55, 3): the cart linearised as bin/flexloop does.
+"$prefix/bin/flexloop" linearise "$prefix/share/flexloop/models/cart.toml" --out "$tmp/cart.json" \
+  > /dev/null || fail "bin/flexloop linearise"
+PYTHONPATH=$prefix/lib/python3/dist-packages /usr/bin/python3 - "$prefix" "$tmp/cart.json" <<'PY' ||
+import json, sys
+import numpy as np
+import flexloop
+prefix, cli = sys.argv[1], json.load(open(sys.argv[2]))
+assert flexloop.__file__.startswith(prefix), flexloop.__file__
+lin = flexloop.linearise(prefix + "/share/flexloop/models/cart.toml")
+for name in "ABCD":
+    want = np.array(cli[name], dtype=float).reshape(getattr(lin, name).shape)
+    assert np.allclose(getattr(lin, name), want, rtol=1e-12, atol=0), name
+PY
+  fail "import flexloop from the prefix: the cart is not the command line's"
 # Nothing installed may need the build tree: the C programs find the library by $ORIGIN.
 if readelf -d "$prefix/bin/flexloop-c-controller" | grep -q "$build"; then
   fail "bin/flexloop-c-controller's run path names the build tree"

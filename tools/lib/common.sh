@@ -17,6 +17,7 @@ FLEXLOOP_PACKAGES=(
   clang-format catch2 libbenchmark-dev iproute2 util-linux bsdutils rt-tests python3
   python3-matplotlib valgrind python3-numpy python3-scipy python3-mpmath python3-openturns
   calculix-ccx gmsh clang libclang-rt-14-dev libxml2-utils help2man
+  pybind11-dev python3-pybind11 python3-dev python3-pytest
   slurm-wlm slurmctld slurmd slurm-client munge universal-ctags
 )
 
