@@ -288,7 +288,7 @@ std::vector<Picture> draw_campaign_pictures(const json& plan, const SampleTable&
   // Statistics over the independent machines, as the summary's (a Saltelli design's A and B
   // rows); the scatter against a parameter shows every evaluation.
   const std::vector<SampleStatus>& status = machines.status;
-  const std::vector<FigureColumn>& figures = machines.figures;
+  const std::vector<FigureColumn>& figures = machines.figures();
   const auto path = [&](const std::string& file) { return out_dir + "/" + file; };
   std::vector<PictureTask> tasks;
   tasks.push_back({{"p_unstable.png", "P(unstable) and its interval against n"}, [&] {

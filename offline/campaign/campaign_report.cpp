@@ -261,7 +261,7 @@ json campaign_summary(const json& plan, const SampleTable& table, const MachineT
   for (long prefix : prefixes(m)) convergence.push_back(p_unstable_json(machine_status, prefix));
   summary["p_unstable_convergence"] = convergence;
   json per_figure = json::object(), order = json::array();
-  for (const FigureColumn& f : machines.figures) {
+  for (const FigureColumn& f : machines.figures()) {
     per_figure[f.name] = figure_summary(f, machine_status);
     order.push_back(f.name);
   }

@@ -227,11 +227,15 @@ MachineTable machine_table(const json& plan, const SampleTable& table) {
       independent_evaluations(plan, static_cast<long>(table.status.size()));
   MachineTable t;
   for (long i : machines) t.status.push_back(table.status[static_cast<std::size_t>(i)]);
+  if (machines.size() == table.status.size()) {  // every evaluation: 0, 1, ..., in order
+    t.every_one = &table.figures;
+    return t;
+  }
   for (const FigureColumn& f : table.figures) {
     FigureColumn picked{f.name, {}, f.population};
     picked.values.reserve(machines.size());
     for (long i : machines) picked.values.push_back(f.values[static_cast<std::size_t>(i)]);
-    t.figures.push_back(std::move(picked));
+    t.picked.push_back(std::move(picked));
   }
   return t;
 }

@@ -103,10 +103,16 @@ class SampleTableBuilder {
 SampleTable sample_table(const nlohmann::json& plan, const std::vector<nlohmann::json>& samples);
 
 /// The statuses and figures of the independent machines only, in evaluation order: what the
-/// summary's figures and intervals and the report's pictures are computed over.
+/// summary's figures and intervals and the report's pictures are computed over. When every
+/// evaluation is a machine (all designs but Saltelli) the figures are the table's own, not a copy
+/// (192 MB at 10^6 samples of the metrology frame): the table must outlive this.
 struct MachineTable {
   std::vector<SampleStatus> status;
-  std::vector<FigureColumn> figures;  ///< as SampleTable::figures, restricted to those machines
+  /// As SampleTable::figures, restricted to those machines.
+  const std::vector<FigureColumn>& figures() const { return every_one ? *every_one : picked; }
+
+  std::vector<FigureColumn> picked;                      ///< a Saltelli design's A and B rows
+  const std::vector<FigureColumn>* every_one = nullptr;  ///< else the table's figures
 };
 MachineTable machine_table(const nlohmann::json& plan, const SampleTable& table);
 
