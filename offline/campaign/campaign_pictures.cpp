@@ -34,12 +34,6 @@ double json_or_nan(const json& j) {
   return j.is_number() ? j.get<double>() : kMissing;
 }
 
-std::vector<SampleStatus> statuses(const std::vector<json>& samples) {
-  std::vector<SampleStatus> out;
-  for (const json& s : samples) out.push_back(sample_status(s));
-  return out;
-}
-
 // The ECDF of xs (sorted here) as a staircase, each quantile's estimate and its interval as a
 // horizontal bar at height p (an unbounded end drawn to the data's end, dashed). Infinite values
 // (an unbounded margin) count in the heights but cannot be drawn: the staircase ends below 1.
@@ -109,11 +103,19 @@ void draw_histogram(const std::string& name, const std::vector<double>& xs,
   report::plot_histogram(spec, edges, counts, png);
 }
 
+// The order statistic x_(k) of xs (k = max(1, ceil(p n))): the ECDF's inverse at p. Moves xs's
+// elements (nth_element), which keeps every x_(j) of j > k above it.
+double order_statistic(std::vector<double>& xs, std::size_t end, double p) {
+  const auto k = static_cast<std::size_t>(
+      std::max(1L, static_cast<long>(std::ceil(p * static_cast<double>(xs.size())))));
+  std::nth_element(xs.begin(), xs.begin() + static_cast<long>(k - 1),
+                   xs.begin() + static_cast<long>(end));
+  return xs[k - 1];
+}
+
 // Per grid point: 5/50/95 % (ECDF inverse) and the max of sigma_max over the stable machines
-// (`machines`: the independent evaluations, as the summary's figures).
-bool draw_sigma_envelope(const json& plan, const std::vector<json>& samples,
-                         const std::vector<SampleStatus>& status, const std::vector<long>& machines,
-                         const std::string& png) {
+// (the independent evaluations, as the summary's figures), one frequency's values at a time.
+bool draw_sigma_envelope(const json& plan, const ColumnSpill& sigma, const std::string& png) {
   if (!plan.contains("sigma_grid_hz") || !plan["sigma_grid_hz"].is_array()) return false;
   const std::vector<double> f = plan["sigma_grid_hz"].get<std::vector<double>>();
   const auto db = [](double s) { return s > 0.0 ? 20.0 * std::log10(s) : kMissing; };
@@ -121,33 +123,24 @@ bool draw_sigma_envelope(const json& plan, const std::vector<json>& samples,
                                     {"95 %", f, {}, "lines lw 2 lc rgb '#ff7f0e'"},
                                     {"50 %", f, {}, "lines lw 2 lc rgb '#2ca02c'"},
                                     {"5 %", f, {}, "lines lw 2 lc rgb '#1f77b4'"}};
-  // The values at each frequency, gathered in one pass over the samples (a lookup of each
-  // sample's array per frequency cost 2 million map searches at 10 000 samples).
-  std::vector<std::vector<double>> columns(f.size());
-  for (const long m : machines) {
-    const auto i = static_cast<std::size_t>(m);
-    const auto s = samples[i].find("sigma_max");
-    if (status[i] != SampleStatus::kStable || s == samples[i].end() || !s->is_array()) continue;
-    for (std::size_t j = 0; j < f.size() && j < s->size(); ++j)
-      if ((*s)[j].is_number()) columns[j].push_back((*s)[j].get<double>());
-  }
   bool any = false;
   for (std::size_t j = 0; j < f.size(); ++j) {
-    std::vector<double>& at = columns[j];
-    std::sort(at.begin(), at.end());
+    std::vector<double> at = sigma.column(j);
     any = any || !at.empty();
-    const auto q = [&](double p) {
-      return at.empty()
-                 ? kMissing
-                 : db(at[static_cast<std::size_t>(std::max(
-                             1L,
-                             static_cast<long>(std::ceil(p * static_cast<double>(at.size()))))) -
-                         1]);
-    };
-    lines[0].y.push_back(at.empty() ? kMissing : db(at.back()));
-    lines[1].y.push_back(q(0.95));
-    lines[2].y.push_back(q(0.5));
-    lines[3].y.push_back(q(0.05));
+    if (at.empty()) {
+      for (auto& l : lines) l.y.push_back(kMissing);
+      continue;
+    }
+    // Largest rank first: each selection leaves the ranks below it in front of it.
+    lines[0].y.push_back(db(*std::max_element(at.begin(), at.end())));
+    const double q95 = order_statistic(at, at.size(), 0.95);
+    const auto k95 = static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(at.size())));
+    const double q50 = order_statistic(at, std::max<std::size_t>(1, k95), 0.5);
+    const auto k50 = static_cast<std::size_t>(std::ceil(0.5 * static_cast<double>(at.size())));
+    const double q05 = order_statistic(at, std::max<std::size_t>(1, k50), 0.05);
+    lines[1].y.push_back(db(q95));
+    lines[2].y.push_back(db(q50));
+    lines[3].y.push_back(db(q05));
   }
   if (!any) return false;
   const json& nominal = plan.contains("nominal") ? plan["nominal"] : json();
@@ -166,20 +159,27 @@ bool draw_sigma_envelope(const json& plan, const std::vector<json>& samples,
   return true;
 }
 
-// The worst figures against one parameter: the disk margin and the peak sigma of the stable
-// samples, and the spectral radius of every judged sample (unstable ones in red, above 1).
-bool draw_scatter(const std::string& column, const std::vector<json>& samples,
-                  const std::vector<SampleStatus>& status, const std::string& png) {
+const std::vector<double>& figure_values(const SampleTable& table, const std::string& name) {
+  static const std::vector<double> kNone;
+  for (const FigureColumn& f : table.figures)
+    if (f.name == name) return f.values;
+  return kNone;
+}
+
+// The worst figures against one parameter (column c of the plan): the disk margin and the peak
+// sigma of the stable samples, and the spectral radius of every judged sample (unstable ones in
+// red, above 1), over every evaluation.
+bool draw_scatter(const std::string& column, std::size_t c, const SampleTable& table,
+                  const std::string& png) {
+  const std::vector<double>& xs = table.parameters[c];
   const auto figure = [&](const char* field, bool stable, bool unstable) {
     report::Series s{"", {}, {}, "points pt 7 ps 0.6 lc rgb '#1f4e79'"};
-    for (std::size_t i = 0; i < samples.size(); ++i) {
-      const bool wanted = (stable && status[i] == SampleStatus::kStable) ||
-                          (unstable && status[i] == SampleStatus::kUnstable);
-      const json& params = samples[i].contains("parameters") ? samples[i]["parameters"] : json();
-      if (!wanted || !params.is_object() || !params.contains(column)) continue;
-      const double x = json_or_nan(params[column]);
-      const double y = json_or_nan(samples[i].value(field, json()));
-      if (std::isfinite(x) && std::isfinite(y)) s.x.push_back(x), s.y.push_back(y);
+    const std::vector<double>& ys = figure_values(table, field);
+    for (std::size_t i = 0; i < table.status.size() && i < ys.size(); ++i) {
+      const bool wanted = (stable && table.status[i] == SampleStatus::kStable) ||
+                          (unstable && table.status[i] == SampleStatus::kUnstable);
+      if (wanted && std::isfinite(xs[i]) && std::isfinite(ys[i]))
+        s.x.push_back(xs[i]), s.y.push_back(ys[i]);
     }
     return s;
   };
@@ -282,16 +282,13 @@ std::vector<Picture> draw_side_by_side(const std::vector<PictureTask>& tasks) {
 
 }  // namespace
 
-std::vector<Picture> draw_campaign_pictures(const json& plan, const std::vector<json>& samples,
-                                            const json& summary, const std::string& out_dir) {
+std::vector<Picture> draw_campaign_pictures(const json& plan, const SampleTable& table,
+                                            const MachineTable& machines, const json& summary,
+                                            const std::string& out_dir) {
   // Statistics over the independent machines, as the summary's (a Saltelli design's A and B
   // rows); the scatter against a parameter shows every evaluation.
-  const MachineTable machines = machine_table(plan, samples);
   const std::vector<SampleStatus>& status = machines.status;
-  const std::vector<FigureColumn>& figures = machines.figures;
-  const std::vector<SampleStatus> every_status = statuses(samples);
-  const std::vector<long> machine_indices =
-      independent_evaluations(plan, static_cast<long>(samples.size()));
+  const std::vector<FigureColumn>& figures = machines.figures();
   const auto path = [&](const std::string& file) { return out_dir + "/" + file; };
   std::vector<PictureTask> tasks;
   tasks.push_back({{"p_unstable.png", "P(unstable) and its interval against n"}, [&] {
@@ -322,15 +319,14 @@ std::vector<Picture> draw_campaign_pictures(const json& plan, const std::vector<
                      }});
   }
   tasks.push_back({{"sigma_envelope.png", "closed-loop sigma envelope against the nominal"}, [&] {
-                     return draw_sigma_envelope(plan, samples, every_status, machine_indices,
-                                                path("sigma_envelope.png"));
+                     return draw_sigma_envelope(plan, table.sigma, path("sigma_envelope.png"));
                    }});
   if (plan.contains("columns"))
-    for (const json& c : plan["columns"]) {
-      const std::string column = c.get<std::string>(),
+    for (std::size_t c = 0; c < plan["columns"].size(); ++c) {
+      const std::string column = plan["columns"][c].get<std::string>(),
                         file = "scatter_" + file_stem(column) + ".png";
-      tasks.push_back({{file, "the worst figures against " + column}, [&, column, file] {
-                         return draw_scatter(column, samples, every_status, path(file));
+      tasks.push_back({{file, "the worst figures against " + column}, [&, column, c, file] {
+                         return draw_scatter(column, c, table, path(file));
                        }});
     }
   if (summary.contains("sobol"))

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "offline/campaign/sample_table.hpp"
+
 namespace flexloop::campaign {
 
 struct Picture {
@@ -14,10 +16,11 @@ struct Picture {
   std::string caption;  ///< one line for report.md
 };
 
-/// Draws the pictures into out_dir (which exists) from the samples and their summary
-/// (campaign_summary); returns what it drew, in the order report.md shows them.
-std::vector<Picture> draw_campaign_pictures(const nlohmann::json& plan,
-                                            const std::vector<nlohmann::json>& samples,
+/// Draws the pictures into out_dir (which exists) from the samples' table, its independent
+/// machines and their summary (campaign_summary); returns what it drew, in the order report.md
+/// shows them.
+std::vector<Picture> draw_campaign_pictures(const nlohmann::json& plan, const SampleTable& table,
+                                            const MachineTable& machines,
                                             const nlohmann::json& summary,
                                             const std::string& out_dir);
 

@@ -207,46 +207,48 @@ double median(std::vector<double> xs) {
 // --simulate: the runs' counts by status and, per performance channel, the median relative
 // standard error of the simulated RMS (the scatter a ratio sim / Lyapunov has from the run's
 // length alone). Null for a plan without simulation.
-json simulation_summary(const json& plan, const std::vector<json>& samples) {
+json simulation_summary(const json& plan, const SimulationTally& t) {
   if (!plan.contains("simulate_s")) return nullptr;
-  long ran = 0, not_run = 0, error = 0;
-  std::map<std::string, std::vector<double>> relative_se;
-  for (const json& s : samples) {
-    const json& sim = s.contains("sim") ? s["sim"] : json();
-    const std::string status = sim.is_object() ? sim.value("status", std::string()) : "";
-    if (status == "ran") {
-      ++ran;
-      for (const auto& [channel, rms] : sim["rms"].items()) {
-        const json& se = sim["rms_standard_error"][channel];
-        if (rms.is_number() && se.is_number() && rms.get<double>() > 0)
-          relative_se[channel].push_back(se.get<double>() / rms.get<double>());
-      }
-    } else if (status.rfind("not run", 0) == 0) {
-      ++not_run;
-    } else {
-      ++error;
-    }
-  }
   json channels = json::object();
-  for (const auto& [channel, xs] : relative_se)
+  for (const auto& [channel, xs] : t.relative_standard_error)
     channels[channel] = {{"median_relative_standard_error", number_or_null(median(xs))}};
   return {{"seconds", plan["simulate_s"]},
-          {"ran", ran},
-          {"not_run", not_run},
-          {"error", error},
+          {"ran", t.ran},
+          {"not_run", t.not_run},
+          {"error", t.error},
           {"channels", channels}};
+}
+
+// For a Saltelli plan: per figure (over every evaluation) the Sobol indices, and those of the
+// indicator 1{unstable}.
+json sobol_json(const json& plan, const SampleTable& table) {
+  const std::vector<std::string> columns = column_paths(plan);
+  const long n = plan.at("n").get<long>();
+  json sobol = json::object();
+  for (const FigureColumn& f : table.figures) sobol[f.name] = sobol_figure_json(f, n, columns);
+  // Which parameter drives P(unstable): the indices of the indicator 1{unstable} (judged
+  // machines; a refused or failed one drops its block like a missing figure).
+  FigureColumn unstable{"unstable", {}, Population::kJudged};
+  unstable.values.reserve(table.status.size());
+  for (SampleStatus st : table.status)
+    unstable.values.push_back(judged(st) ? (st == SampleStatus::kUnstable ? 1.0 : 0.0) : kMissing);
+  sobol["unstable"] = sobol_figure_json(unstable, n, columns);
+  return sobol;
 }
 
 }  // namespace
 
 json campaign_summary(const json& plan, const std::vector<json>& samples) {
   check_samples(plan, samples);
-  std::vector<SampleStatus> status;
-  for (const json& s : samples) status.push_back(sample_status(s));
-  const auto total = static_cast<long>(samples.size());
+  const SampleTable table = sample_table(plan, samples);
+  return campaign_summary(plan, table, machine_table(plan, table));
+}
+
+json campaign_summary(const json& plan, const SampleTable& table, const MachineTable& machines) {
+  const std::vector<SampleStatus>& status = table.status;
+  const auto total = static_cast<long>(status.size());
   check_saltelli_size(plan, total);
   // Figures and intervals over independent machines only (doc/campaign_statistics.md).
-  const MachineTable machines = machine_table(plan, samples);
   const std::vector<SampleStatus>& machine_status = machines.status;
   const auto m = static_cast<long>(machine_status.size());
   json summary{{"format", "flexloop-campaign-summary"},
@@ -266,30 +268,16 @@ json campaign_summary(const json& plan, const std::vector<json>& samples) {
   const bool open_loop = plan.value("loop", std::string("closed")) == "open";
   summary["loop"] = open_loop ? "open" : "closed";
   json per_figure = json::object(), order = json::array();
-  for (const FigureColumn& f : machines.figures) {
+  for (const FigureColumn& f : machines.figures()) {
     if (open_loop && closed_loop_figure(f.name)) continue;  // no loop: the figure is not defined
     per_figure[f.name] = figure_summary(f, machine_status);
     order.push_back(f.name);
   }
   summary["figures"] = per_figure;
   summary["figure_order"] = order;  // JSON objects have no order; the report's tables keep this
-  if (const json sim = simulation_summary(plan, samples); !sim.is_null())
+  if (const json sim = simulation_summary(plan, table.simulation); !sim.is_null())
     summary["simulation"] = sim;
-  if (plan.value("design", std::string()) == "saltelli") {
-    const std::vector<std::string> columns = column_paths(plan);
-    const long n = plan.at("n").get<long>();
-    json sobol = json::object();
-    for (const FigureColumn& f : figure_columns(samples))
-      sobol[f.name] = sobol_figure_json(f, n, columns);
-    // Which parameter drives P(unstable): the indices of the indicator 1{unstable} (judged
-    // machines; a refused or failed one drops its block like a missing figure).
-    FigureColumn unstable{"unstable", {}, Population::kJudged};
-    for (SampleStatus st : status)
-      unstable.values.push_back(judged(st) ? (st == SampleStatus::kUnstable ? 1.0 : 0.0)
-                                           : kMissing);
-    sobol["unstable"] = sobol_figure_json(unstable, n, columns);
-    summary["sobol"] = sobol;
-  }
+  if (plan.value("design", std::string()) == "saltelli") summary["sobol"] = sobol_json(plan, table);
   return summary;
 }
 
@@ -464,15 +452,22 @@ std::string report_markdown(const json& summary, const std::vector<Picture>& pic
 
 }  // namespace
 
-void write_campaign_report(const json& plan, const std::vector<json>& samples,
-                           const std::string& out_dir) {
-  const json summary = campaign_summary(plan, samples);
+void write_campaign_report(const json& plan, const SampleTable& table, const std::string& out_dir) {
+  const MachineTable machines = machine_table(plan, table);
+  const json summary = campaign_summary(plan, table, machines);
   std::filesystem::create_directories(out_dir);
-  const std::vector<Picture> pictures = draw_campaign_pictures(plan, samples, summary, out_dir);
+  const std::vector<Picture> pictures =
+      draw_campaign_pictures(plan, table, machines, summary, out_dir);
   common::write_text_atomically(std::filesystem::path(out_dir) / "summary.json",
                                 summary.dump(2) + "\n");
   common::write_text_atomically(std::filesystem::path(out_dir) / "report.md",
                                 report_markdown(summary, pictures));
+}
+
+void write_campaign_report(const json& plan, const std::vector<json>& samples,
+                           const std::string& out_dir) {
+  check_samples(plan, samples);
+  write_campaign_report(plan, sample_table(plan, samples), out_dir);
 }
 
 }  // namespace flexloop::campaign

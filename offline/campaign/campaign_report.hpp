@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "offline/campaign/sample_table.hpp"
+
 namespace flexloop::campaign {
 
 /// summary.json, report.md and the PNG pictures of a campaign into out_dir (created if missing).
@@ -18,8 +20,15 @@ namespace flexloop::campaign {
 void write_campaign_report(const nlohmann::json& plan, const std::vector<nlohmann::json>& samples,
                            const std::string& out_dir);
 
+/// The same from the samples' table (SampleTableBuilder: every index of the plan filled).
+void write_campaign_report(const nlohmann::json& plan, const SampleTable& table,
+                           const std::string& out_dir);
+
 /// The summary alone (what summary.json holds), for callers that draw nothing.
 nlohmann::json campaign_summary(const nlohmann::json& plan,
                                 const std::vector<nlohmann::json>& samples);
+/// The same from the table and its independent machines (machine_table(plan, table)).
+nlohmann::json campaign_summary(const nlohmann::json& plan, const SampleTable& table,
+                                const MachineTable& machines);
 
 }  // namespace flexloop::campaign

@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <limits>
 #include <numeric>
-#include <set>
+#include <stdexcept>
 
 namespace flexloop::campaign {
 
@@ -59,94 +60,35 @@ const json& field_at(const json& sample, const std::string& field) {
   return *at;
 }
 
-// The channel names of an object field ("rms", "sim.rms") over all samples, sorted.
-std::set<std::string> channels(const std::vector<json>& samples, const std::string& field) {
-  std::set<std::string> names;
-  for (const json& s : samples)
-    if (const json& obj = field_at(s, field); obj.is_object())
-      for (const auto& [key, v] : obj.items()) names.insert(key);
-  return names;
+constexpr const char* kScalarFigures[] = {"spectral_radius",     "disk_margin_db",
+                                          "disk_margin_deg",     "disk_margin_all_db",
+                                          "disk_margin_all_deg", "peak_sigma"};
+constexpr const char* kChannelFigures[] = {"rms", "rms_open", "sim.rms", "sim.saturated_share",
+                                           "sim.max_abs_command"};
+
+double number_or_nan(const json& j) {
+  return j.is_number() ? j.get<double>() : kMissing;
 }
 
-FigureColumn scalar_figure(const std::vector<json>& samples, const std::string& field) {
-  FigureColumn f{field, {}, Population::kStable};
-  for (const json& s : samples) f.values.push_back(figure_value(s.value(field, json())));
-  return f;
-}
-
-FigureColumn channel_figure(const std::vector<json>& samples, const std::string& field,
-                            const std::string& channel) {
-  FigureColumn f{field + "." + channel, {}, Population::kStable};
-  for (const json& s : samples) {
-    const json& obj = field_at(s, field);
-    f.values.push_back(obj.is_object() && obj.contains(channel) ? figure_value(obj[channel])
-                                                                : kMissing);
-  }
-  return f;
-}
-
-// --simulate's figures (offline/campaign/sample_simulation.hpp): sim.rms.<channel> and its ratio
-// to the Lyapunov RMS, sim.rms_ratio.<channel> (the nonlinear effects' share, with the run's
-// sampling scatter), sim.saturated_share.<actuator>, sim.max_abs_command.<actuator>.
-std::vector<FigureColumn> simulation_figures(const std::vector<json>& samples) {
-  std::vector<FigureColumn> out;
-  for (const std::string& c : channels(samples, "sim.rms")) {
-    FigureColumn run = channel_figure(samples, "sim.rms", c);
-    // The Lyapunov RMS of the loop as it ran: the closed loop's, or the passive machine's in an
-    // open-loop campaign (no closed-loop RMS there).
-    const FigureColumn closed = channel_figure(samples, "rms", c);
-    const FigureColumn open = channel_figure(samples, "rms_open", c);
-    FigureColumn ratio{"sim.rms_ratio." + c, {}, Population::kStable};
-    for (std::size_t i = 0; i < run.values.size(); ++i) {
-      const double lyapunov = std::isnan(closed.values[i]) ? open.values[i] : closed.values[i];
-      ratio.values.push_back(run.values[i] / lyapunov);  // NaN where either is missing
+// --simulate: a sample's run counted by its status, its relative standard errors kept.
+void tally_simulation(const json& sample, SimulationTally& t) {
+  const json& sim = field_at(sample, "sim");
+  const std::string status = sim.is_object() ? sim.value("status", std::string()) : "";
+  if (status == "ran") {
+    ++t.ran;
+    for (const auto& [channel, rms] : sim["rms"].items()) {
+      const json& se = sim["rms_standard_error"][channel];
+      if (rms.is_number() && se.is_number() && rms.get<double>() > 0)
+        t.relative_standard_error[channel].push_back(se.get<double>() / rms.get<double>());
     }
-    out.push_back(std::move(run));
-    out.push_back(std::move(ratio));
+  } else if (status.rfind("not run", 0) == 0) {
+    ++t.not_run;
+  } else {
+    ++t.error;
   }
-  for (const char* field : {"sim.saturated_share", "sim.max_abs_command"})
-    for (const std::string& c : channels(samples, field))
-      out.push_back(channel_figure(samples, field, c));
-  return out;
-}
-
-std::vector<FigureColumn> natural_frequency_figures(const std::vector<json>& samples) {
-  std::size_t ranks = 0;
-  for (const json& s : samples)
-    if (s.contains("natural_frequencies_hz") && s["natural_frequencies_hz"].is_array())
-      ranks = std::max(ranks, s["natural_frequencies_hz"].size());
-  std::vector<FigureColumn> out;
-  for (std::size_t r = 0; r < ranks; ++r) {
-    FigureColumn f{"natural_frequency_" + std::to_string(r + 1) + "_hz", {}, Population::kJudged};
-    for (const json& s : samples) {
-      const json& fs = s.contains("natural_frequencies_hz") ? s["natural_frequencies_hz"] : json();
-      f.values.push_back(fs.is_array() && r < fs.size() ? figure_value(fs[r]) : kMissing);
-    }
-    out.push_back(std::move(f));
-  }
-  return out;
 }
 
 }  // namespace
-
-std::vector<FigureColumn> figure_columns(const std::vector<json>& samples) {
-  std::vector<FigureColumn> out{scalar_figure(samples, "spectral_radius")};
-  out.back().population = Population::kJudged;
-  for (FigureColumn& f : natural_frequency_figures(samples)) {
-    f.population = Population::kJudged;
-    out.push_back(std::move(f));
-  }
-  for (const char* field : {"rms", "rms_open"})
-    for (const std::string& c : channels(samples, field)) {
-      out.push_back(channel_figure(samples, field, c));
-      if (std::string(field) == "rms_open") out.back().population = Population::kJudged;
-    }
-  for (const char* field : {"disk_margin_db", "disk_margin_deg", "disk_margin_all_db",
-                            "disk_margin_all_deg", "peak_sigma"})
-    out.push_back(scalar_figure(samples, field));
-  for (FigureColumn& f : simulation_figures(samples)) out.push_back(std::move(f));
-  return out;
-}
 
 std::vector<long> independent_evaluations(const json& plan, long total) {
   std::vector<long> out;
@@ -163,16 +105,141 @@ std::vector<long> independent_evaluations(const json& plan, long total) {
   return out;
 }
 
-MachineTable machine_table(const json& plan, const std::vector<json>& samples) {
+SampleTableBuilder::SampleTableBuilder(const json& plan)
+    : evaluations_(plan.at("evaluations").get<long>()) {
+  if (plan.value("design", std::string()) == "saltelli")
+    saltelli_stride_ = static_cast<long>(plan.at("columns").size()) + 2;
+  if (plan.contains("columns"))
+    for (const json& c : plan["columns"]) parameter_paths_.push_back(c.get<std::string>());
+  const auto n = static_cast<std::size_t>(evaluations_);
+  table_.status.assign(n, SampleStatus::kError);
+  table_.parameters.assign(parameter_paths_.size(), std::vector<double>(n, kMissing));
+  if (plan.contains("sigma_grid_hz") && plan["sigma_grid_hz"].is_array())
+    table_.sigma = ColumnSpill(plan["sigma_grid_hz"].size());
+  for (const char* field : kScalarFigures) column(scalars_, field);
+}
+
+std::vector<double>& SampleTableBuilder::column(std::map<std::string, std::vector<double>>& columns,
+                                                const std::string& name) {
+  auto it = columns.find(name);
+  if (it == columns.end())
+    it =
+        columns.emplace(name, std::vector<double>(static_cast<std::size_t>(evaluations_), kMissing))
+            .first;
+  return it->second;
+}
+
+void SampleTableBuilder::add(const json& sample) {
+  const long index = sample.value("index", -1L);
+  if (index < 0 || index >= evaluations_)
+    throw std::invalid_argument("campaign report: a sample of index " + std::to_string(index) +
+                                " for a plan of " + std::to_string(evaluations_) + " evaluations");
+  const auto i = static_cast<std::size_t>(index);
+  table_.status[i] = sample_status(sample);
+  if (const json& params = field_at(sample, "parameters"); params.is_object())
+    for (std::size_t c = 0; c < parameter_paths_.size(); ++c)
+      if (const auto it = params.find(parameter_paths_[c]); it != params.end())
+        table_.parameters[c][i] = number_or_nan(*it);
+  add_figures(index, sample);
+  add_sigma(index, sample);
+  tally_simulation(sample, table_.simulation);
+}
+
+void SampleTableBuilder::add_figures(long index, const json& sample) {
+  const auto i = static_cast<std::size_t>(index);
+  for (const char* field : kScalarFigures)
+    scalars_[field][i] = figure_value(sample.value(field, json()));
+  if (const auto fs = sample.find("natural_frequencies_hz"); fs != sample.end() && fs->is_array())
+    for (std::size_t r = 0; r < fs->size(); ++r) {
+      if (r == frequencies_.size())
+        frequencies_.emplace_back(static_cast<std::size_t>(evaluations_), kMissing);
+      frequencies_[r][i] = figure_value((*fs)[r]);
+    }
+  for (const char* field : kChannelFigures)
+    if (const json& obj = field_at(sample, field); obj.is_object())
+      for (const auto& [channel, value] : obj.items())
+        column(channels_[field], channel)[i] = figure_value(value);
+}
+
+// The sigma curve of a stable independent machine, one value per grid frequency it has.
+void SampleTableBuilder::add_sigma(long index, const json& sample) {
+  const bool machine = saltelli_stride_ == 0 ||
+                       (index % saltelli_stride_ < 2 &&
+                        index - index % saltelli_stride_ + saltelli_stride_ <= evaluations_);
+  const auto s = sample.find("sigma_max");
+  if (!machine || table_.status[static_cast<std::size_t>(index)] != SampleStatus::kStable ||
+      s == sample.end() || !s->is_array())
+    return;
+  for (std::size_t j = 0; j < table_.sigma.columns() && j < s->size(); ++j)
+    if ((*s)[j].is_number()) table_.sigma.push(j, (*s)[j].get<double>());
+}
+
+namespace {
+
+// --simulate's figures (offline/campaign/sample_simulation.hpp): sim.rms.<channel> and its ratio
+// to the Lyapunov RMS, sim.rms_ratio.<channel> (the nonlinear effects' share, with the run's
+// sampling scatter), sim.saturated_share.<actuator>, sim.max_abs_command.<actuator>.
+void simulation_figures(std::map<std::string, std::map<std::string, std::vector<double>>>& channels,
+                        std::vector<FigureColumn>& out) {
+  for (auto& [c, run] : channels["sim.rms"]) {
+    // The Lyapunov RMS of the loop as it ran: the closed loop's, or the passive machine's in an
+    // open-loop campaign (no closed-loop RMS there).
+    const auto closed = channels["rms"].find(c), open = channels["rms_open"].find(c);
+    std::vector<double> ratio(run.size(), kMissing);
+    for (std::size_t i = 0; i < run.size(); ++i) {
+      const double lc = closed != channels["rms"].end() ? closed->second[i] : kMissing;
+      const double lo = open != channels["rms_open"].end() ? open->second[i] : kMissing;
+      ratio[i] = run[i] / (std::isnan(lc) ? lo : lc);  // NaN where either is missing
+    }
+    out.push_back({"sim.rms." + c, std::move(run), Population::kStable});
+    out.push_back({"sim.rms_ratio." + c, std::move(ratio), Population::kStable});
+  }
+  for (const char* field : {"sim.saturated_share", "sim.max_abs_command"})
+    for (auto& [c, values] : channels[field])
+      out.push_back({std::string(field) + "." + c, std::move(values), Population::kStable});
+}
+
+}  // namespace
+
+SampleTable SampleTableBuilder::finish() {
+  std::vector<FigureColumn> simulated;  // first: its ratios read the rms columns
+  simulation_figures(channels_, simulated);
+  std::vector<FigureColumn>& out = table_.figures;
+  out.push_back({"spectral_radius", std::move(scalars_["spectral_radius"]), Population::kJudged});
+  for (std::size_t r = 0; r < frequencies_.size(); ++r)
+    out.push_back({"natural_frequency_" + std::to_string(r + 1) + "_hz", std::move(frequencies_[r]),
+                   Population::kJudged});
+  for (const char* field : {"rms", "rms_open"})
+    for (auto& [c, values] : channels_[field])
+      out.push_back({std::string(field) + "." + c, std::move(values),
+                     field == std::string("rms_open") ? Population::kJudged : Population::kStable});
+  for (const char* field : {"disk_margin_db", "disk_margin_deg", "disk_margin_all_db",
+                            "disk_margin_all_deg", "peak_sigma"})
+    out.push_back({field, std::move(scalars_[field]), Population::kStable});
+  std::move(simulated.begin(), simulated.end(), std::back_inserter(out));
+  return std::move(table_);
+}
+
+SampleTable sample_table(const json& plan, const std::vector<json>& samples) {
+  SampleTableBuilder builder(plan);
+  for (const json& s : samples) builder.add(s);
+  return builder.finish();
+}
+
+MachineTable machine_table(const json& plan, const SampleTable& table) {
   const std::vector<long> machines =
-      independent_evaluations(plan, static_cast<long>(samples.size()));
+      independent_evaluations(plan, static_cast<long>(table.status.size()));
   MachineTable t;
-  for (long i : machines) t.status.push_back(sample_status(samples[static_cast<std::size_t>(i)]));
-  for (FigureColumn& f : figure_columns(samples)) {
+  for (long i : machines) t.status.push_back(table.status[static_cast<std::size_t>(i)]);
+  if (machines.size() == table.status.size()) {  // every evaluation: 0, 1, ..., in order
+    t.every_one = &table.figures;
+    return t;
+  }
+  for (const FigureColumn& f : table.figures) {
     FigureColumn picked{f.name, {}, f.population};
     picked.values.reserve(machines.size());
     for (long i : machines) picked.values.push_back(f.values[static_cast<std::size_t>(i)]);
-    t.figures.push_back(std::move(picked));
+    t.picked.push_back(std::move(picked));
   }
   return t;
 }

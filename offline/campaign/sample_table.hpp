@@ -1,16 +1,23 @@
 #pragma once
 // A campaign's samples (the shard lines) as columns: each evaluation's status and each figure's
-// value per evaluation (NaN where the sample has none), for the report and its pictures.
+// value per evaluation (NaN where the sample has none), for the report and its pictures. The
+// columns are filled one sample at a time (SampleTableBuilder): a line is parsed, its numbers
+// taken and the line dropped, so that a report holds fixed-size numbers per sample, never the
+// samples (a 10^6-sample report, issue 54).
+#include <cstdint>
 #include <limits>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
+#include "offline/campaign/column_spill.hpp"
 
 namespace flexloop::campaign {
 
 /// "stable", "unstable", "refused: ...", "marginal: ..." (judged stable, no stationary state),
 /// anything else (error: ...). The counts' order: kStatusNames.
-enum class SampleStatus { kStable, kUnstable, kRefused, kError, kMarginal };
+enum class SampleStatus : std::uint8_t { kStable, kUnstable, kRefused, kError, kMarginal };
 inline constexpr const char* kStatusNames[] = {"stable", "unstable", "refused", "error",
                                                "marginal"};
 /// Judged: stable, unstable or marginal (P(unstable)'s denominator).
@@ -35,14 +42,6 @@ struct FigureColumn {
   Population population = Population::kStable;
 };
 
-/// Every figure of the samples, in the summary's order: spectral_radius, natural_frequency_<r>_hz
-/// (r = 1.. the most any sample has), rms.<channel>, rms_open.<channel> (channels sorted; these
-/// three over the judged machines, the rest over the stable ones),
-/// disk_margin_db, disk_margin_deg, disk_margin_all_db, disk_margin_all_deg, peak_sigma; with
-/// --simulate, per channel sim.rms.<channel> and sim.rms_ratio.<channel> (sim.rms / rms), then
-/// sim.saturated_share.<actuator> and sim.max_abs_command.<actuator>.
-std::vector<FigureColumn> figure_columns(const std::vector<nlohmann::json>& samples);
-
 /// The evaluations that are independent machines: every one, but of a Saltelli design
 /// (plan "design" = "saltelli", d = the plan's "columns") only the A and B rows, j = 0 and 1 of
 /// each block of d + 2: an A_B^i row shares d - 1 coordinates with its A row, so pooling them
@@ -50,13 +49,72 @@ std::vector<FigureColumn> figure_columns(const std::vector<nlohmann::json>& samp
 /// (doc/campaign_statistics.md, "Which samples count").
 std::vector<long> independent_evaluations(const nlohmann::json& plan, long total);
 
+/// --simulate's runs over the samples: how many ran, were not run, failed; per performance
+/// channel the relative standard errors (rms_standard_error / rms) of the runs that have one.
+struct SimulationTally {
+  long ran = 0, not_run = 0, error = 0;
+  std::map<std::string, std::vector<double>> relative_standard_error;
+};
+
+/// Every evaluation as columns: what the report and its pictures are computed from.
+struct SampleTable {
+  std::vector<SampleStatus> status;  ///< per evaluation
+  /// Every figure of the samples, per evaluation, in the summary's order: spectral_radius,
+  /// natural_frequency_<r>_hz (r = 1.. the most any sample has), rms.<channel>,
+  /// rms_open.<channel> (channels sorted; these three over the judged machines, the rest over
+  /// the stable ones), disk_margin_db, disk_margin_deg, disk_margin_all_db,
+  /// disk_margin_all_deg, peak_sigma; with --simulate, per channel sim.rms.<channel> and
+  /// sim.rms_ratio.<channel> (sim.rms / rms), then sim.saturated_share.<actuator> and
+  /// sim.max_abs_command.<actuator>.
+  std::vector<FigureColumn> figures;
+  /// Per plan column (its "columns", in order), the drawn value per evaluation (NaN: none).
+  std::vector<std::vector<double>> parameters;
+  /// Per frequency of the plan's sigma grid, sigma_max of the stable independent machines.
+  ColumnSpill sigma;
+  SimulationTally simulation;
+};
+
+/// Fills a SampleTable one sample at a time, in any order of index, each index once.
+class SampleTableBuilder {
+ public:
+  /// For the plan's "evaluations" samples.
+  explicit SampleTableBuilder(const nlohmann::json& plan);
+  /// @throws std::invalid_argument for an index outside the plan.
+  void add(const nlohmann::json& sample);
+  SampleTable finish();
+
+ private:
+  std::vector<double>& column(std::map<std::string, std::vector<double>>& columns,
+                              const std::string& name);
+  void add_figures(long index, const nlohmann::json& sample);
+  void add_sigma(long index, const nlohmann::json& sample);
+
+  long evaluations_, saltelli_stride_ = 0;  // 0: every evaluation is a machine
+  std::vector<std::string> parameter_paths_;
+  SampleTable table_;
+  // Per figure, by name: the scalar ones, the natural frequencies by rank, the channel figures
+  // by field ("rms", "sim.rms", ...) then channel (sorted, as the summary lists them).
+  std::map<std::string, std::vector<double>> scalars_;
+  std::vector<std::vector<double>> frequencies_;
+  std::map<std::string, std::map<std::string, std::vector<double>>> channels_;
+};
+
+/// The table of samples that are the plan's evaluations in index order (samples[i] of index i).
+SampleTable sample_table(const nlohmann::json& plan, const std::vector<nlohmann::json>& samples);
+
 /// The statuses and figures of the independent machines only, in evaluation order: what the
-/// summary's figures and intervals and the report's pictures are computed over.
+/// summary's figures and intervals and the report's pictures are computed over. When every
+/// evaluation is a machine (all designs but Saltelli) the figures are the table's own, not a copy
+/// (192 MB at 10^6 samples of the metrology frame): the table must outlive this.
 struct MachineTable {
   std::vector<SampleStatus> status;
-  std::vector<FigureColumn> figures;  ///< as figure_columns, restricted to those machines
+  /// As SampleTable::figures, restricted to those machines.
+  const std::vector<FigureColumn>& figures() const { return every_one ? *every_one : picked; }
+
+  std::vector<FigureColumn> picked;                      ///< a Saltelli design's A and B rows
+  const std::vector<FigureColumn>* every_one = nullptr;  ///< else the table's figures
 };
-MachineTable machine_table(const nlohmann::json& plan, const std::vector<nlohmann::json>& samples);
+MachineTable machine_table(const nlohmann::json& plan, const SampleTable& table);
 
 /// The values of the figure's population among the first `prefix` evaluations, in order: every
 /// number, +inf included (an unbounded disk margin is the best machine, not a missing one).

@@ -40,27 +40,58 @@ void make_absolute(toml::table& scene, const char* table, const char* key,
 
 }  // namespace
 
+WorstSamples::WorstSamples(const nlohmann::json& nominal, std::size_t k)
+    : nominal_(nominal), k_(k) {}
+
+namespace {
+
+// a is a worse machine than b: its key larger, or the same key and the lower position.
+bool worse(const WorstSamples::Candidate& a, const WorstSamples::Candidate& b) {
+  if (a.key_first != b.key_first) return a.key_first > b.key_first;
+  if (a.key_second != b.key_second) return a.key_second > b.key_second;
+  return a.position < b.position;
+}
+
+}  // namespace
+
+// A heap ordered by `worse`: its top is the least bad candidate kept, the first to go.
+void WorstSamples::keep(std::vector<Candidate>& heap, const Candidate& c) const {
+  if (k_ == 0) return;
+  if (heap.size() == k_) {
+    if (!worse(c, heap.front())) return;
+    std::pop_heap(heap.begin(), heap.end(), worse);
+    heap.pop_back();
+  }
+  heap.push_back(c);
+  std::push_heap(heap.begin(), heap.end(), worse);
+}
+
+void WorstSamples::add(long position, const nlohmann::json& sample) {
+  const std::string status = sample.value("status", std::string());
+  if (status != "stable" && status != "unstable") return;
+  const bool unstable = status == "unstable";
+  any_unstable_ = any_unstable_ || unstable;
+  const double none = -std::numeric_limits<double>::infinity();
+  keep(by_radius_,
+       {unstable ? 1.0 : 0.0, json_number_or(sample, "spectral_radius", none), position});
+  keep(by_rms_, {0.0, worst_rms_ratio(sample, nominal_), position});
+}
+
+std::vector<long> WorstSamples::worst() const {
+  std::vector<Candidate> kept = any_unstable_ ? by_radius_ : by_rms_;
+  std::sort(kept.begin(), kept.end(), worse);
+  std::vector<long> out;
+  for (const Candidate& c : kept) out.push_back(c.position);
+  return out;
+}
+
 std::vector<std::size_t> worst_samples(const std::vector<nlohmann::json>& samples,
                                        const nlohmann::json& nominal, std::size_t k) {
-  std::vector<std::size_t> machines;
-  bool any_unstable = false;
-  for (std::size_t i = 0; i < samples.size(); ++i) {
-    const std::string status = samples[i].value("status", std::string());
-    if (status != "stable" && status != "unstable") continue;
-    machines.push_back(i);
-    any_unstable = any_unstable || status == "unstable";
-  }
-  const double none = -std::numeric_limits<double>::infinity();
-  auto key = [&](std::size_t i) {
-    const auto& s = samples[i];
-    return any_unstable ? std::pair{s.value("status", std::string()) == "unstable" ? 1.0 : 0.0,
-                                    json_number_or(s, "spectral_radius", none)}
-                        : std::pair{0.0, worst_rms_ratio(s, nominal)};
-  };
-  std::stable_sort(machines.begin(), machines.end(),
-                   [&](std::size_t a, std::size_t b) { return key(a) > key(b); });
-  if (machines.size() > k) machines.resize(k);
-  return machines;
+  WorstSamples tally(nominal, k);
+  for (std::size_t i = 0; i < samples.size(); ++i) tally.add(static_cast<long>(i), samples[i]);
+  std::vector<std::size_t> out;
+  for (long i : tally.worst()) out.push_back(static_cast<std::size_t>(i));
+  return out;
 }
 
 SampleScene machine_scene(const MachineDocuments& docs, const nlohmann::json& plan,
@@ -102,21 +133,30 @@ SampleScene sample_scene(const MachineDocuments& docs, const nlohmann::json& pla
                        model_file_name);
 }
 
-std::vector<std::string> write_worst_samples(const MachineDocuments& docs,
+std::vector<std::string> write_sample_scenes(const MachineDocuments& docs,
                                              const nlohmann::json& plan,
-                                             const std::vector<nlohmann::json>& samples,
-                                             std::size_t k, const std::string& out_dir) {
+                                             const std::vector<nlohmann::json>& worst,
+                                             const std::string& out_dir) {
   const std::filesystem::path dir = std::filesystem::path(out_dir) / "worst";
   std::filesystem::create_directories(dir);
   std::vector<std::string> written;
-  for (std::size_t i : worst_samples(samples, plan.at("nominal"), k)) {
-    const std::string stem = "sample-" + std::to_string(samples[i].at("index").get<long>());
-    const SampleScene s = sample_scene(docs, plan, samples[i], stem + "_model.toml");
+  for (const nlohmann::json& sample : worst) {
+    const std::string stem = "sample-" + std::to_string(sample.at("index").get<long>());
+    const SampleScene s = sample_scene(docs, plan, sample, stem + "_model.toml");
     common::write_text_atomically(dir / (stem + "_model.toml"), s.model_text);
     common::write_text_atomically(dir / (stem + ".toml"), s.scene_text);
     written.push_back((dir / (stem + ".toml")).string());
   }
   return written;
+}
+
+std::vector<std::string> write_worst_samples(const MachineDocuments& docs,
+                                             const nlohmann::json& plan,
+                                             const std::vector<nlohmann::json>& samples,
+                                             std::size_t k, const std::string& out_dir) {
+  std::vector<nlohmann::json> worst;
+  for (std::size_t i : worst_samples(samples, plan.at("nominal"), k)) worst.push_back(samples[i]);
+  return write_sample_scenes(docs, plan, worst, out_dir);
 }
 
 }  // namespace flexloop::campaign

@@ -16,6 +16,30 @@
 
 namespace flexloop::campaign {
 
+/// The k worst as the samples stream by, in any order, each once: per ordering (unstable first
+/// by spectral radius; by the worst RMS ratio) a heap of the k worst so far, the one that applies
+/// chosen at the end. k entries held, whatever the number of samples.
+class WorstSamples {
+ public:
+  WorstSamples(const nlohmann::json& nominal, std::size_t k);
+  /// A sample and its position (the order of ties: the lower first).
+  void add(long position, const nlohmann::json& sample);
+  /// The positions of the k worst, worst first.
+  std::vector<long> worst() const;
+
+  struct Candidate {
+    double key_first, key_second;
+    long position;
+  };
+
+ private:
+  void keep(std::vector<Candidate>& heap, const Candidate& c) const;
+  nlohmann::json nominal_;
+  std::size_t k_;
+  bool any_unstable_ = false;
+  std::vector<Candidate> by_radius_, by_rms_;  // heaps, the least bad of the kept on top
+};
+
 /// Indices into `samples` (sorted by index, as merged) of the `k` worst, worst first.
 std::vector<std::size_t> worst_samples(const std::vector<nlohmann::json>& samples,
                                        const nlohmann::json& nominal, std::size_t k);
@@ -34,8 +58,14 @@ SampleScene machine_scene(const MachineDocuments& docs, const nlohmann::json& pl
                           const ParameterValues& values, const std::string& what,
                           const std::string& name_suffix, const std::string& model_file_name);
 
-/// Writes DIR/worst/sample-<index>.toml and sample-<index>_model.toml for each worst sample;
-/// returns the scene files written.
+/// Writes DIR/worst/sample-<index>.toml and sample-<index>_model.toml for each of `worst` (the
+/// worst samples, worst first); returns the scene files written.
+std::vector<std::string> write_sample_scenes(const MachineDocuments& docs,
+                                             const nlohmann::json& plan,
+                                             const std::vector<nlohmann::json>& worst,
+                                             const std::string& out_dir);
+
+/// write_sample_scenes of the `k` worst of `samples`.
 std::vector<std::string> write_worst_samples(const MachineDocuments& docs,
                                              const nlohmann::json& plan,
                                              const std::vector<nlohmann::json>& samples,

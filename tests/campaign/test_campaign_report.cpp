@@ -10,6 +10,7 @@
 #include <fstream>
 
 #include "offline/campaign/campaign_report.hpp"
+#include "offline/campaign/column_spill.hpp"
 #include "offline/campaign/designs.hpp"
 #include "offline/campaign/statistics.hpp"
 #include "tests/campaign/reference.hpp"
@@ -400,4 +401,22 @@ TEST_CASE("a report refuses samples that do not fit the plan", "[campaign][repor
   std::swap(samples[2], samples[3]);
   CHECK_THROWS_AS(campaign_summary(synthetic_plan("random", 10, 10), samples),
                   std::invalid_argument);
+}
+
+TEST_CASE("columns spilled to their file read back as pushed, interleaved and in any number",
+          "[campaign][report]") {
+  // Issue 54, 2.5: the σ curves of 10^6 machines are kept in a file, a chunk per column in memory.
+  ColumnSpill spill(3);
+  std::vector<std::vector<double>> expected(3);
+  for (long i = 0; i < 30000; ++i)
+    for (std::size_t c = 0; c < 3; ++c) {
+      if (c == 2 && i % 3 != 0) continue;  // columns of different lengths
+      const double v = std::sin(static_cast<double>(i) + 0.1 * static_cast<double>(c));
+      spill.push(c, v);
+      expected[c].push_back(v);
+    }
+  for (std::size_t c = 0; c < 3; ++c) CHECK(spill.column(c) == expected[c]);
+  ColumnSpill moved = std::move(spill);
+  CHECK(moved.column(1) == expected[1]);
+  CHECK(ColumnSpill(2).column(1).empty());
 }

@@ -427,3 +427,43 @@ TEST_CASE("an engine's progress reads only what a shard appended since it last l
   { std::ofstream(file, std::ios::binary) << text.substr(0, text.find('\n') + 1); }
   CHECK(count.lines(file) == 1);
 }
+
+TEST_CASE(
+    "the merge reads each line once: a repeated index of the same bytes is taken once, "
+    "of other bytes or torn refused with its line",
+    "[campaign][shard]") {
+  // Issue 54, 2.5: the merge keeps where each line is, not the line; a repeat is compared with
+  // the first line's bytes read again, and the places named are the lines'.
+  TempDir dir;
+  const nlohmann::json plan{{"plan_id", "plan-a"}, {"evaluations", kEvaluations}};
+  const std::string whole = (dir.path / "whole.jsonl").string(),
+                    again = (dir.path / "again.jsonl").string();
+  run_shard(whole, "plan-a", {0, 1}, kEvaluations, [](long i) { return line_of("plan-a", i); });
+  const std::string text = bytes_of(whole);
+  { std::ofstream(again, std::ios::binary) << text.substr(text.find('\n') + 1); }  // 1..22
+  std::vector<long> taken;
+  const auto lines = flexloop::campaign::merge_shards(
+      plan, {whole, again}, [&](long index, const nlohmann::json&) { taken.push_back(index); });
+  CHECK(taken.size() == kEvaluations);  // each index once, in the order of the files
+  CHECK(taken.front() == 0);
+  CHECK(taken.back() == kEvaluations - 1);
+  CHECK(lines.line(7) == line_of("plan-a", 7).dump() + "\n");
+  CHECK(lines.place(7) == whole + ":8");
+
+  nlohmann::json changed = line_of("plan-a", 7);
+  changed["spectral_radius"] = 0.5;
+  const std::string other = (dir.path / "other.jsonl").string();
+  {
+    std::ofstream(other, std::ios::binary) << line_of("plan-a", 3).dump() << "\n"
+                                           << changed.dump() << "\n";
+  }
+  CHECK_THAT(shard_refusal([&] {
+               merge_shards(plan, {whole, other});
+             }),
+             Contains(other + ":2: index 7 differs from " + whole + ":8"));
+  { std::ofstream(other, std::ios::binary) << line_of("plan-a", 3).dump() << "\n{\"torn"; }
+  CHECK_THAT(shard_refusal([&] {
+               merge_shards(plan, {whole, other});
+             }),
+             Contains(other + ":2: a torn last line"));
+}

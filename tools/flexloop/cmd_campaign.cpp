@@ -154,28 +154,37 @@ std::vector<std::string> submit(const SubmitArgs& a, const nlohmann::json& plan)
                     plan.at("evaluations").get<long>(), shards, a.jobs, work_dir, a.quiet});
 }
 
+// The shards streamed once: each line parsed, its numbers taken into the report's columns and the
+// worst machines' heaps, and dropped (issue 54: a 10^6-sample report in a few hundred MB).
 void report(const std::string& plan_path, const std::vector<std::string>& shards,
             const std::string& out_dir, int worst) {
   const nlohmann::json plan = read_plan(plan_path);
-  const MergedSamples merged = merge_shards(plan, shards);
+  SampleTableBuilder table(plan);
+  WorstSamples worst_samples(plan.value("nominal", nlohmann::json()),
+                             static_cast<std::size_t>(std::max(worst, 0)));
+  std::map<std::string, long> by_status;
+  const ShardLines lines =
+      merge_shards(plan, shards, [&](long index, const nlohmann::json& sample) {
+        table.add(sample);
+        worst_samples.add(index, sample);
+        const std::string status = sample.value("status", std::string("?"));
+        ++by_status[status.substr(0, status.find(':'))];
+      });
   const fs::path dir(out_dir);
   common::require_writable(dir / "samples.jsonl");
-  common::write_text_atomically(dir / "samples.jsonl", merged.jsonl);
-  write_campaign_report(plan, merged.samples, out_dir);
-  std::map<std::string, long> by_status;
-  for (const auto& s : merged.samples) {
-    const std::string status = s.value("status", std::string("?"));
-    ++by_status[status.substr(0, status.find(':'))];
-  }
-  std::printf("campaign %s: %zu samples:", plan["plan_id"].get<std::string>().substr(0, 12).c_str(),
-              merged.samples.size());
+  lines.write_in_index_order(dir / "samples.jsonl");
+  write_campaign_report(plan, table.finish(), out_dir);
+  std::printf("campaign %s: %ld samples:", plan["plan_id"].get<std::string>().substr(0, 12).c_str(),
+              plan.at("evaluations").get<long>());
   for (const auto& [status, count] : by_status) std::printf(" %ld %s", count, status.c_str());
   std::printf("\nwrote %s/samples.jsonl and the report\n", out_dir.c_str());
   if (worst <= 0) return;
   require_plan_inputs_unchanged(plan, plan_path);
   const MachineDocuments docs(plan.at("scene").get<std::string>());
-  for (const auto& f :
-       write_worst_samples(docs, plan, merged.samples, static_cast<std::size_t>(worst), out_dir))
+  std::vector<nlohmann::json> worst_lines;
+  for (long index : worst_samples.worst())
+    worst_lines.push_back(nlohmann::json::parse(lines.line(index)));
+  for (const auto& f : write_sample_scenes(docs, plan, worst_lines, out_dir))
     std::printf("worst: %s\n", f.c_str());
 }
 
