@@ -25,6 +25,7 @@
 #include "offline/campaign/slurm_engine.hpp"
 #include "offline/campaign/subset_campaign.hpp"
 #include "offline/campaign/worst_samples.hpp"
+#include "tools/flexloop/process_heap.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/number_checks.hpp"
 
@@ -91,6 +92,7 @@ void write_plan(const nlohmann::json& plan, const std::string& path) {
 }
 
 void run_shard_command(const RunArgs& a) {
+  keep_freed_memory();  // thousands of machines built and dropped (process_heap.hpp)
   const nlohmann::json plan = read_plan(a.plan);
   require_plan_inputs_unchanged(plan, a.plan);
   const Shard shard = parse_shard(a.shard);
@@ -205,6 +207,7 @@ void campaign_all(CampaignArgs& a) {
 // --method subset: P(unstable) by subset simulation (offline/campaign/subset_campaign.hpp), one
 // process, no shards; -n is the samples per level.
 void campaign_subset(CampaignArgs& a, bool design_given) {
+  keep_freed_memory();
   if (design_given)
     throw common::InputError("--design", "subset simulation draws its own points: no design");
   if (a.request.n < 10 || a.request.n % 10 != 0)

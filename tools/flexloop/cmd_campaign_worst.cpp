@@ -10,6 +10,7 @@
 
 #include "offline/campaign/local_engine.hpp"
 #include "offline/campaign/worst_machine.hpp"
+#include "tools/flexloop/process_heap.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/number_checks.hpp"
 
@@ -98,6 +99,7 @@ void register_campaign_worst(CLI::App* campaign) {
       "tools/scenes/metrology_frame_uncertain.toml --figure disk_margin_db --out-dir out/worst\n"
       "  flexloop analyse out/worst/worst.toml");
   cmd->callback([a] {
+    keep_freed_memory();
     const WorstMachine w = find_worst_machine(a->request, progress_printer(a->quiet));
     print_result(w, write_worst_machine(w, a->out_dir));
   });
