@@ -80,8 +80,11 @@ const CalculixBar& calculix_bar() {
           "ccx not found: CalculiX (calculix-ccx) is a project dependency, installed by "
           "tools/lib/common.sh");
     CalculixBar b;
-    b.dir = std::filesystem::temp_directory_path() /
-            ("flexloop_test_superelement_calculix_" + std::to_string(::getpid()));
+    // Removed at exit even when a step below fails.
+    static const RemovedAtExit cleanup{
+        std::filesystem::temp_directory_path() /
+        ("flexloop_test_superelement_calculix_" + std::to_string(::getpid()))};
+    b.dir = cleanup.dir;
     std::filesystem::create_directories(b.dir);
     const std::string d = b.dir.string();
     run("/usr/bin/python3 tests/fixtures/make_calculix_bar.py --hex 24 3 3 --length 1 --width "
@@ -99,7 +102,6 @@ const CalculixBar& calculix_bar() {
     for (long node = 0; corners >> node;) b.interface_nodes.push_back(node);
     return b;
   }();
-  static const RemovedAtExit cleanup{bar.dir};
   return bar;
 }
 
