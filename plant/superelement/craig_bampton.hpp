@@ -3,12 +3,12 @@
 // (issue 58): the interface DOFs kept as they are, the interior represented by the static
 // constraint modes Psi = -K_ii^-1 K_ib (one sparse Cholesky of K_ii, CHOLMOD) and the
 // fixed-interface normal modes Phi of (K_ii, M_ii) below a cut-off (shift-invert Lanczos on the
-// sparse pencil, Spectra, the shifted pencil factored by CHOLMOD). With T = [I 0; Psi Phi]:
+// sparse pencil, Spectra, about sigma = 0 with the same factor of K_ii; later batches of modes
+// on the operator with the earlier ones deflated). With T = [I 0; Psi Phi]:
 //   K_r = [K_bb + K_bi Psi, 0; 0, diag(w_k^2)],
 //   M_r = [M_bb + M_bi Psi + Psi' M_ib + Psi' M_ii Psi, (M_bi + Psi' M_ii) Phi; sym, I].
 // No n x n dense matrix is formed: memory ~ the factor of K_ii plus n_i (n_b + m) doubles.
-// Cost: one factorisation of K_ii and one of K_ii - sigma M_ii, and the Lanczos iterations
-// (a solve and a product per step).
+// Cost: one factorisation of K_ii, and the Lanczos iterations (a solve and a product per step).
 #include <Eigen/Dense>
 #include <vector>
 

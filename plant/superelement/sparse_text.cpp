@@ -11,6 +11,8 @@
 #include <cmath>
 #include <cstring>
 #include <string_view>
+#include <tuple>
+#include <utility>
 
 #include "common/input_error.hpp"
 
@@ -100,8 +102,9 @@ bool take(std::string_view& s, T& value, bool comma = false) {
 
 using Triplets = std::vector<Eigen::Triplet<double, int>>;
 
-// One "row col value" entry (1-based) into `t`, mirrored when `mirror`; checks the range.
-void add_entry(std::string_view line, Lines& lines, Eigen::Index size, bool mirror, bool upper_only,
+// One "row col value" entry (1-based) into `t` (the mirror is added on compression); checks the
+// range.
+void add_entry(std::string_view line, Lines& lines, Eigen::Index size, bool upper_only,
                Triplets& t) {
   long r = 0, c = 0;
   double v = 0;
@@ -114,13 +117,61 @@ void add_entry(std::string_view line, Lines& lines, Eigen::Index size, bool mirr
   if (upper_only && r > c)
     throw lines.error("a lower-triangle entry: CalculiX writes the upper triangle (row <= col)");
   t.emplace_back(static_cast<int>(r - 1), static_cast<int>(c - 1), v);
-  if (mirror && r != c) t.emplace_back(static_cast<int>(c - 1), static_cast<int>(r - 1), v);
 }
 
-SparseMatrix from_triplets(Eigen::Index size, const Triplets& t) {
+// The compressed matrix of `t` (one triangle, mirrored when `mirror`), built in place: a count
+// per column, one scatter, then each column sorted (only if it is not already: a column-major
+// upper triangle, as CalculiX writes it, scatters sorted) and its repeated rows summed. Half the
+// memory of storing the mirror as triplets and Eigen's setFromTriplets (its row-major copy).
+SparseMatrix compressed(Eigen::Index size, const Triplets& t, bool mirror) {
   SparseMatrix m(size, size);
-  m.setFromTriplets(t.begin(), t.end());
-  m.makeCompressed();
+  std::vector<int> start(static_cast<std::size_t>(size) + 1, 0);
+  for (const auto& e : t) {
+    ++start[static_cast<std::size_t>(e.col()) + 1];
+    if (mirror && e.row() != e.col()) ++start[static_cast<std::size_t>(e.row()) + 1];
+  }
+  for (std::size_t c = 1; c < start.size(); ++c) start[c] += start[c - 1];
+  m.resizeNonZeros(start.back());
+  std::vector<int> next(start.begin(), start.end() - 1);
+  int* rows = m.innerIndexPtr();
+  double* values = m.valuePtr();
+  const auto put = [&](int r, int c, double v) {
+    const int at = next[static_cast<std::size_t>(c)]++;
+    rows[at] = r;
+    values[at] = v;
+  };
+  for (const auto& e : t) {
+    put(e.row(), e.col(), e.value());
+    if (mirror && e.row() != e.col()) put(e.col(), e.row(), e.value());
+  }
+  // Sort and merge each column, compacting in place: `out` never passes the column's start.
+  int out = 0;
+  std::vector<std::pair<int, double>> column;
+  for (std::size_t c = 0; c + 1 < start.size(); ++c) {
+    const int begin = start[c], end = start[c + 1];
+    start[c] = out;
+    if (!std::is_sorted(rows + begin, rows + end)) {
+      column.assign(end - begin, {});
+      for (int k = begin; k < end; ++k)
+        column[static_cast<std::size_t>(k - begin)] = {rows[k], values[k]};
+      std::sort(column.begin(), column.end(),
+                [](const auto& a, const auto& b) { return a.first < b.first; });
+      for (int k = begin; k < end; ++k)
+        std::tie(rows[k], values[k]) = column[static_cast<std::size_t>(k - begin)];
+    }
+    for (int k = begin; k < end; ++k) {
+      if (out > start[c] && rows[out - 1] == rows[k]) {
+        values[out - 1] += values[k];  // a repeated entry: summed, as setFromTriplets does
+      } else {
+        rows[out] = rows[k];
+        values[out] = values[k];
+        ++out;
+      }
+    }
+  }
+  start.back() = out;
+  std::copy(start.begin(), start.end(), m.outerIndexPtr());
+  m.data().resize(out);
   return m;
 }
 
@@ -173,18 +224,18 @@ SparseMatrix read_matrix_market(const std::string& path, Eigen::Index expected_s
     throw lines.error("the matrix has " + std::to_string(rows) + " rows, the DOF map " +
                       std::to_string(expected_size));
   Triplets t;
-  t.reserve(static_cast<std::size_t>(symmetric ? 2 * entries : entries));
+  t.reserve(static_cast<std::size_t>(entries));
   long read = 0;
   while (lines.next(line)) {
     if (blank(line) || line.starts_with("%")) continue;
     if (++read > entries)
       throw lines.error("more entries than the size line's " + std::to_string(entries));
-    add_entry(line, lines, rows, symmetric, false, t);
+    add_entry(line, lines, rows, false, t);
   }
   if (read < entries)
     throw lines.error("the file ends after " + std::to_string(read) + " of its " +
                       std::to_string(entries) + " entries");
-  SparseMatrix m = from_triplets(rows, t);
+  SparseMatrix m = compressed(rows, t, symmetric);
   if (!symmetric) require_symmetric(m, path);
   return m;
 }
@@ -193,16 +244,16 @@ SparseMatrix read_calculix_matrix(const std::string& path, Eigen::Index size) {
   const MappedText file(path);
   Lines lines(file.text(), path);
   Triplets t;
-  t.reserve(static_cast<std::size_t>(file.text().size() / 16));  // ~40 bytes a line, mirrored
+  t.reserve(static_cast<std::size_t>(file.text().size() / 24));  // 24-33 bytes a line
   std::string_view line;
   long read = 0;
   while (lines.next(line)) {
     if (blank(line)) continue;
-    add_entry(line, lines, size, true, true, t);
+    add_entry(line, lines, size, true, t);
     ++read;
   }
   if (read == 0) throw lines.error("no entries: the file is empty");
-  return from_triplets(size, t);
+  return compressed(size, t, true);
 }
 
 std::vector<DofLabel> read_calculix_dofs(const std::string& path) {

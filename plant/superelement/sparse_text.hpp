@@ -4,8 +4,8 @@
 // the upper triangle, 1-based; jobname.dof: "node.direction" per row). Read streaming from a
 // memory map at disk speed (std::from_chars, no iostreams), into a symmetric sparse matrix with
 // both triangles stored. Every refusal names the file and line (flexloop::InputError).
-// Cost: one pass over the text; memory ~ 16 bytes per stored entry as triplets, then the
-// compressed matrix (12 bytes per entry).
+// Cost: one pass over the text; memory ~ 16 bytes per entry of the file as triplets (one
+// triangle), then the compressed matrix (12 bytes per stored entry, both triangles).
 #include <Eigen/SparseCore>
 #include <string>
 #include <vector>

@@ -96,6 +96,32 @@ TEST_CASE(
   std::filesystem::remove_all(dir);
 }
 
+TEST_CASE(
+    "superelement: entries in any order, and a repeated one, are read as setFromTriplets would: "
+    "sorted, summed, mirrored",
+    "[superelement]") {
+  const auto dir = temp_dir("order");
+  // The lower triangle of [4 1 0; 1 5 2; 0 2 6] scrambled, its (3, 3) given as 2 + 4.
+  std::ofstream((dir / "s.mtx").string()) << "%%MatrixMarket matrix coordinate real symmetric\n"
+                                             "3 3 6\n3 3 2\n3 2 2\n1 1 4\n2 2 5\n2 1 1\n3 3 4\n";
+  // The upper triangle, column by column as CalculiX writes it, and then not.
+  std::ofstream((dir / "a.sti").string()) << "1 1 4\n1 2 1\n2 2 5\n2 3 2\n3 3 6\n";
+  std::ofstream((dir / "b.sti").string()) << "2 3 2\n3 3 6\n1 2 1\n2 2 5\n1 1 4\n";
+  Eigen::Matrix3d expected;
+  expected << 4, 1, 0, 1, 5, 2, 0, 2, 6;
+  for (const SparseMatrix& m : {read_matrix_market((dir / "s.mtx").string()),
+                                read_calculix_matrix((dir / "a.sti").string(), 3),
+                                read_calculix_matrix((dir / "b.sti").string(), 3)}) {
+    CHECK(m.isCompressed());
+    CHECK(m.nonZeros() == 7);
+    CHECK(Eigen::Matrix3d(m) == expected);
+    for (int c = 0; c < 3; ++c)
+      CHECK(std::is_sorted(m.innerIndexPtr() + m.outerIndexPtr()[c],
+                           m.innerIndexPtr() + m.outerIndexPtr()[c + 1]));
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("superelement: with every interior mode kept, Craig-Bampton is exact", "[superelement]") {
   const auto dir = temp_dir("exact");
   const int n = 40;
