@@ -140,8 +140,9 @@ TEST_CASE("subset simulation of a one-parameter loop finds its exact P(unstable)
   CHECK(estimates[0] == estimates[1]);
 }
 
+// [long_run]: 18 s at -O2 (run by the check build), over 6 minutes under the sanitizers.
 TEST_CASE("subset simulation of a one-parameter loop: over 20 seeds its intervals hold the exact P",
-          "[campaign][subset]") {
+          "[campaign][subset][long_run]") {
   // Seeds 1..20: the lognormal 95 % intervals hold the exact P in most runs and the mean
   // estimate lies within 3 standard errors of it.
   OneParameterFleet f;

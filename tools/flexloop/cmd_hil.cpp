@@ -145,9 +145,9 @@ void run(const HilArgs& a) {
 
 void register_hil(CLI::App& app) {
   auto args = std::make_shared<HilArgs>();
-  auto* cmd = app.add_subcommand(
-      "hil",
-      "Hardware-in-the-loop rehearsal: baselines, then plant and controller processes over LCM");
+  auto* cmd = app.add_subcommand("hil",
+                                 "Hardware-in-the-loop rehearsal: baselines, then plant and "
+                                 "controller processes over LCM or iceoryx");
   add_loop_options(cmd, *args, 0, kSceneOrArtefactHelp,
                    "hil starts iox-roudi for the run and stops it; refused when one already runs");
   add_safe_ramp_option(cmd, *args);
