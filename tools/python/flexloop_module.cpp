@@ -5,6 +5,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <fcntl.h>
 #include <unistd.h>
 
 #include <cstdio>
@@ -59,32 +60,49 @@ flexloop::artefact::LoopArtefact build(const std::string& scene, std::optional<d
                                             .duration_s = 0});
 }
 
-// `flexloop analyse SCENE`'s analysis.json as a dict: analyse writes into a temporary folder
-// (its report on standard output silenced), the folder is removed.
-py::object analyse(const std::string& scene, double f_min_hz, double f_max_hz, int points) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("flexloop_python_analyse_" + std::to_string(::getpid()));
-  std::fflush(stdout);
-  const int saved = ::dup(STDOUT_FILENO);
-  std::FILE* null = std::fopen("/dev/null", "w");
-  ::dup2(::fileno(null), STDOUT_FILENO);
-  std::string text;
-  try {
-    flexloop::pipeline::analyse_scene(scene, dir.string(), {f_min_hz, f_max_hz, points});
-    std::ifstream in(dir / "analysis.json");
-    std::stringstream buffer;
-    buffer << in.rdbuf();
-    text = buffer.str();
-  } catch (...) {
+// While alive, the process's standard output goes to /dev/null (analyse prints its report
+// there); restored on every way out, an exception's included.
+class SilencedStdout {
+ public:
+  SilencedStdout() {
     std::fflush(stdout);
-    ::dup2(saved, STDOUT_FILENO), ::close(saved), std::fclose(null);
-    std::filesystem::remove_all(dir);
-    throw;
+    saved_ = ::dup(STDOUT_FILENO);
+    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, STDOUT_FILENO);
+    if (null >= 0) ::close(null);
   }
-  std::fflush(stdout);
-  ::dup2(saved, STDOUT_FILENO), ::close(saved), std::fclose(null);
-  std::filesystem::remove_all(dir);
-  return py::module_::import("json").attr("loads")(text);
+  ~SilencedStdout() {
+    std::fflush(stdout);
+    if (saved_ >= 0) ::dup2(saved_, STDOUT_FILENO), ::close(saved_);
+  }
+  SilencedStdout(const SilencedStdout&) = delete;
+  SilencedStdout& operator=(const SilencedStdout&) = delete;
+
+ private:
+  int saved_ = -1;
+};
+
+// A folder removed when it goes out of scope.
+struct ScratchFolder {
+  std::filesystem::path path;
+  ~ScratchFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+};
+
+// `flexloop analyse SCENE`'s analysis.json as a dict: analyse writes into a temporary folder
+// of this process (its report on standard output silenced), which is removed.
+py::object analyse(const std::string& scene, double f_min_hz, double f_max_hz, int points) {
+  const ScratchFolder dir{std::filesystem::temp_directory_path() /
+                          ("flexloop_python_analyse_" + std::to_string(::getpid()))};
+  std::stringstream text;
+  {
+    const SilencedStdout quiet;
+    flexloop::pipeline::analyse_scene(scene, dir.path.string(), {f_min_hz, f_max_hz, points});
+  }
+  text << std::ifstream(dir.path / "analysis.json").rdbuf();
+  return py::module_::import("json").attr("loads")(text.str());
 }
 
 void bind_loop(py::module_& m) {
