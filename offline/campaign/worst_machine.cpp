@@ -186,15 +186,15 @@ double badness(const json& figures, const WorstFigure& f) {
   const std::string status = figures.value("status", std::string());
   const bool unstable = status == "unstable", marginal = status.rfind("marginal", 0) == 0;
   if (!unstable && !marginal && status != "stable") return -kUnbounded;  // refused, failed
-  if (f.name == "spectral_radius") return figure_value(figures["spectral_radius"]);
+  if (f.name == "spectral_radius") return figure_value(figures.value("spectral_radius", json()));
   if (unstable) return kUnbounded;  // no margin, sigma or RMS: worse than any
   if (!f.channel.empty()) {
-    const json& rms = figures["rms"];
+    const json rms = figures.value("rms", json());
     if (!rms.is_object())
       return marginal ? kUnbounded : -kUnbounded;  // no stationary state: unbounded
     return figure_value(rms.value(f.channel, json()));
   }
-  const double v = figure_value(figures[f.name]);
+  const double v = figure_value(figures.value(f.name, json()));
   if (std::isnan(v)) return -kUnbounded;
   return f.smaller_is_worse ? -v : v;
 }
@@ -250,10 +250,10 @@ namespace {
 // A figure's value as worst.json writes it: the number, "+inf"/"-inf", null when there is none.
 json figure_of(const WorstMachine& w) {
   if (!w.figure.channel.empty()) {
-    const json& rms = w.figures["rms"];
+    const json rms = w.figures.value("rms", json());
     return rms.is_object() ? rms.value(w.figure.channel, json()) : json();
   }
-  return w.figures[w.figure.name];
+  return w.figures.value(w.figure.name, json());
 }
 
 // The figure a badness stands for, a margin's sign turned back: an unstable loop's margin reads

@@ -113,8 +113,6 @@ TEST_CASE(
   // The written scene and model, read back as analyse, sim and hil read them.
   const scene::Scene sc = scene::load_scene(scene_file);
   const plant::model::Model model = plant::model::load_model(sc.model_path);
-  PlanRequest nominal = r.plan;
-  nominal.n = 1;
   const SampleEvaluator again(sc, model, {ControllerMode::kRedesigned, {}});
   CHECK(again.nominal()["disk_margin_db"].get<double>() ==
         Approx(j["value"].get<double>()).epsilon(1e-9));
