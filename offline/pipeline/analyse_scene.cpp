@@ -18,6 +18,7 @@
 #include "offline/pipeline/loop_figures.hpp"
 #include "offline/pipeline/numerical_health.hpp"
 #include "offline/pipeline/provenance.hpp"
+#include "offline/pipeline/superelement_provenance.hpp"
 #include "offline/report/csv_writer.hpp"
 #include "offline/report/plot.hpp"
 #include "offline/scene/loop_artefact_builder.hpp"
@@ -590,6 +591,8 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   const auto write_analysis_json = [&] {
     j["provenance"] = make_provenance(scene_path, "flexloop analyse");
     j["provenance"]["model"] = make_provenance(sc.model_path, "flexloop analyse");
+    if (!p.model.superelements.empty())
+      j["provenance"]["model"]["superelements"] = superelement_provenance(p.model);
     lti::write_json_atomically(dir + "analysis.json", j);
   };
   print_passive_machine(p, j);

@@ -453,6 +453,16 @@ OutputEquation reaction_equation(const Model& m, const Linearisation& lin,
   return eq;
 }
 
+// The index in q of a superelement's modal amplitude "eta<k>.<id>", or -1.
+int modal_coordinate_index(const Model& m, const std::string& label) {
+  for (const auto& body : m.superelements)
+    if (std::find(body.mode_labels.begin(), body.mode_labels.end(), label) !=
+        body.mode_labels.end())
+      return static_cast<int>(std::find(m.generalised.begin(), m.generalised.end(), label) -
+                              m.generalised.begin());
+  return -1;
+}
+
 // The output equation of one name: x = DF(x) q, x' = DF(x) q' + V q, x'' = DF(x) q'' + Z q' + W q
 // of a nodal coordinate; e = DF(e) q of a deformation; sigma = sigma_a + S e + Sd e' of a flexible
 // one (its own actuator stress the feedthrough); a reaction, or a rigid deformation's stress, by
@@ -477,6 +487,10 @@ OutputEquation output_equation(const Model& m, const Linearisation& lin,
     eq.terms = {{0, lin.S.row(k) * lin.DFe + lin.Sd.row(k) * lin.Ved},
                 {1, lin.Sd.row(k) * lin.DFe}};
     if (stress_in[k] >= 0) eq.direct = {{stress_in[k], 1.0}};
+  } else if (const int g = modal_coordinate_index(m, target);
+             g >= 0 && (kind == "pos" || kind == "vel" || kind == "acc")) {
+    // A superelement's modal amplitude is its own generalised coordinate: eta, eta', eta''.
+    eq.terms = {{kind == "pos" ? 0 : kind == "vel" ? 1 : 2, Eigen::RowVectorXd::Unit(m.nq(), g)}};
   } else if (i < 0 && k < 0) {
     throw common::InputError(place, "unknown coordinate or deformation '" + target + "'");
   } else {

@@ -104,8 +104,10 @@ Eigen::VectorXd generalised_from_x(const Model& m, const Partition& p,
                                    const Eigen::VectorXd& x) {
   const Eigen::VectorXd e = deformations(m, blocks, x);
   Eigen::VectorXd q(m.nq());
-  for (int i = 0; i < m.nq(); ++i)
-    q(i) = p.q_coordinate[i] >= 0 ? x(p.q_coordinate[i]) : e(p.q_deformation[i]);
+  for (int i = 0; i < m.nq(); ++i)  // a superelement's modal amplitude: zero in x's reference
+    q(i) = p.q_coordinate[i] >= 0    ? x(p.q_coordinate[i])
+           : p.q_deformation[i] >= 0 ? e(p.q_deformation[i])
+                                     : 0.0;
   return q;
 }
 

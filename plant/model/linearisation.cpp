@@ -78,6 +78,48 @@ void inertia_force_derivatives(const Model& m, const Eigen::VectorXd& x, const E
   }
 }
 
+// T = d(u)/dq of a superelement's reduced coordinates u = (interface translations, modal
+// amplitudes): the interface rows of DF(x), which are constant (an interface translation is
+// never a dependent coordinate), and a unit row per modal amplitude.
+Eigen::MatrixXd superelement_transfer(const Model& m, const Superelement& body,
+                                      const Eigen::MatrixXd& DFx) {
+  const auto nb = static_cast<Eigen::Index>(body.interface_coordinates.size());
+  Eigen::MatrixXd T = Eigen::MatrixXd::Zero(nb + body.mode_count(), m.nq());
+  for (Eigen::Index r = 0; r < nb; ++r)
+    T.row(r) = DFx.row(body.interface_coordinates[static_cast<std::size_t>(r)]);
+  for (int k = 0; k < body.mode_count(); ++k) {
+    const auto at = std::find(m.generalised.begin(), m.generalised.end(), body.mode_labels[k]);
+    T(nb + k, at - m.generalised.begin()) = 1.0;
+  }
+  return T;
+}
+
+// The reduced coordinates u of a superelement at (x, q): interface displacements from the
+// reference configuration, then the modal amplitudes.
+Eigen::VectorXd superelement_displacement(const Model& m, const Superelement& body,
+                                          const Eigen::MatrixXd& T, const Eigen::VectorXd& x,
+                                          const Eigen::VectorXd& q) {
+  const auto nb = static_cast<Eigen::Index>(body.interface_coordinates.size());
+  Eigen::VectorXd u = T * q;  // the modal rows; the interface rows are set below
+  for (Eigen::Index r = 0; r < nb; ++r) {
+    const int c = body.interface_coordinates[static_cast<std::size_t>(r)];
+    u(r) = x(c) - m.x_reference(c);
+  }
+  return u;
+}
+
+// A superelement is linear: its mass, stiffness and damping enter through T,
+// Mbar += T' M_r T, Kbar += T' K_r T, Dbar += T' D_r T; nothing in Gbar, Cbar or Nbar (no
+// preload, and T is constant).
+void add_superelements(const Model& m, Linearisation& L) {
+  for (const auto& body : m.superelements) {
+    const Eigen::MatrixXd T = superelement_transfer(m, body, L.DFx);
+    L.M += T.transpose() * body.M * T;
+    L.K += T.transpose() * body.K * T;
+    L.D += T.transpose() * body.D * T;
+  }
+}
+
 bool is_zero(const Eigen::VectorXd& v) {
   return v.size() == 0 || v.isZero(0.0);
 }
@@ -125,6 +167,11 @@ Linearisation linearise(const Model& m, const OperatingPoint& op) {
   L.sigma_a = op.sigma_a.size() ? op.sigma_a : Eigen::VectorXd::Zero(m.ne());
   const Eigen::VectorXd& sigma_a = L.sigma_a;
   const bool stationary = is_zero(L.qd) && is_zero(L.qdd);
+  if (!stationary && !m.superelements.empty())
+    throw common::InputError(m.superelements.front().source.str(),
+                             "superelement '" + m.superelements.front().id +
+                                 "': a model with a superelement is linearised at rest only; "
+                                 "this operating point moves (qd or qdd non-zero)");
   if (!stationary)  // the beam mass's velocity terms are not formed (beam_mass.hpp)
     for (const auto& el : m.elements)
       if (el.mass_model == MassModel::kBeam)
@@ -180,6 +227,7 @@ Linearisation linearise(const Model& m, const OperatingPoint& op) {
   L.K = L.DFe.transpose() * L.S * L.DFe;
   L.D = L.DFe.transpose() * L.Sd * L.DFe;
   L.G = L.DFx.transpose() * weighted_deformation_hessian(m, blocks, L.x, L.sigma) * L.DFx;
+  add_superelements(m, L);
 
   // Velocity and acceleration terms (all zero at a stationary point).
   L.Vx = L.Wx = L.Zx = Eigen::MatrixXd::Zero(m.nx(), nq);
@@ -234,8 +282,14 @@ Eigen::VectorXd equations_of_motion_residual(const Model& m, const Eigen::Vector
   const Eigen::VectorXd sigma_a = sigma_a_in.size() ? sigma_a_in : Eigen::VectorXd::Zero(m.ne());
   Eigen::VectorXd sigma = S * deformations(m, blocks, n.x) + Sd * (n.J * n.xd) + sigma_a;
   for (int k : p.e_rigid) sigma(k) = 0.0;  // DF(e) rows of rigid deformations vanish
-  return n.DF.transpose() * (inertia_forces(m, n.x, n.xd, n.xdd) - applied_forces(m)) +
-         (n.J * n.DF).transpose() * sigma;
+  Eigen::VectorXd r = n.DF.transpose() * (inertia_forces(m, n.x, n.xd, n.xdd) - applied_forces(m)) +
+                      (n.J * n.DF).transpose() * sigma;
+  for (const auto& body : m.superelements) {  // T' (M_r u'' + D_r u' + K_r u), T constant
+    const Eigen::MatrixXd T = superelement_transfer(m, body, n.DF);
+    const Eigen::VectorXd u = superelement_displacement(m, body, T, n.x, q);
+    r += T.transpose() * (body.M * (T * qdd) + body.D * (T * qd) + body.K * u);
+  }
+  return r;
 }
 
 }  // namespace flexloop::plant::model

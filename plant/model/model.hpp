@@ -72,6 +72,26 @@ struct Element {
   int deformation_count() const { return static_cast<int>(kinds.size()); }
 };
 
+// A linear FE body given by an FE tool's matrices and reduced by Craig-Bampton
+// (plant/superelement, doc/design.md §3a): its interface translations are nodal coordinates of
+// the model, its kept fixed-interface modes' amplitudes are generalised coordinates of their own,
+// "eta<k>.<id>" (neither nodal nor deformations: the kinematics never see them). Linear: no
+// preload, no gravity load, linearised at rest.
+struct Superelement {
+  std::string id;
+  std::vector<int> interface_coordinates;  // x index of each reduced interface row
+  Eigen::MatrixXd K, M;                    // reduced: interface rows, then the modes (unit mass)
+  Eigen::MatrixXd D;  // damping: zeta on each of the reduced body's own modes (interface free)
+  Eigen::VectorXd fixed_interface_hz;    // the kept modes' frequencies, ascending
+  std::vector<std::string> mode_labels;  // "eta1.<id>", "eta2.<id>", ...
+  double modes_up_to_hz = 0;             // the cut-off asked for
+  Eigen::Index full_dofs = 0;            // rows of the FE tool's matrices
+  std::vector<std::string> files;        // stiffness, mass, dofs, nodes, as opened
+  common::SourceRef source;
+
+  int mode_count() const { return static_cast<int>(mode_labels.size()); }
+};
+
 struct Model {
   std::string file;
   std::string name;
@@ -79,6 +99,7 @@ struct Model {
   Eigen::VectorXd gravity;  // dim entries, m/s^2
   std::vector<Node> nodes;
   std::vector<Element> elements;
+  std::vector<Superelement> superelements;
 
   std::vector<std::string> coordinate_labels;   // x
   std::vector<std::string> deformation_labels;  // e

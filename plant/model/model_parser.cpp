@@ -12,6 +12,7 @@
 #include "common/toml_reader.hpp"
 #include "plant/model/element_properties.hpp"
 #include "plant/model/model_from_toml.hpp"
+#include "plant/model/superelement_reader.hpp"
 
 namespace flexloop::plant::model {
 
@@ -187,16 +188,44 @@ void add_node(Model& m, Node n, NodeIndex& node_index) {
   m.nodes.push_back(std::move(n));
 }
 
-// [[node]]: the nodes, their coordinates and the reference configuration x_reference.
+// [[node]]: the nodes and their coordinates (none is allowed when superelements bring theirs).
 NodeIndex read_nodes(const toml::table& root, const common::TomlReader& top, Model& m) {
   NodeIndex node_index;
   const auto* nodes = root["node"].as_array();
-  if (!nodes || nodes->empty()) top.fail("no [[node]] entries");
+  if ((!nodes || nodes->empty()) && !root["superelement"].as_array())
+    top.fail("no [[node]] entries (and no [[superelement]])");
+  if (!nodes) return node_index;
   for (const auto& item : *nodes) {
     const auto* t = item.as_table();
     if (!t) top.fail("[[node]] entries must be tables", &item);
     add_node(m, read_node(common::TomlReader(*t, m.file, "node"), m, node_index), node_index);
   }
+  return node_index;
+}
+
+// [[superelement]]: each body's interface nodes become model nodes (their ids unique among all
+// nodes) and its reduced interface rows land on their translations.
+void read_superelements(const toml::table& root, const common::TomlReader& top, Model& m,
+                        NodeIndex& node_index) {
+  for (SuperelementTable& table : read_superelement_tables(root, top, m)) {
+    std::vector<int> node_of;
+    for (Node& n : table.interface_nodes) {
+      if (const auto first = node_index.find(n.id); first != node_index.end())
+        throw common::InputError(n.source.str(), "superelement '" + table.body.id +
+                                                     "': interface node id '" + n.id +
+                                                     "' is already a node (" +
+                                                     m.nodes[first->second].source.str() + ")");
+      node_of.push_back(static_cast<int>(m.nodes.size()));
+      add_node(m, std::move(n), node_index);
+    }
+    for (const auto& [node, axis] : table.interface_rows)
+      table.body.interface_coordinates.push_back(m.nodes[node_of[node]].first_coordinate + axis);
+    m.superelements.push_back(std::move(table.body));
+  }
+}
+
+// The reference configuration x_reference: positions, angles and Euler parameters as given.
+void reference_configuration(Model& m) {
   m.x_reference.resize(m.nx());
   for (const auto& n : m.nodes) {
     m.x_reference.segment(n.first_coordinate, m.dim) = n.position;
@@ -207,7 +236,6 @@ NodeIndex read_nodes(const toml::table& root, const common::TomlReader& top, Mod
         m.x_reference.segment<4>(n.first_coordinate + 3) = n.lambda;
     }
   }
-  return node_index;
 }
 
 // A truss: e1 = |l| - l0 with stiffness k and damping d; flexible when it has either (or an
@@ -426,6 +454,28 @@ void read_fixed(const common::TomlReader& cr, Model& m, const NodeIndex& node_in
   }
 }
 
+// What a superelement brings unless [coordinates] lists it: its interface translations dynamic
+// (those the FE tool holds, fixed), then its modal amplitudes, always dynamic.
+void superelement_defaults(Model& m, const std::set<std::string>& listed) {
+  for (const auto& body : m.superelements) {
+    const std::set<int> carried(body.interface_coordinates.begin(),
+                                body.interface_coordinates.end());
+    for (const Node& n : m.nodes) {
+      const int first = n.first_coordinate;
+      if (!std::any_of(carried.begin(), carried.end(),
+                       [&](int c) { return c >= first && c < first + m.dim; }))
+        continue;
+      for (int i = first; i < first + m.dim; ++i) {
+        if (listed.count(m.coordinate_labels[i])) continue;
+        m.coordinate_roles[i] =
+            carried.count(i) ? CoordinateRole::kDynamic : CoordinateRole::kFixed;
+        if (carried.count(i)) m.generalised.push_back(m.coordinate_labels[i]);
+      }
+    }
+    m.generalised.insert(m.generalised.end(), body.mode_labels.begin(), body.mode_labels.end());
+  }
+}
+
 // [coordinates] dynamic and prescribed: the generalised coordinates q = (q_d, q_r), each a nodal
 // coordinate x(m) or a flexible or released deformation e(m).
 void read_generalised(const common::TomlReader& cr, Model& m, Claims& claim) {
@@ -449,6 +499,7 @@ void read_generalised(const common::TomlReader& cr, Model& m, Claims& claim) {
       (dynamic ? m.generalised : prescribed).push_back(label);
     }
   }
+  superelement_defaults(m, claim.assigned);
   m.dynamic_count = static_cast<int>(m.generalised.size());
   m.generalised.insert(m.generalised.end(), prescribed.begin(), prescribed.end());
   if (m.dynamic_count == 0) cr.fail("no dynamic coordinates: list at least one in 'dynamic'");
@@ -458,10 +509,11 @@ void read_generalised(const common::TomlReader& cr, Model& m, Claims& claim) {
 // coordinate listed once.
 void read_coordinates(const toml::table& root, const common::TomlReader& top, Model& m,
                       const NodeIndex& node_index) {
+  static const toml::table none;  // a model of superelements alone may leave the table out
   const auto* coords = root["coordinates"].as_table();
-  if (!coords)
+  if (!coords && m.superelements.empty())
     top.fail("missing [coordinates] table (which coordinates are fixed, dynamic, prescribed)");
-  common::TomlReader cr(*coords, m.file, "[coordinates]");
+  common::TomlReader cr(coords ? *coords : none, m.file, "[coordinates]");
   cr.allow_only({"fixed", "fixed_nodes", "dynamic", "prescribed"});
   Claims claim{cr, {}};
   read_fixed(cr, m, node_index, claim);
@@ -509,7 +561,9 @@ void check_dependent_count(const toml::table& root, const Model& m) {
                                      "generalised, or make more deformations rigid"
                                    : "it is over-constrained: release or free some rigid "
                                      "deformations, or make fewer deformations generalised");
-  common::TomlReader(*root["coordinates"].as_table(), m.file, "[coordinates]").fail(os.str());
+  static const toml::table none;
+  const auto* coords = root["coordinates"].as_table();
+  common::TomlReader(coords ? *coords : none, m.file, "[coordinates]").fail(os.str());
 }
 
 }  // namespace
@@ -520,11 +574,13 @@ Model parse_model(const std::string& text, const std::string& file) {
 
 Model model_from_toml(const toml::table& root, const std::string& file) {
   common::TomlReader top(root, file, "model file");
-  top.allow_only({"model", "node", "element", "coordinates", "configuration"});
+  top.allow_only({"model", "node", "superelement", "element", "coordinates", "configuration"});
   Model m;
   m.file = file;
   read_model_table(root, top, m);
-  const NodeIndex node_index = read_nodes(root, top, m);
+  NodeIndex node_index = read_nodes(root, top, m);
+  read_superelements(root, top, m, node_index);
+  reference_configuration(m);
   read_elements(root, top, m, node_index);
   initial_roles(m);
   read_coordinates(root, top, m, node_index);

@@ -17,42 +17,15 @@
 #include "numeric/constants.hpp"
 #include "plant/superelement/craig_bampton.hpp"
 #include "plant/superelement/sparse_text.hpp"
+#include "tests/superelement/chain_files.hpp"
 
 using namespace flexloop;
 using namespace flexloop::plant::superelement;
+using flexloop::test::chain_hz;
+using flexloop::test::temp_dir;
+using flexloop::test::write_chain;
 
 namespace {
-
-std::filesystem::path temp_dir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("flexloop_test_superelement_" + name + "_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  return dir;
-}
-
-// A chain of n masses m on n springs k, the first spring to the ground: K and M as Matrix
-// Market files, K symmetric (lower triangle), M general (its diagonal).
-void write_chain(const std::filesystem::path& dir, int n, double k, double m) {
-  std::ofstream kf(dir / "K.mtx"), mf(dir / "M.mtx");
-  kf << "%%MatrixMarket matrix coordinate real symmetric\n% a chain\n"
-     << n << " " << n << " " << 2 * n - 1 << "\n";
-  for (int i = 1; i <= n; ++i) {
-    char line[96];
-    std::snprintf(line, sizeof line, "%d %d %.17g\n", i, i, i < n ? 2 * k : k);
-    kf << line;
-    if (i < n) {
-      std::snprintf(line, sizeof line, "%d %d %.17g\n", i + 1, i, -k);
-      kf << line;
-    }
-  }
-  mf << "%%MatrixMarket matrix coordinate real general\n" << n << " " << n << " " << n << "\n";
-  for (int i = 1; i <= n; ++i) mf << i << " " << i << " " << m << "\n";
-}
-
-double chain_hz(int n, double k, double m, int j) {
-  return 2 * std::sqrt(k / m) * std::sin((2 * j - 1) * numeric::kPi / (2 * (2 * n + 1))) /
-         numeric::kTwoPi;
-}
 
 // The reduced model's natural frequencies (Hz, ascending).
 Eigen::VectorXd reduced_hz(const CraigBampton& cb) {

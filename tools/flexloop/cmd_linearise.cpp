@@ -6,6 +6,7 @@
 
 #include "offline/pipeline/linearised_model.hpp"
 #include "offline/pipeline/provenance.hpp"
+#include "offline/pipeline/superelement_provenance.hpp"
 #include "plant/lti/state_space_json.hpp"
 #include "tools/flexloop/subcommands.hpp"
 
@@ -47,6 +48,8 @@ void run(const LineariseArgs& a) {
   const Eigen::VectorXd& f = r.natural_frequencies_hz;
 
   nlohmann::json j = lti::to_json(ss, pipeline::make_provenance(a.model, "flexloop linearise"));
+  if (!m.superelements.empty())
+    j["provenance"]["superelements"] = pipeline::superelement_provenance(m);
   j["natural_frequencies_hz"] = std::vector<double>(f.data(), f.data() + f.size());
   j["generalised_coordinates"] = m.generalised;
   j["dynamic_count"] = nd;

@@ -1,0 +1,27 @@
+#pragma once
+// [[superelement]] tables of a model file (doc/model_format.md): each body's FE files read and
+// reduced (plant/superelement), and its interface nodes as model nodes. The model reader adds the
+// nodes and places the interface rows on their coordinates.
+#include <toml++/toml.h>
+#include <string>
+#include <vector>
+
+#include "common/toml_reader.hpp"
+#include "plant/model/model.hpp"
+
+namespace flexloop::plant::model {
+
+struct SuperelementTable {
+  Superelement body;  // interface_coordinates left for the model reader to fill
+  std::vector<Node> interface_nodes;
+  // Per reduced interface row: the index in interface_nodes and the axis (0 x, 1 y, 2 z).
+  std::vector<std::pair<int, int>> interface_rows;
+};
+
+/// The [[superelement]] tables in file order (none when the model has none).
+/// @throws common::InputError naming the model file's entry, or the FE file and line.
+std::vector<SuperelementTable> read_superelement_tables(const toml::table& root,
+                                                        const common::TomlReader& top,
+                                                        const Model& m);
+
+}  // namespace flexloop::plant::model

@@ -1,0 +1,40 @@
+#pragma once
+// A superelement as a model file names it (issue 58): the FE tool's files (stiffness, mass, DOF
+// map, node coordinates), the interface nodes and the cut-off, read and reduced by Craig-Bampton
+// into what the model joins. A reduction is remembered per process, keyed by the files' identity
+// (path, size, modification time) and the request: a campaign that re-reads the model for each
+// sample reduces the body once.
+#include <Eigen/Dense>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "plant/superelement/craig_bampton.hpp"
+#include "plant/superelement/sparse_text.hpp"
+
+namespace flexloop::plant::superelement {
+
+enum class FileFormat { kCalculix, kMatrixMarket };
+
+struct SuperelementFiles {
+  FileFormat format = FileFormat::kCalculix;
+  std::string stiffness, mass, dofs, nodes;  // paths as they are to be opened
+  double modes_up_to_hz = 0;
+  std::vector<long> interface_nodes;  // mesh node numbers
+};
+
+struct ReducedSuperelement {
+  CraigBampton reduction;                  // interface rows first, in interface_dofs' order
+  std::vector<DofLabel> interface_dofs;    // the kept translations (directions 1..3) per node
+  std::vector<Eigen::Vector3d> positions;  // per interface node, in the order asked (m)
+  Eigen::Index full_dofs = 0;              // rows of the FE tool's K and M
+};
+
+/// Reads and reduces (or returns the process's earlier reduction of the same files and request).
+/// An interface node keeps the translations the DOF map has for it; its rotations, if any, are
+/// interior (the interface is a pin). @throws common::InputError naming the file (and line) for
+/// bad files, an interface node without translations in the DOF map, or a cut-off below the
+/// first fixed-interface mode; std::domain_error from the reduction (craig_bampton.hpp).
+std::shared_ptr<const ReducedSuperelement> reduce_superelement(const SuperelementFiles& files);
+
+}  // namespace flexloop::plant::superelement
