@@ -102,9 +102,19 @@ def test_sim_bad_input_raises_the_cli_message(tmp_path):
     with pytest.raises(flexloop.InputError, match="duration"):
         flexloop.sim(FRAME, -1.0)
     bad = tmp_path / "bad.toml"
-    bad.write_text(open(FRAME).read().replace("rate_hz = 10000", "rate_hz = -5"))
-    with pytest.raises(flexloop.InputError, match=r"bad\.toml:\d+"):  # file:line, as the CLI
+    model = pathlib.Path("tools/models/metrology_frame.toml").resolve()
+    bad.write_text(open(FRAME).read().replace("rate_hz = 10000", "rate_hz = -5")
+                   .replace('"../models/metrology_frame.toml"', f'"{model}"'))
+    with pytest.raises(flexloop.InputError, match=r"bad\.toml:\d+") as e:  # file:line
         flexloop.sim(str(bad), 0.1)
+    assert_cli_says(["sim", str(bad), "--duration", "0.1"], e.value)
+
+
+def assert_cli_says(args, error):
+    """The command line refuses the same input (exit 2) with the exception's message."""
+    run = subprocess.run([os.environ["FLEXLOOP"], *args], capture_output=True, text=True)
+    assert run.returncode == 2
+    assert f"error: {error}" in run.stderr
 
 
 # The one figure that is not the CLI's to the bit: the all-loops disk margin, read from the
@@ -167,3 +177,10 @@ def test_campaign_bad_input_raises_the_cli_message(tmp_path):
         flexloop.campaign(FRAME, str(tmp_path / "nothing.toml"), 4)
     with pytest.raises(flexloop.InputError):
         flexloop.campaign(FRAME, UNCERTAIN, 0)
+    bad = tmp_path / "bad_uncertain.toml"
+    bad.write_text('[[parameter]]\npath = "element.*.nothing"\ndistribution = "normal"\n'
+                   'relative_sd = 0.05\n')
+    with pytest.raises(flexloop.InputError, match=r"bad_uncertain\.toml:1:") as e:
+        flexloop.campaign(FRAME, str(bad), 4)
+    assert_cli_says(["campaign", FRAME, "-u", str(bad), "-n", "4", "--out-dir",
+                     str(tmp_path / "c")], e.value)
