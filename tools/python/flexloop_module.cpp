@@ -1,9 +1,8 @@
 // The Python module `flexloop` (issue 55, 3; doc/python.md): the command line's computations as
-// functions, numpy arrays in and out, the same code and so the same bits as the CLI (but where
-// doc/python.md says otherwise). An input the CLI refuses raises flexloop.InputError (a
-// ValueError) with the CLI's message (file:line). linearise, build, load, analyse, sim (the runs of
-// online/sim/sim_command.hpp) and campaign (make_plan, PlanSamples::line on threads,
-// campaign_summary: offline/campaign).
+// functions, numpy arrays in and out, the same code and so the same bits as the CLI. An input the
+// CLI refuses raises flexloop.InputError (a ValueError) with the CLI's message (file:line).
+// linearise, build, load, analyse, sim (the runs of online/sim/sim_command.hpp) and campaign
+// (make_plan, PlanSamples::line on threads, campaign_summary: offline/campaign).
 #include <pybind11/eigen.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
