@@ -106,9 +106,15 @@ class InputSensitivity {
   double dt_;
 };
 
-// sigma_max by the SVD: for the value a margin is read from.
+// sigma_max by the SVD: for the value a margin is read from. On a row-major copy: an SVD type no
+// other translation unit instantiates, so every program that links this code runs this one copy
+// of its inline templates. JacobiSVD<MatrixXcd> is also plant/lti/modal_form.cpp's: each program
+// ran the copy its linker kept, and the Python module's and `flexloop`'s differed (nm -S) and
+// rounded differently in the last bits (doc/python.md).
 double largest_singular_value_by_svd(const Eigen::MatrixXcd& m) {
-  return Eigen::JacobiSVD<Eigen::MatrixXcd>(m).singularValues()(0);
+  using RowMajorXcd =
+      Eigen::Matrix<std::complex<double>, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+  return Eigen::JacobiSVD<RowMajorXcd>(RowMajorXcd(m)).singularValues()(0);
 }
 
 // sigma_max at each grid point that can hold the grid's largest, -1 elsewhere: the largest

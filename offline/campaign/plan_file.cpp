@@ -1,5 +1,10 @@
 #include "offline/campaign/plan_file.hpp"
 
+#include <dlfcn.h>
+
+#include <string>
+#include <string_view>
+
 #include "artefact/loop_artefact.hpp"
 #include "common/build_info.hpp"
 #include "common/input_error.hpp"
@@ -80,8 +85,23 @@ void require_plan_inputs_unchanged(const nlohmann::json& plan, const std::string
                       nominal_artefact_sha256(plan.at("scene").get<std::string>()));
 }
 
+namespace {
+
+// The file of the flexloop code that computes a line: the program, or the shared object this
+// code is linked into (the Python module, whose process is python3's).
+std::string computing_binary() {
+  static const char anchor = 0;
+  Dl_info info{};
+  if (::dladdr(&anchor, &info) != 0 && info.dli_fname != nullptr &&
+      std::string_view(info.dli_fname).ends_with(".so"))
+    return info.dli_fname;
+  return "/proc/self/exe";
+}
+
+}  // namespace
+
 nlohmann::json line_build() {
-  static const std::string build = common::file_sha256("/proc/self/exe").substr(0, 16);
+  static const std::string build = common::file_sha256(computing_binary()).substr(0, 16);
   return {{"version", common::build_info::kVersion}, {"build", build}};
 }
 

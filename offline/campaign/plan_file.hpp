@@ -34,6 +34,7 @@ void require_plan_inputs_unchanged(const nlohmann::json& plan, const std::string
 
 /// What every shard line says of the program that computed it: {"version", "build"}, the build
 /// being the SHA-256 of the running executable (16 hex digits): two builds of one commit differ.
+/// In the Python module (doc/python.md) it is the module's file, not python3's.
 nlohmann::json line_build();
 
 }  // namespace flexloop::campaign

@@ -1,10 +1,12 @@
 // `flexloop sim SCENE|LOOP.json [--duration S] [--controller on|off] [--form dense|modal]
-//  [--start stationary|rest] [--log OUT.csv] [--log-every N] [--plots DIR]`: the loop artefact's
-//  discrete plant, hardware
-// and controller in one process, faster than real time (online/sim/closed_loop_run.hpp has the
-// loop), once with the controller off and once on, driven by the same seeded floor; prints the
-// RMS of every performance output for both and writes the log of the requested run. A scene is
-// first built into its artefact (tools/flexloop/loop_input.hpp), as `flexloop build` does.
+//  [--start stationary|rest] [--log OUT.csv] [--log-every N] [--json OUT.json] [--plots DIR]`:
+// the discrete plant, hardware and controller in one process, faster than real time
+// (online/sim/closed_loop_run.hpp has the loop), once with the controller off and once on, driven
+// by the same seeded floor; prints the RMS of every performance output for both and writes the
+// log of the requested run. A scene is first built into its artefact
+// (offline/scene/loop_input.hpp), as `flexloop build` does. The runs and their judgement are
+// online/sim/sim_command.hpp's, which the Python module's flexloop.sim calls too; this file prints
+// and writes.
 #include <unistd.h>
 
 #include <chrono>
@@ -19,6 +21,8 @@
 #include <thread>
 #include <tuple>
 
+#include <nlohmann/json.hpp>
+
 #include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "offline/report/csv_writer.hpp"
@@ -27,6 +31,7 @@
 #include "offline/scene/loop_input.hpp"
 #include "online/sim/closed_loop_run.hpp"
 #include "online/sim/scene_runs.hpp"
+#include "online/sim/sim_command.hpp"
 #include "plant/lti/welch.hpp"
 #include "tools/flexloop/subcommands.hpp"
 #include "tools/loop_cli/number_checks.hpp"
@@ -36,7 +41,7 @@ namespace flexloop::cli {
 namespace {
 
 struct SimArgs {
-  std::string scene, log, plots, controller, form, path = "auto", start = "stationary";
+  std::string scene, log, plots, json, controller, form, path = "auto", start = "stationary";
   double duration_s = 0;
   long log_every = 1;
 };
@@ -139,21 +144,6 @@ std::string describe_effects(const artefact::EffectsSettings& e) {
   return d.empty() ? "none (bare plant)" : d;
 }
 
-// Columns named by role and channel, with the channel's unit.
-std::vector<std::string> log_header(const artefact::LoopArtefact& a) {
-  std::vector<std::string> h{"t_s"};
-  const auto add = [&h](const char* role, const std::vector<artefact::Channel>& channels) {
-    for (const auto& c : channels)
-      h.push_back(std::string(role) + " " + c.name + " [" + c.unit + "]");
-  };
-  add("disturbance", a.channels.disturbances);
-  add("performance", a.channels.performance);
-  add("performance sensor", a.channels.performance);
-  add("sensor", a.channels.sensors);
-  add("command", a.channels.actuators);
-  return h;
-}
-
 void plot_runs(const artefact::LoopArtefact& a, const BothRuns& r, long log_every,
                const std::string& dir) {
   std::filesystem::create_directories(dir);
@@ -213,20 +203,10 @@ void plot_runs(const artefact::LoopArtefact& a, const BothRuns& r, long log_ever
       sp, dir + "/spectra.png");
 }
 
-// A run that left the stated range (online/sim/closed_loop_run.hpp): what, when and where. Its RMS
-// values would be meaningless, so nothing is printed or written after it.
-void require_bounded(const artefact::LoopArtefact& a, const sim::RunResult& r, const char* run) {
-  const sim::Divergence& d = r.divergence;
-  if (!d.happened()) return;
-  throw std::runtime_error("the loop with the controller " + std::string(run) + " " +
-                           plant::runtime::describe(d, a.channels) + "; nothing written");
-}
-
 // What the controller said of its run (controller/runtime/loop_controller.hpp: a controller FMU's
-// log, warnings and failure). Its log and warnings go to stderr; a run it could not complete
-// (fmi2Discard, fmi2Pending: the loop held the safe command from there) fails, and its RMS values
-// would be another loop's, so nothing is printed or written after it. (A refusal, fmi2Error or
-// fmi2Fatal, is an input error that sim::run_artefact threw already.)
+// log and warnings) goes to stderr. A run it could not complete (fmi2Discard, fmi2Pending: the
+// loop held the safe command from there) fails in sim::require_completed; a refusal (fmi2Error,
+// fmi2Fatal) is an input error that sim::run_artefact threw already.
 void report_controller(const artefact::LoopArtefact& a, const sim::RunResult& on) {
   const controller::runtime::ControllerReport& c = on.controller;
   for (const std::string& m : c.messages) std::fprintf(stderr, "%s\n", m.c_str());
@@ -236,42 +216,16 @@ void report_controller(const artefact::LoopArtefact& a, const sim::RunResult& on
   if (c.warnings > 0)
     std::fprintf(stderr, "warning: %s: fmi2Warning returned %ld times; the first: %s\n",
                  a.fmu.file.c_str(), c.warnings, c.first_warning.c_str());
-  if (!c.failure.empty())
-    throw std::runtime_error(a.fmu.file + ": " + c.failure +
-                             "; the controller-on run answered with the safe command from there "
-                             "on; nothing written");
 }
 
-void run(const SimArgs& args) {
-  const artefact::LoopArtefact a = scene::load_loop(
-      args.scene, {.rate_hz = 0,
-                   .form = args.form.empty() ? std::nullopt
-                                             : std::optional(artefact::parse_plant_form(args.form)),
-                   .duration_s = args.duration_s});
-  const bool controlled = a.controller != artefact::ControllerKind::kNone;
-  const bool on = controlled && (args.controller.empty() || args.controller == "on");
-  sim::RunSettings s;
-  s.dt = a.dt();
-  s.steps = std::lround(a.duration_s / s.dt);
-  s.log_every = args.log_every;
-  const bool plots = !args.plots.empty(), log = !args.log.empty();
-  if (log && !report::is_table_file(args.log))
-    throw common::InputError(args.log, "--log writes .csv or .mat");
-  if (log) common::require_writable(args.log);  // before the run, not after it
-  if (log || plots) {                           // plots log both runs
-    const auto columns = static_cast<Eigen::Index>(log_header(a).size());
-    require_log_fits(s.steps, s.log_every, plots ? 2 * columns : columns,
-                     log ? args.log : args.plots);
-    if (log) require_mat_fits(s.steps, s.log_every, columns, args.log);
-  }
-  if (plots) common::require_writable(std::filesystem::path(args.plots) / "time_series.png");
+void print_loop(const artefact::LoopArtefact& a, long steps) {
   const std::string floor =
       a.floor.spectrum == artefact::FloorSpectrum::kWhite
           ? "white " + report::format_number(a.floor.rms_mps2) + " m/s^2 RMS per channel"
           : artefact::to_string(a.floor.spectrum) + " (IEST-RP-CC012, flat velocity 1-80 Hz)";
   std::printf("scene %s: %s plant, %ld states, %.0f Hz (%s), %.3g s = %ld steps\n", a.name.c_str(),
               artefact::to_string(a.plant.form).c_str(), static_cast<long>(a.plant.states.size()),
-              a.rate_hz, artefact::to_string(a.method).c_str(), a.duration_s, s.steps);
+              a.rate_hz, artefact::to_string(a.method).c_str(), a.duration_s, steps);
   std::printf(
       "channels: %ld disturbances, %ld actuators, %ld performance outputs, %ld sensors; "
       "controller: %s\n",
@@ -280,6 +234,84 @@ void run(const SimArgs& args) {
       artefact::to_string(a.controller).c_str());
   std::printf("floor: %s, seed %llu\neffects: %s\n", floor.c_str(),
               static_cast<unsigned long long>(a.floor.seed), describe_effects(a.effects).c_str());
+}
+
+void print_rms(const artefact::LoopArtefact& a, const BothRuns& r) {
+  std::printf("RMS of the performance outputs   controller off   controller on   change\n");
+  for (const sim::RmsRow& row : sim::rms_table(a, r)) {
+    const std::string label = row.channel + " [" + row.unit + "]";
+    if (r.controlled)
+      std::printf("  %-28s %14.4e %15.4e %+7.1f dB\n", label.c_str(), row.off, row.on,
+                  row.change_db);
+    else
+      std::printf("  %-28s %14.4e %15s\n", label.c_str(), row.off, "-");
+  }
+  if (r.controlled)
+    std::printf("RMS actuator command with the controller on: %.4g %s (largest channel)\n",
+                r.on.rms_command.maxCoeff(), a.channels.actuators[0].unit.c_str());
+}
+
+// --json: the run's figures to the bit (JSON numbers read back to the same doubles; a figure
+// that does not exist, the controller-on RMS of a loop without one, is null).
+void write_sim_json(const artefact::LoopArtefact& a, const BothRuns& r, bool on,
+                    const std::string& path) {
+  const auto number = [](double v) {
+    return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr);
+  };
+  nlohmann::json rms = nlohmann::json::array();
+  for (const sim::RmsRow& row : sim::rms_table(a, r))
+    rms.push_back({{"channel", row.channel},
+                   {"unit", row.unit},
+                   {"off", number(row.off)},
+                   {"on", number(row.on)},
+                   {"change_db", number(row.change_db)}});
+  nlohmann::json command = nlohmann::json::array();
+  if (r.controlled)
+    for (Eigen::Index i = 0; i < r.on.rms_command.size(); ++i)
+      command.push_back({{"channel", a.channels.actuators[static_cast<std::size_t>(i)].name},
+                         {"on", number(r.on.rms_command(i))}});
+  const nlohmann::json j = {{"scene", a.name},
+                            {"rate_hz", a.rate_hz},
+                            {"duration_s", a.duration_s},
+                            {"steps", sim::sim_settings(a, 1).steps},
+                            {"floor_seed", a.floor.seed},
+                            {"controlled", r.controlled},
+                            {"logged", on ? "on" : "off"},
+                            {"start_off", r.start_off},
+                            {"start_on", r.start_on},
+                            {"rms", rms},
+                            {"rms_command", command}};
+  common::write_text_atomically(path, j.dump(1) + "\n");
+}
+
+void run(const SimArgs& args) {
+  const artefact::LoopArtefact a = scene::load_loop(
+      args.scene, {.rate_hz = 0,
+                   .form = args.form.empty() ? std::nullopt
+                                             : std::optional(artefact::parse_plant_form(args.form)),
+                   .duration_s = args.duration_s});
+  const bool plots = !args.plots.empty(), log = !args.log.empty();
+  sim::SimRequest request;
+  request.controller_on = args.controller.empty() || args.controller == "on";
+  request.start = args.start == "rest" ? sim::StartKind::kRest : sim::StartKind::kStationary;
+  request.general = args.path == "general";
+  request.log_every = args.log_every;
+  request.log = log;
+  request.log_both = plots;
+  const bool on = sim::logs_controller_on(a, request);
+  const sim::RunSettings s = sim::sim_settings(a, args.log_every);
+  if (log && !report::is_table_file(args.log))
+    throw common::InputError(args.log, "--log writes .csv or .mat");
+  if (log) common::require_writable(args.log);  // before the run, not after it
+  if (!args.json.empty()) common::require_writable(args.json);
+  if (log || plots) {  // plots log both runs
+    const auto columns = static_cast<Eigen::Index>(sim::log_header(a).size());
+    require_log_fits(s.steps, s.log_every, plots ? 2 * columns : columns,
+                     log ? args.log : args.plots);
+    if (log) require_mat_fits(s.steps, s.log_every, columns, args.log);
+  }
+  if (plots) common::require_writable(std::filesystem::path(args.plots) / "time_series.png");
+  print_loop(a, s.steps);
   if (log)
     if (const auto dir = std::filesystem::path(args.log).parent_path(); !dir.empty())
       std::filesystem::create_directories(dir);
@@ -303,21 +335,15 @@ void run(const SimArgs& args) {
     staged.path = &args.log;
     writer = std::jthread([&] {
       try {
-        report::stage_table(args.log, log_header(a), written.matrix());
+        report::stage_table(args.log, sim::log_header(a), written.matrix());
       } catch (...) {
         write_error = std::current_exception();
       }
     });
   };
-  BothRuns r = sim::run_artefact(
-      a, s,
-      {.general = args.path == "general",
-       .start = args.start == "rest" ? sim::StartKind::kRest : sim::StartKind::kStationary,
-       .log_off = plots || (log && !on),
-       .log_on = plots || (log && on),
-       .progress = progress_lines(s.steps),
-       .on_first = on,
-       .after_first_run = write_first});
+  request.progress = progress_lines(s.steps);
+  request.after_first_run = write_first;
+  BothRuns r = sim::run_sim(a, request);
   std::printf("start: controller off %s%s%s\n", r.start_off.c_str(),
               r.controlled ? "; controller on " : "", r.controlled ? r.start_on.c_str() : "");
   if (r.controlled) report_controller(a, r.on);
@@ -325,23 +351,8 @@ void run(const SimArgs& args) {
     writer.join();
     (on ? r.on : r.off).log = std::move(written);  // back for the plots
   }
-
-  for (const auto* run : {&r.off, &r.on})
-    if (run == &r.off || r.controlled) require_bounded(a, *run, run == &r.off ? "off" : "on");
-  std::printf("RMS of the performance outputs   controller off   controller on   change\n");
-  for (Eigen::Index i = 0; i < r.off.rms_performance.size(); ++i) {
-    const auto& c = a.channels.performance[static_cast<std::size_t>(i)];
-    const std::string label = c.name + " [" + c.unit + "]";
-    if (r.controlled)
-      std::printf("  %-28s %14.4e %15.4e %+7.1f dB\n", label.c_str(), r.off.rms_performance(i),
-                  r.on.rms_performance(i),
-                  20 * std::log10(r.on.rms_performance(i) / r.off.rms_performance(i)));
-    else
-      std::printf("  %-28s %14.4e %15s\n", label.c_str(), r.off.rms_performance(i), "-");
-  }
-  if (r.controlled)
-    std::printf("RMS actuator command with the controller on: %.4g %s (largest channel)\n",
-                r.on.rms_command.maxCoeff(), a.channels.actuators[0].unit.c_str());
+  sim::require_completed(a, r);
+  print_rms(a, r);
   for (const auto* run : {&r.off, &r.on}) {
     if (run == &r.on && !r.controlled) continue;
     std::printf("%s: loop %.3f s wall for %.3g s simulated: %.0fx real time\n",
@@ -354,6 +365,10 @@ void run(const SimArgs& args) {
     staged.committed = true;
     std::printf("wrote %s (controller %s, every %ld-th sample)\n", args.log.c_str(),
                 on ? "on" : "off", args.log_every);
+  }
+  if (!args.json.empty()) {
+    write_sim_json(a, r, on, args.json);
+    std::printf("wrote %s\n", args.json.c_str());
   }
   if (plots) {
     plot_runs(a, r, args.log_every, args.plots);
@@ -400,6 +415,10 @@ void register_sim(CLI::App& app) {
   cmd->add_option("--log-every", args->log_every, "Log every N-th sample")
       ->capture_default_str()
       ->check(finite_positive());
+  cmd->add_option("--json", args->json,
+                  "Write the run's figures as JSON: per performance output the RMS with the "
+                  "controller off and on and the change in dB, each command's RMS (controller "
+                  "on), the seed and the start (numbers that read back to the same doubles)");
   cmd->add_option("--plots", args->plots,
                   "Directory for time_series.png and spectra.png (controller off and on)");
   cmd->footer(
