@@ -32,6 +32,9 @@ struct ScenePlant {
   plant::lti::StateSpace plant;            ///< G: [w; u] -> [z; y]
   plant::lti::LoopPartition partition;     ///< sizes of w and z
   controller::design::PiGains gains;       ///< the PI's (type "pi_force_feedback")
+  /// The PI's struts when it is designed per strut (collocated_struts.hpp); empty: the coupled
+  /// rule of the struts that are the dynamic coordinates.
+  std::vector<controller::design::CollocatedStrut> struts;
   /// type "state_space": the user's controller, discrete at the scene's rate (and continuous when
   /// the file is)
   std::optional<SceneController> state_space;
