@@ -1,9 +1,10 @@
 #pragma once
 // The offline half of a scene: model -> (static equilibrium under gravity when the scene asks
 // for the preload) -> linearisation -> generalised plant G with inputs [disturbances;
-// actuators] and outputs [performance; sensors] -> PI force-feedback design from Mdd, Kdd ->
-// continuous closed loop; and the sampled versions at the scene's rate (plant and controller
-// discretised with the scene's method, closed as the simulation loop closes them).
+// actuators] and outputs [performance; sensors] -> PI force-feedback design (coupled from Mdd,
+// Kdd, or per collocated strut: collocated_struts.hpp) -> continuous closed loop; and the sampled
+// versions at the scene's rate (plant and controller discretised with the scene's method, closed
+// as the simulation loop closes them).
 #include <Eigen/Dense>
 #include <optional>
 #include <vector>
