@@ -118,6 +118,25 @@ nlohmann::json print_disk_margins(const scene::ScenePlant& p) {
   return j;
 }
 
+// The per-strut PI design: each strut's k_i, m_i and diagonal gains (the coupled rule prints the
+// matrices instead).
+void print_strut_gains(const scene::ScenePlant& p, nlohmann::json& j) {
+  std::printf(
+      "designed per strut (%zu collocated struts): K_P,i = k_i / (m_i w_d^2) - 1, "
+      "K_I,i = 2 zeta w_d (1 + K_P,i)\n  %-14s %12s %12s %12s %12s\n",
+      p.struts.size(), "strut", "k_i [N/m]", "m_i [kg]", "K_P,i", "K_I,i [1/s]");
+  nlohmann::json struts = nlohmann::json::array();
+  for (std::size_t i = 0; i < p.struts.size(); ++i) {
+    const auto e = static_cast<Eigen::Index>(i);
+    const double k = p.struts[i].stiffness, m = 1.0 / p.struts[i].inverse_mass;
+    std::printf("  %-14s %12.5g %12.5g %12.5g %12.5g\n", p.scene.actuators[i].c_str(), k, m,
+                p.gains.K_P(e, e), p.gains.K_I(e, e));
+    struts.push_back({{"actuator", p.scene.actuators[i]}, {"stiffness", k}, {"mass", m}});
+  }
+  j["pi_design"] = "per_strut";
+  j["struts"] = struts;
+}
+
 // The controller: the PI design (its gains), or the user's state space (its size and poles).
 void print_controller(const scene::ScenePlant& p, nlohmann::json& j) {
   const auto& c = p.scene.controller;
@@ -125,8 +144,12 @@ void print_controller(const scene::ScenePlant& p, nlohmann::json& j) {
   if (scene::has_pi_controller(p)) {
     std::printf("PI force feedback: omega_d = 2 pi x %g Hz, zeta = %g, leak %s\n", c.omega_d_hz,
                 c.zeta, c.leak_hz > 0 ? (std::to_string(c.leak_hz) + " Hz").c_str() : "none");
-    print_matrix("K_P", p.gains.K_P);
-    print_matrix("K_I [1/s]", p.gains.K_I);
+    if (p.struts.empty()) {
+      print_matrix("K_P", p.gains.K_P);
+      print_matrix("K_I [1/s]", p.gains.K_I);
+    } else {
+      print_strut_gains(p, j);
+    }
     j["K_P"] = lti::matrix_to_json(p.gains.K_P);
     j["K_I"] = lti::matrix_to_json(p.gains.K_I);
     j["controller_settings"] = {

@@ -9,6 +9,7 @@
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
 #include "numeric/constants.hpp"
+#include "offline/scene/collocated_struts.hpp"
 #include "plant/lti/modal_analysis.hpp"
 #include "plant/lti/model_reduction.hpp"
 #include "plant/lti/state_space_builder.hpp"
@@ -53,14 +54,16 @@ double round_down_3(double v) {
   return std::floor(v / step) * step;
 }
 
-// The design (Mdd, Kdd and the scene's zeta and leak) with another omega_d: the scene's own
-// gains are gains_at(p, its omega_d_hz).
+// The design with the scene's zeta and leak at another omega_d (the scene's own gains are
+// gains_at(p, its omega_d_hz)): the coupled rule from Mdd, Kdd, or per strut from p.struts.
 controller::design::PiGains gains_at(const ScenePlant& p, double omega_d_hz) {
-  const int nd = p.model.nd();
   const auto& c = p.scene.controller;
-  return controller::design::design_pi_force_feedback(
-      p.lin.M.topLeftCorner(nd, nd), p.lin.K.topLeftCorner(nd, nd),
-      {kTwoPi * omega_d_hz, c.zeta, kTwoPi * c.leak_hz});
+  const controller::design::PiForceFeedbackSettings s{kTwoPi * omega_d_hz, c.zeta,
+                                                      kTwoPi * c.leak_hz};
+  if (!p.struts.empty()) return controller::design::design_pi_force_feedback_per_strut(p.struts, s);
+  const int nd = p.model.nd();
+  return controller::design::design_pi_force_feedback(p.lin.M.topLeftCorner(nd, nd),
+                                                      p.lin.K.topLeftCorner(nd, nd), s);
 }
 
 }  // namespace
@@ -127,14 +130,10 @@ ScenePlant build_scene_plant(const Scene& scene, plant::model::Model machine,
     return p;
   }
 
-  // The design uses the passive stiffness Kdd (the seed's formula); the actuated struts must be
-  // the dynamic coordinates for it to mean what it says.
-  if (static_cast<int>(scene.actuators.size()) != nd)
-    throw common::InputError(scene.file,
-                             "[plant]: PI force feedback needs one actuator per dynamic "
-                             "coordinate (" +
-                                 std::to_string(nd) + "), got " +
-                                 std::to_string(scene.actuators.size()));
+  // Each actuator with its own strut's force sensor; the coupled rule (Kdd, Mdd) where the struts
+  // are the dynamic coordinates, else one loop per strut (controller/design/pi_force_feedback.hpp).
+  require_collocated_pairs(scene, m);
+  if (!struts_are_the_coordinates(scene, m)) p.struts = collocated_struts(scene, m, p.lin);
   p.gains = options.pi_gains ? *options.pi_gains : gains_at(p, scene.controller.omega_d_hz);
   p.controller = controller::design::pi_state_space(p.gains, scene.sensors, scene.actuators);
   p.closed_loop = plant::lti::close_loop(p.plant, p.controller, p.partition);

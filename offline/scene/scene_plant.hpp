@@ -1,9 +1,10 @@
 #pragma once
 // The offline half of a scene: model -> (static equilibrium under gravity when the scene asks
 // for the preload) -> linearisation -> generalised plant G with inputs [disturbances;
-// actuators] and outputs [performance; sensors] -> PI force-feedback design from Mdd, Kdd ->
-// continuous closed loop; and the sampled versions at the scene's rate (plant and controller
-// discretised with the scene's method, closed as the simulation loop closes them).
+// actuators] and outputs [performance; sensors] -> PI force-feedback design (coupled from Mdd,
+// Kdd, or per collocated strut: collocated_struts.hpp) -> continuous closed loop; and the sampled
+// versions at the scene's rate (plant and controller discretised with the scene's method, closed
+// as the simulation loop closes them).
 #include <Eigen/Dense>
 #include <optional>
 #include <vector>
@@ -32,6 +33,9 @@ struct ScenePlant {
   plant::lti::StateSpace plant;            ///< G: [w; u] -> [z; y]
   plant::lti::LoopPartition partition;     ///< sizes of w and z
   controller::design::PiGains gains;       ///< the PI's (type "pi_force_feedback")
+  /// The PI's struts when it is designed per strut (collocated_struts.hpp); empty: the coupled
+  /// rule of the struts that are the dynamic coordinates.
+  std::vector<controller::design::CollocatedStrut> struts;
   /// type "state_space": the user's controller, discrete at the scene's rate (and continuous when
   /// the file is)
   std::optional<SceneController> state_space;
