@@ -14,6 +14,7 @@
 #include <ctime>
 #include <stdexcept>
 
+#include "common/input_error.hpp"
 #include "rt/monotonic_time.hpp"
 
 namespace flexloop::rt {
@@ -49,8 +50,8 @@ EventLogRecorder::EventLogRecorder(const std::string& path, int max_message_byte
       ring_(slot_bytes_ * capacity_) {
   lcm_eventlog_t* log = lcm_eventlog_create(path.c_str(), "w");
   if (log == nullptr)
-    throw std::runtime_error(path + ": cannot be created for the LCM log (" + std::strerror(errno) +
-                             ")");
+    throw common::InputError(
+        path, std::string("cannot be created for the LCM log (") + std::strerror(errno) + ")");
   log_ = log;
   // The writer hands the kernel the log in large blocks, not stdio's 4 KB ones.
   stdio_buffer_.resize(kWriteBlockBytes);

@@ -23,8 +23,8 @@ namespace flexloop::rt {
 class EventLogRecorder {
  public:
   /// Creates `path` (replacing it) and starts the writer. max_message_bytes: the largest message
-  /// record() will be given; capacity: messages the ring holds. std::runtime_error naming the
-  /// path when it cannot be created.
+  /// record() will be given; capacity: messages the ring holds. flexloop::common::InputError
+  /// naming the path when it cannot be created (exit 2, as any output that cannot be written).
   EventLogRecorder(const std::string& path, int max_message_bytes, int capacity);
   ~EventLogRecorder();
   EventLogRecorder(const EventLogRecorder&) = delete;

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/scene.hpp"
 #include "tools/flexloop/subcommands.hpp"
@@ -32,6 +33,7 @@ void print_start(const char* which, const artefact::StationaryStart& s) {
 }
 
 void run(const BuildArgs& args) {
+  common::require_writable(args.output);  // before the work, not after it
   const artefact::LoopArtefact a = scene::load_loop(
       args.scene,
       {.rate_hz = args.rate_hz, .form = artefact::parse_plant_form(args.form), .duration_s = 0});

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "plant/lti/discretise.hpp"
@@ -56,6 +57,7 @@ void print_mapping(const lti::StateSpace& c, const lti::DiscretisationOptions& o
 }
 
 void run(const DiscretiseArgs& args) {
+  common::require_writable(args.output);  // before the work, not after it
   const auto in = lti::read_continuous(args.input);
   const lti::DiscretisationOptions opts{.method = lti::parse_discretisation_method(args.method),
                                         .dt = 1.0 / args.rate_hz,

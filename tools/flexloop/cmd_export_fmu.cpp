@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "offline/pipeline/plant_fmu_export.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/scene.hpp"
@@ -37,6 +38,7 @@ std::filesystem::path plant_library() {
 }
 
 void run(const ExportArgs& args) {
+  common::require_writable(args.output);  // before the work, not after it
   const artefact::LoopArtefact a = scene::load_loop(
       args.loop, {.rate_hz = args.rate_hz,
                   .form = args.form.empty() ? std::nullopt

@@ -53,6 +53,7 @@ std::string describe(const pipeline::MetrologyFrameFit& f, const FitArgs& a) {
 }
 
 void run(const FitArgs& a) {
+  common::require_writable(a.output);  // before the work, not after it
   std::printf("fitting the metrology frame: m = %g kg, triangle side %g m, struts at %g deg\n",
               a.mass_kg, a.geometry.triangle_side_m, a.geometry.strut_angle_deg);
   const pipeline::MetrologyFrameFit fit = pipeline::fit_metrology_frame(

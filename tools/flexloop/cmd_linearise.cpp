@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "offline/pipeline/linearised_model.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "plant/lti/state_space_json.hpp"
@@ -39,6 +40,7 @@ std::string name_list(const std::vector<std::string>& names) {
 }
 
 void run(const LineariseArgs& a) {
+  common::require_writable(a.output);  // before the work, not after it
   const pipeline::LinearisedModel r = pipeline::linearise_model_file(a.model, a.inputs, a.outputs);
   const auto& m = r.model;
   const auto& lin = r.lin;

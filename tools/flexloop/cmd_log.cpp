@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "common/atomic_file.hpp"
 #include "offline/report/run_log.hpp"
 #include "offline/report/table_file.hpp"
 #include "tools/flexloop/subcommands.hpp"
@@ -35,6 +36,7 @@ void register_log(CLI::App& app) {
       "  flexloop log out/run.lcmlog -o out/run.mat\n"
       "  flexloop log out/sim.mat -o out/sim.csv");
   cmd->callback([args] {
+    common::require_writable(args->out);     // before the work, not after it
     if (report::is_table_file(args->log)) {  // a table: into the other format
       const report::Table t = report::read_table(args->log);
       report::write_table(args->out, t.names, t.data);

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "artefact/loop_artefact.hpp"
+#include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "common/json_document.hpp"
 #include "offline/scene/loop_input.hpp"
@@ -106,6 +107,7 @@ artefact::LoopArtefact load_at_rate(const std::string& loop, const std::string& 
 }
 
 void run(const ReplayArgs& a) {
+  if (!a.json.empty()) common::require_writable(a.json);  // before the work, not after it
   PlantRecord p = read_plant_report(a.plant_report);
   if (!a.controller_record.empty()) {
     const nlohmann::json j = common::parse_json_file(a.controller_record);
