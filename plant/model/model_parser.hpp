@@ -1,5 +1,5 @@
 #pragma once
-// Reads a model file (TOML; format in README.md "Model files") into a Model, with the
+// Reads a model file (TOML; format in doc/model_format.md) into a Model, with the
 // coordinate partition resolved and the undeformed configuration computed.
 // Bad input throws flexloop::InputError with "file:line" and what is wrong.
 #include <string>

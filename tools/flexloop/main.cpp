@@ -7,7 +7,7 @@ int main(int argc, char** argv) {
   flexloop::cli::set_blas_threads();  // one spinning BLAS thread per process (blas_threads.hpp)
   CLI::App app{
       "flexloop: linearise a flexible multibody model, discretise it, and run plant and\n"
-      "controller at a hard real-time rate over LCM.\n\n"
+      "controller as two real-time processes over LCM or iceoryx.\n\n"
       "Example:\n  flexloop version\n  flexloop <subcommand> --help"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every subcommand");
