@@ -2,7 +2,7 @@
 """Docs that agree with the program (issue 55, 5): in README.md and doc/*.md
 
   - every relative link resolves: its file exists, and its #anchor is a heading of that file
-    (GitHub's slugs);
+    (GitHub's slugs); a page of doc/ links nothing outside the repository;
   - every `flexloop CMD [SUB] ... --option` written in a code span or block is an option of that
     command (read from `flexloop CMD --help`);
   - in `flexloop linearise|analyse`, `-i/--input` and `-O/--output` name channels (`pos:x.2`), and
@@ -59,8 +59,11 @@ def check_links(root, files):
         text = f.read_text(encoding="utf-8")
         for number, line in enumerate(text.splitlines(), 1):
             for target in LINK.findall(line):
-                if re.match(r"^[a-z]+:", target):
-                    continue  # http:, https:, mailto:
+                if re.match(r"^[a-z]+:", target):  # http:, https:, mailto:
+                    if f.parent.name == "doc":
+                        problems.append(f"{f.relative_to(root)}:{number}: link to {target}: "
+                                        f"doc/ points only inside the repository")
+                    continue
                 file_part, _, anchor = target.partition("#")
                 dest = f if not file_part else (f.parent / file_part).resolve()
                 where = f"{f.relative_to(root)}:{number}"
