@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Writing an artefact so that a reader never sees half of it (doc/design.md §10): the text goes to
 // a hidden temporary file in the target's directory (so rename() is atomic, never across file

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/event_log_recorder.hpp"
 
 #include <lcm/eventlog.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Records what a loop process sends and receives over LCM into an LCM log file (the format of
 // lcm-logger: lcm-logplayer, lcm-spy and `flexloop log` read it), from inside the process.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The one controller interface of the online side: what `flexloop sim`, the controller process
 // and the tests ask of a runtime controller. The PI force feedback (compiled and general) and the

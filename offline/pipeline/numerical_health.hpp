@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The numerical health of a scene (issue 17; doc/testing.md "Hard cases"): the figures that say
 // whether the offline numbers can be trusted and whether the online plant can run them, each

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A scene file (TOML) says what to run: which model, which of its inputs are disturbances and
 // actuators and which outputs are performance signals and sensors, the controller, the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Baselines interleaved with the loop (doc/design.md §7): A1 B1 A2 B2 ... AK BK, where Ak is the
 // bare timer and the bare LCM ping-pong (rt/timer_baseline.hpp, rt/pingpong_baseline.hpp) on the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Where the loop's LCM traffic may go (the LCM traffic rule of doc/testing.md):
 //   - the private loopback-only namespace of tools/netns-run, with ttl=0 (the default), or

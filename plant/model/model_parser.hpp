@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Reads a model file (TOML; format in doc/model_format.md) into a Model, with the
 // coordinate partition resolved and the undeformed configuration computed.

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The command line's contract: good input writes the artefact and exits 0; bad input exits 2
 # with "file:line: what is wrong" (or the channel name) and leaves no file behind.
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1
 root=$2

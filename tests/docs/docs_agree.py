@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Docs that agree with the program (issue 55, 5): in README.md and doc/*.md
 
   - every relative link resolves: its file exists, and its #anchor is a heading of that file

@@ -13,6 +13,7 @@
 #      anything runs, exit 2, naming it; a log whose writes fail during the run (/dev/full) fails
 #      the verdict (exit 3), saying why.
 #   tests/hil/run_control.sh FLEXLOOP SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 root=$2
 tmp=$(mktemp -d)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop analyse MODEL [--input NAME]... [--output NAME]... [--out-dir DIR]`
 // Modes, buckling multipliers and the frequency response of a linearised model: printed, and
 // written as analysis.json, frequency_response.csv, singular_values.csv, bode.png and

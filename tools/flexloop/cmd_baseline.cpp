@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop baseline timer|pingpong|shm`: the same-run baselines of doc/design.md §7 on their
 // own -- a bare periodic thread's wake-up lateness (cyclictest-style, rt/timer_baseline.hpp), the
 // bare LCM round trip between two processes (rt/pingpong_baseline.hpp) and the shared-memory

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop build SCENE -o LOOP.json [--rate HZ] [--form dense|modal]`: runs the offline pipeline
 // of a scene once (model -> linearisation -> controller design -> discretisation) and writes the
 // discrete loop artefact (artefact/loop_artefact.hpp, doc/loop_artefact.md) that `flexloop sim`,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop campaign worst SCENE -u U.toml --figure F --out-dir DIR` (issue 54, 3.3;
 // doc/campaign.md "The worst machine in the box"): the machine of the parameters' box whose
 // figure is worst, by a bounded derivative-free search from the worst sampled machines

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop discretise IN.json --method M --rate HZ -o OUT.json`: continuous state-space JSON ->
 // discrete state-space JSON (plant/lti/discretise.hpp has the equations, state_space_json.hpp
 // the file format). Bad input files and refused discretisations exit 2.

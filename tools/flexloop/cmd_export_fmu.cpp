@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop export-fmu SCENE|LOOP.json -o PLANT.fmu [--rate HZ] [--form dense|modal]`: the loop's
 // plant with its simulated hardware and floor as an FMI 2.0 Co-Simulation FMU
 // (offline/pipeline/plant_fmu_export.hpp), for a user's own simulation tool.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop fit-metrology -o MODEL.toml [--mass KG] [--damping-ratio Z]`: choose the inertia,
 // centre-of-gravity depth and strut stiffness of the metrology frame (doc/design.md §4) so that its
 // passive natural frequencies are the paper's, and write the model file

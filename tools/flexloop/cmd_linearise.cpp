@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop linearise MODEL [--input NAME]... [--output NAME]... -o OUT.json`
 // Linearises a model file about its stationary configuration and writes the labelled state
 // space with the natural frequencies and provenance.

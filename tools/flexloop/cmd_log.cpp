@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop log LOG -o OUT.csv|OUT.mat`: a recorded run (`flexloop hil --lcm-log LOG`) as a table
 // for MATLAB, Octave and Python (offline/report/run_log.hpp has the columns); a table (`flexloop
 // sim --log`, or this command's own) LOG.csv or LOG.mat into the other format, value for value.

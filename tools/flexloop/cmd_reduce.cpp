@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop reduce PLANT.json --method balanced|modal|modal-dc (--order N | --below-hz F)
 //  -o REDUCED.json`
 // A continuous state-space JSON (as `flexloop linearise` writes it) reduced to fewer states with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop replay LOOP --plant-report PLANT.json [--controller-record C.json] [--json OUT.json]`:
 // a run of `flexloop plant` with a controller process of one's own (doc/external_controller.md),
 // replayed in-process sample for sample with the run's own misses (online/hil/run_replay.hpp),

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop sim SCENE|LOOP.json [--duration S] [--controller on|off] [--form dense|modal]
 //  [--start stationary|rest] [--log OUT.csv] [--log-every N] [--plots DIR]`: the loop artefact's
 //  discrete plant, hardware

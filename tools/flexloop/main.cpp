@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // flexloop: finite-element multibody model -> linearised, discretised plant -> real-time loop.
 #include "tools/flexloop/blas_threads.hpp"
 #include "tools/flexloop/subcommands.hpp"
