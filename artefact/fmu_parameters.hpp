@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Part of the loop artefact's schema: a controller FMU's start-up parameters (issue 33): the FMI
 // 2.0 Co-Simulation FMU the loop runs (controller/fmu), the SHA-256 of the file that was built

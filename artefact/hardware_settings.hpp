@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The simulated hardware a loop runs with (doc/design.md §6): the floor excitation and the effects
 // a scene switches on. Written by the scene file (offline/scene), carried by the loop artefact

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "artefact/loop_artefact.hpp"
 
 #include <cmath>

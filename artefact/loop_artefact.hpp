@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The discrete loop artefact: the one seam between the offline pipeline and the online programs
 // (doc/design.md §1). `flexloop build SCENE -o LOOP.json` writes it once; `flexloop sim`, the plant

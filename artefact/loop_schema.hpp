@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Part of the loop artefact's schema: the fields that take one of a few names in the file (the
 // plant's form, the discretisation method, the floor's spectrum). Each name is parsed once, where

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Part of the loop artefact's schema: how a run starts (doc/design.md §5a). A run starts its
 // loop in a draw from the loop's stationary distribution, so that the first sample is already

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Part of the loop artefact's schema: the discrete PI force feedback's start-up parameters, as the
 // offline design gives them (controller/design: PiGains), for the compiled and the general

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Part of the loop artefact's schema: a discrete state-space controller's start-up parameters: the
 // user's own design (from MATLAB, Octave, python-control, or flexloop's own discretisation of a

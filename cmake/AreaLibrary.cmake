@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # flexloop_area_library(<target> DIR <folder> [FILES <names>...] [EXCLUDE <names>...]
 #                       [LINK <targets>...])
 # One library per area folder: every .cpp in the folder becomes part of it; a folder with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Version, git hash and compiler for `flexloop version` and provenance, written at configure time.
 execute_process(
   COMMAND git rev-parse --short=12 HEAD

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # System dependencies, found once for the whole tree. Eigen and LCM headers are SYSTEM includes
 # so their warnings never fail our -Werror build.
 find_package(Eigen3 3.4 REQUIRED NO_MODULE)

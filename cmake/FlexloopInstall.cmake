@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # `cmake --install` and the CPack .deb (doc/install.md): the programs, the C controller library with
 # its headers, pkg-config and CMake package files, the scenes, models, controllers and examples, and
 # a man page per program from its --help. Included after the subdirectories define the targets.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Where `cmake --install` puts things (doc/install.md), known before the subdirectories' own
 # install() rules read them. GNUInstallDirs gives bin, lib (lib/<multiarch> for prefix /usr),
 # include, share/man and share/doc/flexloop.

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # flexloop_lcm_gen(TARGET <name> PACKAGE <pkg> FILES a.lcm b.lcm ...)
 # Runs lcm-gen at build time and exposes the generated C++ headers through an INTERFACE target.
 function(flexloop_lcm_gen)

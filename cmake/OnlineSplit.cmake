@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # The offline/online split of doc/design.md §1-2, enforced at configure time.
 #
 # flexloop_offline_libraries(<targets>...) names the libraries that hold offline code (the model,

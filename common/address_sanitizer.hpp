@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // FLEXLOOP_ADDRESS_SANITIZER is defined when this translation unit is built with AddressSanitizer:
 // GCC says so with __SANITIZE_ADDRESS__, clang only through __has_feature (tools/sanitize builds

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "common/atomic_file.hpp"
 
 #include <fcntl.h>
@@ -30,6 +31,10 @@ std::string temporary_beside(const std::filesystem::path& file) {
 
 void require_writable(const std::filesystem::path& file) {
   if (file.empty()) throw InputError("(empty file name)", "cannot be written");
+  // A folder of that name: a file cannot replace it (a run would end in a failed rename).
+  std::error_code is_folder;
+  if (std::filesystem::is_directory(file, is_folder))
+    throw InputError(file.string(), "cannot be written: Is a directory");
   std::error_code ec;
   if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
   if (ec) throw InputError(file.string(), "cannot be written: " + ec.message());

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Writing an artefact so that a reader never sees half of it (doc/design.md §10): the text goes to
 // a hidden temporary file in the target's directory (so rename() is atomic, never across file
@@ -36,7 +37,7 @@ class AtomicFileWriter {
 
 /// Before a run whose results go to `file`: makes its directory and checks that a file can be
 /// created there (creates and removes a hidden temporary one), so that a long run does not end
-/// in a file it cannot write. The target itself is not touched.
+/// in a file it cannot write. The target itself is not touched; a folder in its place is refused.
 /// @throws flexloop::InputError "<file>: cannot be written: <system error>" (exit 2).
 void require_writable(const std::filesystem::path& file);
 

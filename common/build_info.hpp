@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Version, git hash and compiler of this build, for `flexloop version` and the provenance that
 // artefacts, reports and FMUs carry. Defined in a file the build writes at configure time

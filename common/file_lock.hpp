@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // An exclusive advisory lock on a file, taken without waiting (flock(2): held by one open file
 // description, released when it is closed or its process dies, however it dies), and who holds

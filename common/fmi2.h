@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #ifndef FLEXLOOP_COMMON_FMI2_H
 #define FLEXLOOP_COMMON_FMI2_H
 /* The FMI 2.0 Co-Simulation interface as the standard's text defines it (FMI 2.0.x, sections

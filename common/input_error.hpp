@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The one error type for bad user input (model, scene, artefact files): it carries the place
 // (file:line or file:field) so the command line can print `place: what is wrong` and exit 2.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "common/json_document.hpp"
 
 #include <algorithm>

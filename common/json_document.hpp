@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Reading and writing flexloop's JSON documents (artefacts), shared by the offline and the online
 // side: a reader that names the file and key of everything wrong (`file: key 'A' row 3 column 2:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "common/sha256.hpp"
 
 #include <openssl/evp.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // SHA-256 (OpenSSL EVP) of a file or a text, as lower-case hex: the provenance of what an artefact
 // was built from (offline/scene), and the check that the controller FMU a loop runs is the one its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Where something was read: a file and a line (0: the file as a whole), as input errors print it.
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A small reader around a toml++ table that knows its file name and reports every problem as
 // flexloop::InputError "file:line: <what>: <problem>" (model files, scene files).

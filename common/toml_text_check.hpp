@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What every TOML text passes before toml++ sees it. Debian's toml++ 3.3 reaches
 // __builtin_unreachable (undefined behaviour) in is_non_ascii_horizontal_whitespace for common

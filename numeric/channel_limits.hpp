@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // How many channels of one kind a loop takes, for the whole project: the artefact's channel map,
 // the LCM messages (one sample of 64 sensors and 64 performance channels is one UDP datagram) and

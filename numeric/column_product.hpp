@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Fixed-size matrix-vector products for the real-time step, column by column:
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Mathematical constants, defined once for the project (what many files had written as their own
 // file-local copies): pi from C++20's <numbers>, the machine epsilon of double.

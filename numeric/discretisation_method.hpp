@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // How a continuous plant is sampled: the one enum of the discretisation methods, which the
 // offline discretisation (plant/lti/discretise.hpp) computes with and the loop artefact

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Matrix-vector products for the general path's step (sizes known at start-up), column by column
 // as column_product.hpp does for compiled sizes:

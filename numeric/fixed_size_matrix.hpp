@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Start-up only: turn a dynamic-size double matrix from the offline artefact into a compile-time
 // sized matrix of the runtime's scalar, checking that the artefact has the compiled size.

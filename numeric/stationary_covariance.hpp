@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The stationary covariance of a discrete linear system driven by white noise,
 //   x_{k+1} = A x_k + B n_k,  E[n nᵀ] = I:   P = A P Aᵀ + B Bᵀ,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The arithmetic of a periodic loop, without any waiting: a grid of absolute deadlines
 // d_i = d_0 + i T (CLOCK_MONOTONIC ns), and what happens when a cycle starts late. Kept apart

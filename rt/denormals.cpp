@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/denormals.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Denormal (subnormal) numbers flushed to zero on the calling thread: results below the smallest
 // normal number become 0 (FTZ) and subnormal operands are read as 0 (DAZ). A lightly damped plant

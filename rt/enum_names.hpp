@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // One table per enum gives both directions between values and their command-line / JSON names,
 // so that the names of WaitMode, ReceiveMode, OverrunPolicy and DropReason are written once.

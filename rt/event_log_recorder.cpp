@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/event_log_recorder.hpp"
 
 #include <lcm/eventlog.h>
@@ -14,6 +15,7 @@
 #include <ctime>
 #include <stdexcept>
 
+#include "common/input_error.hpp"
 #include "rt/monotonic_time.hpp"
 
 namespace flexloop::rt {
@@ -49,8 +51,8 @@ EventLogRecorder::EventLogRecorder(const std::string& path, int max_message_byte
       ring_(slot_bytes_ * capacity_) {
   lcm_eventlog_t* log = lcm_eventlog_create(path.c_str(), "w");
   if (log == nullptr)
-    throw std::runtime_error(path + ": cannot be created for the LCM log (" + std::strerror(errno) +
-                             ")");
+    throw common::InputError(
+        path, std::string("cannot be created for the LCM log (") + std::strerror(errno) + ")");
   log_ = log;
   // The writer hands the kernel the log in large blocks, not stdio's 4 KB ones.
   stdio_buffer_.resize(kWriteBlockBytes);

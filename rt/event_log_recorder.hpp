@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Records what a loop process sends and receives over LCM into an LCM log file (the format of
 // lcm-logger: lcm-logplayer, lcm-spy and `flexloop log` read it), from inside the process.
@@ -23,8 +24,8 @@ namespace flexloop::rt {
 class EventLogRecorder {
  public:
   /// Creates `path` (replacing it) and starts the writer. max_message_bytes: the largest message
-  /// record() will be given; capacity: messages the ring holds. std::runtime_error naming the
-  /// path when it cannot be created.
+  /// record() will be given; capacity: messages the ring holds. flexloop::common::InputError
+  /// naming the path when it cannot be created (exit 2, as any output that cannot be written).
   EventLogRecorder(const std::string& path, int max_message_bytes, int capacity);
   ~EventLogRecorder();
   EventLogRecorder(const EventLogRecorder&) = delete;

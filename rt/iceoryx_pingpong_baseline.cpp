@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/iceoryx_pingpong_baseline.hpp"
 
 #include <signal.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The ping-pong baseline (rt/pingpong_baseline.hpp) over iceoryx (rt/iceoryx_transport.hpp):
 // the same messages, clock, wait and receive modes, CPUs and accounting, only the carrier is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The iceoryx carrier (issue 48): the same encoded messages as over LCM (msgs/), the same
 // MessageInbox (rt/message_inbox.hpp: counts checked before decoding, stale, duplicate and

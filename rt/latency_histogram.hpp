@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Fixed-bin histogram of durations in ns (wake-up lateness, compute time, round trip), for the
 // loop's latency accounting (doc/design.md §7). record() is O(1), allocation-free, lock-free and

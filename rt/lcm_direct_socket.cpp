@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/lcm_direct_socket.hpp"
 
 #include <arpa/inet.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Receiving LCM messages in the loop thread itself, without LCM's receive thread.
 //

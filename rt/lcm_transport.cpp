@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/lcm_transport.hpp"
 
 #include <poll.h>

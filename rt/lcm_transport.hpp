@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // LCM glue for the loop (doc/design.md §7, §11), on LCM 1.3.1's C API so that nothing in the loop
 // allocates:

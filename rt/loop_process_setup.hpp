@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The set-up every loop process does once LCM is open (doc/design.md §11 order): pin, lock memory
 // and prefault the stack, then SCHED_FIFO when permitted (rt/realtime_setup.hpp); and, when

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A loop's carrier, chosen at start-up (rt/transport_kind.hpp): LCM (rt/lcm_transport.hpp) or
 // iceoryx (rt/iceoryx_transport.hpp). The plant and controller processes and the stations are

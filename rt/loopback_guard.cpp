@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/loopback_guard.hpp"
 
 #include <net/if.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // LCM traffic rule: test, demo and benchmark traffic runs only inside a private network
 // namespace whose only interface is loopback, with ttl=0. These helpers let a program check

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The receiving end of one channel: decodes each received buffer into a preallocated message,
 // validates it (rt/message_validation.hpp) and keeps the newest accepted one -- "the real-time

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/message_validation.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Which received messages may be applied (doc/design.md §7, §9): a message that fails to decode,
 // carries other channel counts than the loop's, carries NaN or Inf in any floating-point field,

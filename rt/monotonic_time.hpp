@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The one time base of the online code: CLOCK_MONOTONIC in integer nanoseconds. Plant and
 // controller processes on one machine share it, so a timestamp taken in one process can be

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/periodic_clock.hpp"
 
 #include <time.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A periodic clock on CLOCK_MONOTONIC with absolute deadlines: each wait targets d_0 + i T, so
 // wake-up errors never accumulate into drift. Three ways to wait:

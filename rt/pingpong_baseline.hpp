@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Same-run baseline (b): the bare LCM round trip between two processes, with the loop's rate,
 // CPUs, priorities, wait and receive modes but no plant or controller behind it. A loop's

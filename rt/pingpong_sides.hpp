@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The two sides of a ping-pong baseline (rt/pingpong_baseline.hpp), whatever carries the
 // messages: `Carrier` opens the transport (Carrier::open(options, role) -> a pointer-like owner

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/realtime_setup.hpp"
 
 #include "rt/denormals.hpp"

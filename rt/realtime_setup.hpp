@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Small single-purpose helpers that make a thread fit for a hard-rate loop: CPU affinity,
 // memory locking with a prefaulted stack, SCHED_FIFO priority when permitted, denormals flushed

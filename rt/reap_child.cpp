@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/reap_child.hpp"
 
 #include <signal.h>

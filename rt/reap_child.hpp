@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Ending a child process this process forked: wait for it, and kill it by its pid (never by name)
 // when it does not end in time. Used by the baselines' forks and by the RouDi component.

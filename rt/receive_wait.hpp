@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // How a loop waits for messages, whatever carries them (LCM, rt/lcm_transport.hpp; iceoryx,
 // rt/iceoryx_transport.hpp): the receive modes and the one wait loop both carriers run.

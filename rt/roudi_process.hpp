@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // RouDi, iceoryx's daemon, as a component of a run (issue 48). iceoryx 2.0 keeps one RouDi per
 // host: it owns the shared memory (/dev/shm/iceoryx_mgmt and one data segment, named after the

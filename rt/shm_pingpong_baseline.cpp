@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/shm_pingpong_baseline.hpp"
 
 #include <signal.h>

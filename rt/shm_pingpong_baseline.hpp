@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Same-host baseline: the physical floor of a round trip between two processes -- no transport,
 // no clock, no message: two processes pinned to the two cores, spinning on one cache line of

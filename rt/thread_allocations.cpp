@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/thread_allocations.hpp"
 
 // Defined by rt/counting_malloc when the program links it; a null address otherwise.

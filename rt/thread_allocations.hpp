@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // How many allocations this thread has made: what the controller process counts around each
 // answer, so that its report can say whether a controller it cannot see into (an FMU) keeps the

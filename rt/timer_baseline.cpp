@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/timer_baseline.hpp"
 
 #include <stdexcept>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Same-run baseline (a): a bare periodic thread with the loop's period and settings that does
 // nothing but wake up, as cyclictest does. Its wake-up lateness is what the machine gives any

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "rt/transport_kind.hpp"
 
 #include "rt/enum_names.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Which carrier a loop's messages travel on (issue 48): LCM (UDP multicast; the default, and the
 // only one between hosts) or iceoryx (same-host shared memory, rt/iceoryx_transport.hpp). The

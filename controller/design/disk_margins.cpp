@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "controller/design/disk_margins.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Disk margins of the sampled loop at the plant input (the actuator commands), as a control
 // engineer reads them: how much gain and phase each loop -- and all loops at once -- can lose

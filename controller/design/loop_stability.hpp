@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Is the force-feedback loop stable, and how much leak does it need? (doc/design.md §4, §9)
 //

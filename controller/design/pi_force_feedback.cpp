@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "controller/design/pi_force_feedback.hpp"
 
 #include <cmath>

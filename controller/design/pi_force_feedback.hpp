@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Integral force feedback with a proportional part (doc/design.md §4, seed slide 31), designed from
 // the linearised model of a suspension whose dynamic coordinates are the strut elongations and

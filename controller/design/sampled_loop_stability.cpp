@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "controller/design/sampled_loop_stability.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Is the SAMPLED force-feedback loop stable? (doc/design.md §5, §6; issue 17, case 7)
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // An FMU's archive unpacked into a private temporary directory (mkdtemp: mode 0700, a name no
 // one else holds), removed with everything in it when the object goes. Start-up only.

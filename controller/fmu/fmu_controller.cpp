@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "controller/fmu/fmu_controller.hpp"
 
 #include <cmath>

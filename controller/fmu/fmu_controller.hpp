@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A user's controller as an FMI 2.0 Co-Simulation FMU in the loop (issue 33), a LoopController
 // (controller/runtime/loop_controller.hpp). Start-up (from_settings): unpack the archive into a

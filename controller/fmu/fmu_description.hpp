@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // An FMI 2.0 Co-Simulation FMU's modelDescription.xml, read to the standard: what the loader needs
 // of it (the model identifier that names the library, the GUID it must pass back, the step it can

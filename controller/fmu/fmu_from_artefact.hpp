@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The FMU alternative of controller/runtime/controller_from_artefact.hpp: a loop artefact's
 // controller FMU (artefact/fmu_parameters.hpp) as the runtime runs it, FmuController, from the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // An FMU's shared library (binaries/linux64/<modelIdentifier>.so) loaded with dlopen and the
 // FMI 2.0 Co-Simulation calls the loop makes resolved from it. Start-up only.

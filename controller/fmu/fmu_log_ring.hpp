@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A controller FMU's log messages (its fmi2CallbackLogger) without bookkeeping on the real-time
 // thread: the logger formats each message with vsnprintf into one slot of a ring allocated at

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The commands a start-up-sized controller sent, as far back as the sensors' delay reaches: the
 // measurement of sample k contains the command u_{k-1-d} (d: sensor + transport delay, 0 ..

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "controller/runtime/command_limits.hpp"
 
 #include <limits>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Start-up: a controller's actuator limits as one value per channel, for every runtime controller
 // (PI and state space alike).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // From a loop artefact's controller (artefact/loop_artefact.hpp) to the runtime controller that
 // runs it (loop_controller.hpp): the one place `flexloop sim`, the controller process and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "controller/runtime/general_pi_controller.hpp"
 
 #include <stdexcept>

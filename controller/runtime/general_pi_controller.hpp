@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The discrete PI force feedback on the general path: any channel count 1 .. kMaxChannels, sized
 // at start-up. The same law, start-up checks and gains as the compiled PiController<Scalar, N>

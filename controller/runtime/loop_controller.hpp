@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The one controller interface of the online side: what `flexloop sim`, the controller process
 // and the tests ask of a runtime controller. The PI force feedback (compiled and general) and the
@@ -20,8 +21,9 @@
 // them noexcept (a controller that can fail, e.g. foreign code, answers with the safe command from
 // its failure on and says so in report()).
 //
-// The safe command, which the plant applies when answers stop coming, is zero force: the
-// controller does not choose it (the plant holds it without a controller to ask).
+// The safe command, which the plant applies when answers stop coming, is the held command ramped
+// to zero over --safe-ramp (online/loop/plant_station.hpp): the controller does not choose it
+// (the plant holds it without a controller to ask).
 #include <Eigen/Core>
 #include <concepts>
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The discrete PI force-feedback controller (doc/design.md §4, §6), the runtime form of
 //   σa(s) = -(K_P + K_I / (s + w_l)) σ1(s)                     (controller/design)

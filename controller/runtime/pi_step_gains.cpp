@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "controller/runtime/pi_step_gains.hpp"
 
 #include <Eigen/LU>

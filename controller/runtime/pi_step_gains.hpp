@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Start-up, shared by the compiled PiController<Scalar, N> and the general GeneralPiController:
 // the checked parameters of the discrete PI law (pi_controller.hpp's header comment has the law)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "controller/runtime/state_space_controller.hpp"
 
 #include <Eigen/LU>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The discrete state-space controller: a user's own design (MATLAB, Octave, python-control, or
 // flexloop's discretisation of a continuous design), of any size, sized at start-up:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The PNG pictures of a campaign report (gnuplot, offline/report/plot.hpp): the ECDF of each
 // figure with its quantile intervals, histograms of the first natural frequencies, the

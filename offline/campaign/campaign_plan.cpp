@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/campaign/campaign_plan.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Making a campaign's plan (`flexloop campaign plan`, doc/campaign.md): the scene, its model and
 // the uncertain parameters (all by absolute path and SHA-256), the nominal loop artefact's hash,

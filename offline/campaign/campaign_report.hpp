@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The report of a campaign (doc/campaign_statistics.md): summary.json (per figure the 5/50/95 %
 // quantiles with their order-statistic intervals, P(unstable) with its Clopper-Pearson interval,

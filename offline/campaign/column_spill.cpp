@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/campaign/column_spill.hpp"
 
 #include <fcntl.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Columns of numbers too large to hold in memory, filled a row at a time: a campaign's sigma
 // curves (one value per grid frequency per stable machine: 206 x 8 bytes a sample, 1.6 GB at

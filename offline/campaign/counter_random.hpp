@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The campaign's own random numbers: counter-based, so a number depends only on its key (seed,
 // stream, counter) and is the same on every machine and in every order of evaluation (no std::

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Unit designs of a campaign: where in [0,1)^d each model evaluation lies. Every point is a pure
 // function of (kind, n, d, seed, index), the same bytes on every machine

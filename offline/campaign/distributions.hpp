@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The distributions of a campaign's uncertain parameters (doc/campaign.md "U.toml"), each as the
 // map of a design's unit coordinate u in [0, 1) to a value by its inverse CDF, so that a design

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The local engine (`flexloop campaign submit --engine local`, and `flexloop campaign` itself):
 // the shards of a plan run as child processes of this machine, `jobs` at a time, each the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The numbers of a machine a campaign may vary, addressed by path (doc/campaign.md "Paths"):
 //   model  element.<id>.<key>   stiffness, damping, mass, E, G, A, I, Iy, Iz, J, rho

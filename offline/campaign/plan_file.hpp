@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // plan.json (doc/campaign.md "plan.json"): what a campaign computes, fixed before any sample
 // runs, so that sample i depends only on the plan and i. Its plan_id is the SHA-256 of its

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/campaign/plan_samples.hpp"
 
 #include "common/input_error.hpp"

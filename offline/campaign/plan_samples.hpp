@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Sample i of a plan (doc/campaign.md "How a sample is computed"): the design's unit point i
 // (unit_point: a pure function of the design, n, d, seed and i), each coordinate mapped to its

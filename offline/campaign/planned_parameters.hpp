@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Planning the uncertain parameters on a machine: each [[parameter]] path matched against the
 // numbers of the machine's model and scene (offline/campaign/parameter_paths.hpp), each match's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // One sample of a campaign (issue 47, item 3; doc/campaign.md): a machine -- the scene and the FE
 // model with the drawn parameters -- re-linearised from the model, discretised at the scene's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/campaign/sample_simulation.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A campaign sample's loop as it runs, nonlinear (`--simulate S`, doc/campaign.md "Simulated
 // samples"): the sample's loop artefact, built as `flexloop sim` builds a scene's, run by sim's

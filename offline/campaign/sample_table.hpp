@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A campaign's samples (the shard lines) as columns: each evaluation's status and each figure's
 // value per evaluation (NaN where the sample has none), for the report and its pictures. The

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The shard files of a campaign merged into its samples (`flexloop campaign report`): every line
 // checked to be the plan's, every evaluation index present once; sorted by index. The merged

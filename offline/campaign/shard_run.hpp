@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // One shard of a campaign into its JSONL file (`flexloop campaign run plan.json --shard K/M -o
 // shard-K.jsonl`, the unit of work every engine calls). Shard K of M holds the evaluation indices

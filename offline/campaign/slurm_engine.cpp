@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/campaign/slurm_engine.hpp"
 
 #include <fcntl.h>

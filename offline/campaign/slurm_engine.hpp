@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The Slurm engine of `campaign submit --engine slurm`: one array job whose element K runs shard K
 // of the plan through the flexloop program's `campaign run` (doc/campaign_slurm.md).

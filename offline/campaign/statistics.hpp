@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The campaign's estimators (doc/campaign_statistics.md has the formulas and the rules):
 // distribution-free quantile intervals from order statistics, the exact (Clopper-Pearson)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/campaign/subset_campaign.hpp"
 
 #include <boost/math/distributions/normal.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // P(unstable) of a fleet by subset simulation (`flexloop campaign SCENE -u U.toml -n N --method
 // subset`, issue 54 item 3.2; doc/campaign.md "Rare failures"): the plan's uncertain parameters

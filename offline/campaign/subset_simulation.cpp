@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/campaign/subset_simulation.hpp"
 
 #include <algorithm>

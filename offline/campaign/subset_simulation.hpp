@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Subset simulation (Au & Beck 2001, "Estimation of small failure probabilities in high
 // dimensions by subset simulation", Probabilistic Engineering Mechanics 16(4)) of a small

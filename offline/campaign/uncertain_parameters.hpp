@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The uncertain parameters file (U.toml, doc/campaign.md): which numbers of a machine's model
 // and scene vary from unit to unit, how (a distribution), and whether one draw is shared by all

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The worst machine in the box (`flexloop campaign worst`, doc/campaign.md "The worst machine"):
 // a bounded search over the uncertain parameters' ranges for the machine whose figure is worst:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The tail as a rehearsal (`flexloop campaign report --worst K`, doc/campaign.md "Worst samples"):
 // the K worst machines of a campaign written as a scene and its model variant (the drawn values

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // `flexloop analyse SCENE`: the passive machine, the PI force-feedback design and the closed
 // loop of a scene (doc/design.md §4), printed and written to a directory. A statically unstable

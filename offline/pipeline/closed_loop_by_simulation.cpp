@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/pipeline/closed_loop_by_simulation.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The sampled closed loop w -> z measured by simulation, for a loop whose controller cannot be
 // seen into (a controller FMU has no matrices): what `flexloop analyse` shows for it instead of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/pipeline/linearised_model.hpp"
 
 #include "plant/lti/modal_analysis.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The step `linearise` and `analyse` share: read a model file, linearise it about its
 // stationary configuration, build the state space for the chosen channels, and find the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/pipeline/loop_figures.hpp"
 
 #include <stdexcept>

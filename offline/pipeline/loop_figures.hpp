@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The figures of a scene's loop, one function each, as `flexloop analyse` prints them and a
 // campaign sample (offline/campaign/sample_figures.hpp) records them: the same code for both, so

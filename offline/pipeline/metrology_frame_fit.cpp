@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/pipeline/metrology_frame_fit.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The reference machine of doc/design.md §4 as a model file, and the fit that chooses its inertia
 // and stiffness so that the passive natural frequencies are the paper's (seed slide 32).

@@ -1,7 +1,8 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// The numerical health of a scene (issue 17; README "Hard cases"): the figures that say whether
-// the offline numbers can be trusted and whether the online plant can run them, each with a
-// verdict. `flexloop analyse SCENE` prints them and writes them to analysis.json; the loop
+// The numerical health of a scene (issue 17; doc/testing.md "Hard cases"): the figures that say
+// whether the offline numbers can be trusted and whether the online plant can run them, each
+// with a verdict. `flexloop analyse SCENE` prints them and writes them to analysis.json; the loop
 // commands are guarded by the checks that refuse (scene::require_stable_loop, discretise's
 // stability guard, the float plants' start-up, to_modal_form).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/pipeline/plant_fmu_export.hpp"
 
 #include <zip.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // `flexloop export-fmu`: a loop artefact's plant, simulated hardware and floor as an FMI 2.0
 // Co-Simulation FMU (issue 33) for a user's own simulation tool. The archive holds

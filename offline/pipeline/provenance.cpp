@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/pipeline/provenance.hpp"
 
 #include "common/build_info.hpp"

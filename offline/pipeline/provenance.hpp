@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Provenance recorded in every artefact a subcommand writes: the input file, its SHA-256, and
 // the flexloop version and commit that produced the artefact.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/pipeline/si_unit.hpp"
 
 #include <cctype>

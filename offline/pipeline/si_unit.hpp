@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The SI unit of a channel (artefact/loop_artefact.hpp's Channel::unit: "m/s^2", "N m", "rad")
 // as the exponents of FMI 2.0's BaseUnit (kg, m, s, A, K, mol, cd and rad) and a name in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/report/csv_writer.hpp"
 
 #include "common/atomic_file.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // CSV tables for reports: one header row of column names, then numeric rows (RFC 4180 quoting
 // for names that need it). Numbers are written in the shortest form that reads back to the same

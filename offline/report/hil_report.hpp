@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The hil report: JSON, histogram PNGs and the printed summary (flexloop hil).
 //

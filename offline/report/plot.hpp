@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // PNG plots for reports, drawn by gnuplot (the distribution's gnuplot-nox).
 //

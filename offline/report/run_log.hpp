@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A recorded run (`flexloop hil --lcm-log FILE`, an LCM log) as a table for MATLAB, Octave and
 // Python users: one row per sensor sample, columns named from the channel map the log carries

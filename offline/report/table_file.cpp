@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/report/table_file.hpp"
 
 #include <fcntl.h>

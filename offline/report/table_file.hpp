@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A numeric table with named columns written for MATLAB, Octave and Python users, the format
 // chosen by the file's extension:

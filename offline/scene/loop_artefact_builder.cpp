@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/scene/loop_artefact_builder.hpp"
 
 #include "offline/scene/loop_start_builder.hpp"

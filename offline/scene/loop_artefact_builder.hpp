@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Offline: a scene's loop artefact (artefact/loop_artefact.hpp) from its offline pipeline
 // (scene_plant.hpp): the plant sampled at the scene's rate and method (and in modal form when

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/scene/loop_input.hpp"
 #include "common/build_info.hpp"
 #include "common/input_error.hpp"

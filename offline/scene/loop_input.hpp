@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What the loop commands (sim, plant, controller, hil) run: a loop artefact, read from an
 // artefact file, or built from a scene file by the offline pipeline (the scene's loop must be

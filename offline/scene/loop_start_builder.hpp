@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Offline: the stationary starts of a loop artefact (artefact/loop_start.hpp, doc/design.md §5a).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Start-up parameters of the runtime PI controller (controller/runtime/pi_controller.hpp) from a
 // scene's design: the designed gains and leak at the loop's sample time, and the scene's

@@ -1,7 +1,8 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A scene file (TOML) says what to run: which model, which of its inputs are disturbances and
 // actuators and which outputs are performance signals and sensors, the controller, the
-// discretisation, the floor excitation and the run settings. Format in README.md "Scene files".
+// discretisation, the floor excitation and the run settings. Format in doc/scene_format.md.
 // Bad input throws flexloop::InputError "file:line: [table]: what is wrong"; nothing is read
 // beyond the first problem.
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A scene's state-space controller ([controller] type = "state_space"): the file `file` names,
 // in flexloop's own state-space layout (plant/lti/state_space_json.hpp), either

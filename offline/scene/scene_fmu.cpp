@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/scene/scene_fmu.hpp"
 
 #include <algorithm>

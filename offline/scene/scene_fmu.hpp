@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A scene's controller FMU ([controller] type = "fmu", issue 33):
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The scene reader's second half: a scene from its TOML document (what parse_scene reads after
 // the text became a table). A campaign sets drawn values in a scene's document and reads it here,

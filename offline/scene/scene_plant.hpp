@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The offline half of a scene: model -> (static equilibrium under gravity when the scene asks
 // for the preload) -> linearisation -> generalised plant G with inputs [disturbances;

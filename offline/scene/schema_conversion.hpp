@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The one place the offline side maps its own enums to the loop artefact's schema
 // (artefact/loop_schema.hpp): artefact/ knows nothing of plant/lti, whose VC curves name the same

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The study's runs on the online kernels (offline/study/tradeoff.hpp): a plant (compiled or
 // general path, any form and scalar) with a controller, fed with floor samples given in advance, so

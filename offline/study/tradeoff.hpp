@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What accuracy costs in time (doc/design.md §8): a scene's plant over discretisation method x rate
 // x plant form x scalar x model order, each configuration measured in the same run against exact

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The accuracy-vs-time study's outputs (offline/study/tradeoff.hpp): the console table, CSV and
 // JSON files (one row per configuration, skipped ones with their reason), the Pareto front as a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/hil/baseline_json.hpp"
 
 #include "online/loop/latency_json.hpp"

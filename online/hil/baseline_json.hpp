@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The same-run baselines' figures as JSON (rt/timer_baseline.hpp, rt/pingpong_baseline.hpp), as
 // `flexloop baseline` writes them and the hil report embeds them under "baseline". Reporting only.

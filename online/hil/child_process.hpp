@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // One forked helper process of `flexloop hil` (the plant, the controller): the child runs a
 // function and hands its result text back over a pipe; it can say "ready" before that (e.g. once

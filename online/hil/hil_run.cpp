@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/hil/hil_run.hpp"
 
 #include <signal.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // `flexloop hil`: one hardware-in-the-loop rehearsal, measured against baselines taken in the
 // same run (doc/design.md §7). In order:

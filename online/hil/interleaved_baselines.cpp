@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/hil/interleaved_baselines.hpp"
 
 #include <algorithm>

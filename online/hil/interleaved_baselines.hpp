@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Baselines interleaved with the loop (doc/design.md §7): A1 B1 A2 B2 ... AK BK, where Ak is the
 // bare timer and the bare LCM ping-pong (rt/timer_baseline.hpp, rt/pingpong_baseline.hpp) on the
@@ -43,7 +44,7 @@ struct BaselineSettings {
   std::int64_t floor_round_trips = 100'000;  ///< the shared-memory floor, once (0: not measured)
 };
 
-/// The margins the timing tests hold a loop segment to (README "Tests"): misses within twice the
+/// The margins the timing tests hold a loop segment to (doc/testing.md): misses within twice the
 /// bare ping-pong's unanswered share + 1 % of the cycles, round-trip p99 within 1.5 x the
 /// ping-pong's p99 + one timer p99 (the loop has a plant step, a controller step and a publish
 /// more than the bare exchange).

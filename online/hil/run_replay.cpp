@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/hil/run_replay.hpp"
 
 #include <flexloop_msgs/actuator_command_t.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A hil run replayed in-process, sample for sample: the run's own plant and controller stations
 // (online/loop/plant_station.hpp, controller_station.hpp) on a synthetic clock, from the start both

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/hil/status_line.hpp"
 
 #include <unistd.h>

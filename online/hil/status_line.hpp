@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // hil's live status line: once a second, what the plant loop reports through its shared
 // LoopStatus (online/loop/loop_status.hpp), rewritten in place on standard error:

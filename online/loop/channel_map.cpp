@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/loop/channel_map.hpp"
 
 #include "artefact/loop_artefact.hpp"

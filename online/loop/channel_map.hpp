@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What a recorded run needs to be read: the loop, its rate and its channels (name, unit, order).
 // It is the first message of a run's LCM log (UTF-8 JSON on kChannelMapChannel, not an lcm-gen

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/loop/controller_loop.hpp"
 
 #include <cstdio>

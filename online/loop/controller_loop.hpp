@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The controller process (`flexloop controller`, doc/design.md §7): answers each sensor message
 // with the PI step (online/loop/controller_station.hpp) and publishes the actuator message, stamped

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The controller process's work for one sensor message, without sockets (so that tests can drive
 // it message by message): the controller's step on the sample's sensor channels (any

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The figures of a latency histogram and of dropped-message counts as JSON and as one printed
 // line, shared by `flexloop baseline`, the plant and controller processes and the hil report, so

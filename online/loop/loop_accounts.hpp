@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The plant loop's latency accounting (doc/design.md §7) and its once-a-second loop_stats_t.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The controller of a loop artefact as the controller process runs it
 // (controller/runtime/controller_from_artefact.hpp builds it): on the fixed-size kernels where the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Settings shared by the plant and controller processes (flexloop plant | controller | hil):
 // clock and wait mode, CPU and priority, safe-command threshold, carrier and LCM URL, channels,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/loop/loop_status.hpp"
 
 #include <sys/mman.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The plant loop's once-a-second figures where a watching process can read them (hil's live
 // status line): a few lock-free counters in memory shared across fork(). The plant writes them

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The plant process (`flexloop plant`, doc/design.md §7): owns the clock and plays the hardware.
 // Set-up: the scene sampled at the loop's rate, LCM (command subscription, sensor and stats

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The plant loop on every compiled loop (plant/runtime/compiled_loops.hpp), each with the
 // hardware compositions of online/sim/loop_hardware.hpp.
 #include "online/loop/plant_loop_run.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The plant loop on the general path: any state and channel count, sized at start-up, with the
 // effects chosen at start-up (online/sim/loop_hardware.hpp), in the plant form the artefact holds.
 #include "online/loop/plant_loop_run.hpp"

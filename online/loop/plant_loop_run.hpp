@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The plant loop's body (online/loop/plant_loop.hpp) for one composed hardware type, and its
 // instantiations with the artefact's effects (online/sim/loop_hardware.hpp): the compiled loops

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The plant process's work in one period, without clocks or sockets (so that tests can drive it
 // sample by sample): the simulated hardware of the scene (plant/runtime/simulated_hardware.hpp:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/loop/private_network.hpp"
 
 #include <arpa/inet.h>

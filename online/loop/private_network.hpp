@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// Where the loop's LCM traffic may go (the LCM traffic rule of README.md "Tests"):
+// Where the loop's LCM traffic may go (the LCM traffic rule of doc/testing.md):
 //   - the private loopback-only namespace of tools/netns-run, with ttl=0 (the default), or
 //   - a private link: a namespace whose only interfaces are loopback and one veth (the two-host
 //     test, tests/hil/veth_loop.sh), whose IPv4 addresses are all private (RFC 1918) and IPv6

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/loop/real_time_promises.hpp"
 
 #include <cstdio>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Which of flexloop's real-time promises a controller kept while the controller process watched
 // it, for its report and hil's. The promises of a step (controller/runtime/loop_controller.hpp):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The verdict of a real-time run, as Simulink Real-Time judges overloads: a limit on the share of
 // cycles whose answer missed its deadline, and an overrun policy (go on, or stop the run at the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The samples (by seq) where a run departed from the ideal loop, kept as ranges: the answers
 // the plant did not apply (a deadline miss: it held or went safe) and the samples the controller

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // How the stations of a real-time run start, from the artefact and the run's options: the one
 // place the plant process (plant_loop_run.hpp), the controller process (controller_loop.cpp) and

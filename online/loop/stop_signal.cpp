@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/loop/stop_signal.hpp"
 
 #include <signal.h>

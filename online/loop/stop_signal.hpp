@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // SIGINT / SIGTERM as a request to finish the loop cleanly (and still report): the handler only
 // sets a flag (async-signal-safe); the loop reads it once per cycle. Installed without

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The FMI 2.0 Co-Simulation functions of the plant FMU that `flexloop export-fmu` writes
 // (issue 33). The one library serves every exported machine: fmi2Instantiate reads the loop
 // artefact from the FMU's resources/ (written beside the GUID it was exported with), and the

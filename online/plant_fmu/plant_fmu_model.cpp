@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/plant_fmu/plant_fmu_model.hpp"
 
 #include <utility>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The plant inside the exported plant FMU (issue 33): the artefact's discrete plant with its
 // simulated hardware and floor (online/sim/loop_hardware.hpp, the same composition and seeds as

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The variables and log categories of the plant FMU that `flexloop export-fmu` writes (issue 33):
 // one list that the exporter's modelDescription.xml and the FMU's own fmi2 functions read, so that

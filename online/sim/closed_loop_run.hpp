@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The in-process closed loop of `flexloop sim`: the plant with its simulated hardware
 // (plant/runtime/simulated_hardware.hpp) and the PI controller, stepped as fast as the machine

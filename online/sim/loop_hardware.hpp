@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Start-up: from a loop artefact's floor and effects (artefact/loop_artefact.hpp) to the
 // simulated hardware (plant/runtime/simulated_hardware.hpp). On a compiled loop, an effect set

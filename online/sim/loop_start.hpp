@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A run's start (doc/design.md §5a, artefact/loop_start.hpp): the loop's states drawn from its
 // stationary distribution given the floor filters' states, which the floor generator has drawn

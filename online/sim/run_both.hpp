@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The body shared by the scene_runs_*.cpp translation units: controller off, then on, over the
 // artefact's hardware with every effect it carries. The controller is the artefact's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The log of an in-process run: one row per logged sample (t, floor, performance, performance
 // sensors, sensors, commands), column-major as MATLAB stores it, so that a .mat file is written

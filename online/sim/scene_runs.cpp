@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/sim/scene_runs.hpp"
 
 #include <utility>

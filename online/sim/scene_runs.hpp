@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // `flexloop sim`'s runs of a loop artefact: the same floor and hardware (same seeds) once with the
 // controller off and once on (a loop without a controller runs once). An artefact whose counts

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The compiled fast paths of `flexloop sim`: every entry of the typed list of compiled loops
 // (plant/runtime/compiled_loops.hpp), each with the hardware compositions of
 // online/sim/loop_hardware.hpp.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The general path of `flexloop sim`: any state and channel count, sized at start-up, with the
 // effects chosen at start-up (online/sim/loop_hardware.hpp); dense and modal form.
 #include "online/sim/run_both.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The matrix exponential of the augmented matrices of ZOH and FOH (discretise.hpp), made
 // accurate for stiff plants by balancing first.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Offline discretisation of a continuous LTI system  dx/dt = A x + B u,  y = C x + D u  at a
 // sample time T (doc/design.md §5). Every result carries its method, T and the spectral radius of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/lti/feedback_interconnection.hpp"
 
 #include "plant/lti/solve_or_empty.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Closing a loop around a generalised plant (doc/design.md §4, seed slide 33).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/lti/frequency_response.hpp"
 
 #include <Eigen/Jacobi>

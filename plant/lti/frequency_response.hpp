@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Frequency response of a continuous-time LTI system, evaluated in state-space form.
 //

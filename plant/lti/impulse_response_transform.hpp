@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The frequency response of a sampled system from its impulse response, for a system seen only
 // through what it outputs (a loop whose controller is compiled code: offline/pipeline/

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Modal analysis of the linearised equations of motion
 //   M q'' + (C + D) q' + (K + N + G) q = f          (doc/design.md §3, bars omitted)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/lti/modal_form.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Offline: a discrete plant  x_{k+1} = Ad x_k + Bd u_k,  y_k = Cd x_k + Dd u_k  in real modal
 // (real block-diagonal) coordinates  x = T z:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Offline model reduction of a continuous LTI system  dz/dt = A z + B u,  y = C z + D u
 // (doc/design.md §8): fewer states with the same inputs and outputs (labels kept; the states of a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Poles as printed: a pole within round-off of s = 0 is an integrator and is printed as one
 // (0 rad/s, "integrator"), never with a frequency and a damping computed from round-off (a pole

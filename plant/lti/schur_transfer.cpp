@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/lti/schur_transfer.hpp"
 
 #include <stdexcept>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // C (pI - A)^-1 B on A's complex Schur form, for searches that evaluate a transfer at thousands
 // of points (a disk margin's peak on a grid):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/lti/stable_covariance.hpp"
 
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The stationary covariance of a discrete system driven by white noise, on the modes strictly
 // inside the unit circle:

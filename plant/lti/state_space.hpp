@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A labelled continuous-time linear time-invariant system
 //   dz/dt = A z + B u,   y = C z + D u

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Labelled state space (A, B, C, D) from a linearisation, for named inputs and outputs
 // (doc/design.md §3, seed slides 14-17).

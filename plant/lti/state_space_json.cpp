@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/lti/state_space_json.hpp"
 
 #include "common/json_document.hpp"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Vibration-criterion (VC) floor curves and the shaping filter that makes a floor follow one
 // (doc/design.md §6, issue 6). Offline: the online FloorGenerator (plant/runtime/effects) runs the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Welch's averaged, modified periodogram (Welch, IEEE Trans. Audio Electroacoust. 15 (1967)):
 // the signal is cut into segments of L samples that overlap by a fraction of L (the tail that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The consistent mass of a beam element with rotary inertia (mass_model = "beam"), as a frame
 // element's in structural dynamics: the kinetic energy of a velocity field interpolated from the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Kinematic analysis (doc/design.md §3): the dependent nodal coordinates x(c) from the generalised
 // coordinates q by Newton iteration on the rigid and generalised deformation equations

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Element deformation functions e = D(x) (SPACAR-style finite elements).
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/model/element_properties.hpp"
 
 #include <stdexcept>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Element stiffness (for the deformations of element_kinematics.hpp) and translational mass.
 //

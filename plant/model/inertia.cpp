@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/model/inertia.hpp"
 
 #include "plant/model/beam_mass.hpp"

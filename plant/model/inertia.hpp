@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Nodal inertia and applied forces in nodal coordinates x.
 //  - translations: lumped node masses plus element masses (lumped: half per end; consistent:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The deformation equations e = D(x) of a whole model, with exact first and second
 // derivatives. Each element (and each 3-D rotational node's Euler-parameter normalisation) is a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Linearised equations of motion about an operating point (doc/design.md §3):
 //   Mbar dq'' + (Cbar + Dbar) dq' + (Kbar + Nbar + Gbar) dq = DF(x)^T df - DF(e)^T dsigma_a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/model/massless_condensation.hpp"
 
 #include <algorithm>

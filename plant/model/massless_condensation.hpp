@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Exact static (Guyan) condensation of massless directions of the linearised equations
 //   M q'' + D q' + (K + G) q = f        (dynamic block, doc/design.md §3; bars omitted)

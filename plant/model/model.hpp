@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The finite-element multibody model (doc/design.md §3), as read from a model file.
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The model reader's second half: a model from its TOML document (what parse_model reads after
 // the text became a table). A campaign sets drawn values in a model's document and reads it here,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/model/model_parser.hpp"
 
 #include <toml++/toml.h>

@@ -1,5 +1,6 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
-// Reads a model file (TOML; format in README.md "Model files") into a Model, with the
+// Reads a model file (TOML; format in doc/model_format.md) into a Model, with the
 // coordinate partition resolved and the undeformed configuration computed.
 // Bad input throws flexloop::InputError with "file:line" and what is wrong.
 #include <string>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/model/released_model.hpp"
 
 #include "common/input_error.hpp"

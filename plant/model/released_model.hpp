@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Equations of reaction by virtual work (seed slides 8, 12-13): the force that holds a fixed
 // nodal coordinate, or the stress in a rigid deformation, is the generalised force of that

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Euler parameters (unit quaternion, scalar first): lambda = (l0, l1, l2, l3) = (cos(a/2), sin(a/2)
 // n) for a rotation by angle a about the unit axis n.

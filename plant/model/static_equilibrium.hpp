@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Static equilibrium under the model's loads (gravity, nodal forces, actuator stresses): the
 // dynamic coordinates q_d with R_d(q_d, q_r, 0, 0) = 0 at rest, the prescribed coordinates q_r

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The loops the runtime has compiled fast paths for: one typed list, CompiledLoops, which
 // `flexloop sim`, the plant process and the controller process all dispatch on at start-up. A loop

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The discrete plant in the form the offline discretisation produces it (doc/design.md §6):
 //

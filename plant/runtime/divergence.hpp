@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The last line of defence against a loop that diverges although its artefact passed the
 // stability checks (a nonlinear effect, a plant at the edge of stability): the performance

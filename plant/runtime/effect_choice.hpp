@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // An effect slot of the simulated hardware (simulated_hardware.hpp) whose effect is chosen at
 // start-up: one of Effects, or none. The compiled compositions fix each slot's effect at compile

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/runtime/general_plant.hpp"
 
 #include <cmath>

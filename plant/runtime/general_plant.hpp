@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The discrete plant on the general path (doc/design.md §6): any state count, any channel counts up
 // to kMaxChannels per kind, sized once at start-up from the artefact. The same sample as the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The discrete plant in real modal coordinates z (x = T z), doc/design.md §6:
 //

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // From a loop artefact's discrete plant (artefact/loop_artefact.hpp) to the runtime plant that
 // steps it: the one place `flexloop sim`, the plant process and the tradeoff study build it. A

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/runtime/pole_precision.hpp"
 
 #include <Eigen/Eigenvalues>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Whether a pole keeps its decay once the runtime stores it in Scalar. The modal plant keeps
 // Λ - I: a pole z = 1 + a ± jb as the entries a and b. Its squared modulus is |z|² = 1 + m with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The plant side of the loop: the discrete plant with the simulated hardware around it, composed
 // from the effects a scene asks for (doc/design.md §6, issue 6). Each slot is an effect type: an

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What the dense and the modal plant share: the state x, the output y = C x + D u of the current
 // state, and the vector and matrix types of the compile-time sizes. The dynamics (advance) are the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/superelement/craig_bampton.hpp"
 
 #include <Spectra/MatOp/SparseSymMatProd.h>

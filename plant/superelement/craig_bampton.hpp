@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Craig-Bampton reduction of a linear FE body given by its sparse stiffness K and mass M
 // (issue 58): the interface DOFs kept as they are, the interior represented by the static

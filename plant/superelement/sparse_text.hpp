@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A finite-element tool's matrices as text (issue 58): Matrix Market coordinate files and
 // CalculiX's *FREQUENCY,SOLVER=MATRIXSTORAGE output (jobname.sti, .mas: "row col value" per line,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The counting allocator of rt/thread_allocations.hpp: glibc's allocation functions, each
 // forwarding to glibc's own (__libc_*) after one increment of a thread-local counter. Linked
 // into the programs that run a controller process (an object of the executable: its malloc is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // No allocation inside a step (doc/design.md §6): 10^6 closed-loop steps of the metrology plant
 // with the PI controller, after a warm-up, in every plant form and scalar, with the allocation
 // functions of this executable replaced by counting ones (rt/counting_malloc). First the

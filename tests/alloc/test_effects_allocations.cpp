@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // No allocation inside an effect's step (doc/design.md §6): after start-up, 10^5 steps of every
 // simulated-hardware effect (piezo actuator with and without lag, gain error, sensor noise, ADC,
 // delay, floor generator), N = 6, double and float, counted by rt/counting_malloc.

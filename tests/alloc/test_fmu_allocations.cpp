@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // No allocation inside a step of a controller FMU (issue 33), on flexloop's side or in the
 // project's fixture FMUs (tools/fmu/pi_force_feedback, tools/fmu/state_space_controller):
 // fmi2SetReal, fmi2DoStep and fmi2GetReal over preallocated value references and buffers, 10^4

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // No allocation inside a step on the general path (doc/design.md §6): the start-up-sized plant
 // (dense and modal) with every simulated-hardware effect at start-up-sized channel counts (VC
 // floor, lagged piezo, sensor chains on both output kinds, transport delay) and the general PI,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // No allocation when the loop records a message for its LCM log (rt/event_log_recorder.hpp):
 // record() is a copy into the ring allocated at start-up, whether the ring takes the message or
 // is full and counts it dropped. The writer thread (which allocates as it likes) is not counted:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // No allocation in the controller process's answer (online/loop/controller_station.hpp), also
 // where it starts its controller at the loop's stationary start: the first sample of an epoch
 // sets the controller's state and remembered commands from the drawn start, and the plant's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Frequency response and singular values against independent references: the analytic transfer
 // function of a spring-mass-damper, a dense complex LU solve of (jwI - A) X = B, the closed-form
 // singular values of a 2x2 matrix and Eigen's JacobiSVD.

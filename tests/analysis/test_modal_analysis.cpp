@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Natural modes, buckling multipliers and poles against analytic values: characteristic
 // polynomials solved by hand, symmetry arguments for repeated eigenvalues, and the cofactor
 // expansion of det(K + lambda G).

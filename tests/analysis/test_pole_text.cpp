@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Poles as printed (plant/lti/pole_text.hpp): a pole within round-off of s = 0 is an integrator,
 // printed as 0 rad/s without a damping; every other pole keeps its frequency and damping. On
 // systems whose poles are known exactly (a rotated block diagonal) and on the metrology frame's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Report writers: CSV round trip (read back with std::ifstream, compared exactly), atomic write,
 // and one PNG per plot kind (file exists and starts with the PNG signature), errors when gnuplot
 // is missing or fails. Set FLEXLOOP_KEEP_TEST_OUTPUT=1 to keep the pictures for inspection.

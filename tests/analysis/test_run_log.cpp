@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop log`: a recorded run (an LCM log with the channel map, sensor samples and commands)
 // round-trips into CSV and .mat tables with named columns; the answer of each sample sits on its
 // row (NaN where none came); another plant run in the same log is left out; a log without a

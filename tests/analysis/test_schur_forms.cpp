@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The two Schur-form engines a campaign sample runs on, against independent references:
 // - plant/lti/schur_transfer: C (pI - A)^-1 B against a dense complex LU solve of (pI - A) X = B,
 //   on a random stable system, on one with a delay chain (a nilpotent Jordan block: no

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The loop artefact (artefact/loop_artefact.hpp): built from the metrology scene it survives a
 // write/read round trip bit for bit (dense and modal, with every effect); a run from the file
 // gives the run from the scene; and every kind of bad artefact is refused with the file and key.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cost of one campaign sample (issue 47, "Speed and scale"; doc/performance.md): the metrology
 // frame (tools/scenes/metrology_frame.toml) with its six strut stiffnesses changed by a few %,
 // re-linearised, discretised, closed, its stationary RMS by the discrete Lyapunov equation

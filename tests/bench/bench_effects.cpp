@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Per-step cost of each simulated-hardware effect (issue 6: "each effect's own cost is
 // reported"), N = 6 channels, double and float. Inputs cycle through 1024 precomputed random
 // vectors (about a third of the actuator commands saturate), so branches and the data path see

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A controller FMU against the built-in PI (issue 33), in one run: the metrology frame's
 // closed-loop step with the compiled PI and with the same law as the fixture FMU
 // (tools/fmu/pi_force_feedback: fmi2SetReal, fmi2DoStep, fmi2GetReal per sample), and the FMU's

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cost of one closed-loop step on the general path (any size, sized at start-up; issue 16,
 // "Speed"): plant output, PI step, plant advance, as tests/support/closed_loop.hpp runs it.
 //

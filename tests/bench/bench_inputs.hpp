@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What the closed-loop benchmarks share: the thread's CPU clock (read outside the timed loops,
 // for the share of CPU time a benchmark got) and a fixed sequence of floor samples.

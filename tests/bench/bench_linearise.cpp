@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cost of linearise + build_state_space (issue 3, "Performance"; doc/design.md §3).
 //
 //  - BM_LineariseMetrology: a hexapod-like metrology frame, 19 nodes and 18 spatial beams: a

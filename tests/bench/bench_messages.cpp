@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cost of encoding and decoding the per-cycle messages into preallocated buffers: a sample of the
 // metrology frame's 6 + 6 channels (decoding into a message whose vectors already hold them, as
 // the loop's inbox keeps them).

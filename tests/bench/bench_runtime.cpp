@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Cost of one closed-loop step of the metrology frame (issue 5, "Performance"; doc/design.md §6):
 // plant output, PI step, plant advance, as tests/support/closed_loop.hpp runs it:
 //   y_k = Cd x_k + Dd [w_k; u_{k-1}],  u_k = pi.step(y_k forces),  x_{k+1} = Ad x_k + Bd [w_k; u_k]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // What each simulated-hardware effect costs per closed-loop step, and that an absent one costs
 // nothing (issue 6): the metrology plant + PI + white floor written by hand (the bare baseline),
 // the same through SimulatedHardware with no effect, and with one effect at a time; and the

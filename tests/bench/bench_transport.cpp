@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The parts of a message's way through each carrier, on one core, without a second process: what
 // a round trip costs besides the crossing from one core to the other (doc/performance.md, "The
 // latency budget per transport"). Per message, the metrology frame's sample (6 + 6 channels):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Phase timing inside one benchmark iteration: lap(acc) adds the time since the previous lap (or
 // since construction) to acc. The clock is this thread's CPU time, so a phase's figure stays the

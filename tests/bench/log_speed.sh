@@ -6,6 +6,7 @@
 #   tests/bench/log_speed.sh FLEXLOOP [SCENE] [DURATION_S] [DIR] [REPEATS]
 # DIR (default out/bench/log_speed) is where the logs go: the disk under test. The figures are
 # wall time; on a shared machine read the CPU columns too (the load is printed).
+# SPDX-License-Identifier: BSD-3-Clause
 set -euo pipefail
 flexloop=$1
 root=$(cd "$(dirname "$0")/../.." && pwd)

@@ -11,6 +11,7 @@
 #   tests/bench/superelement_vs_calculix.sh TEST_SUPERELEMENT [CLMAX] [CUT_HZ] [DIR]
 # TEST_SUPERELEMENT: build/check/tests/test_superelement; CLMAX 0.008 (m); CUT_HZ 4000;
 # DIR out/bench/superelement_CLMAX.
+# SPDX-License-Identifier: BSD-3-Clause
 set -euo pipefail
 bench=$(realpath "$1")
 root=$(cd "$(dirname "$0")/../.." && pwd)

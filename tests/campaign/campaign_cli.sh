@@ -5,6 +5,7 @@
 # the nearest names, a shard of another plan, missing samples); the worst samples are scenes
 # `analyse` runs as they are; every part has --help with an example; --simulate's samples are the
 # same bytes however sharded, and bad --simulate values exit 2.
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1
 root=$2

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Asks tests/campaign/reference.py (OpenTURNS, SciPy) for an outside reference: writes the
 // request, runs Debian's python3 on it (the tests run from the repository root), reads the answer.

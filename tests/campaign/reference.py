@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Outside references for the campaign's designs and statistics (tests/campaign/*.cpp).
 
   reference.py REQUEST.json ANSWER.json

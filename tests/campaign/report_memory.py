@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """`flexloop campaign report` on N synthetic samples: its peak memory and time (issue 54, 2.5).
 
 The lines are a real sample's (one computed by `flexloop campaign run` on SCENE), made N: each

@@ -8,6 +8,7 @@
 #   2. runs shard 1 alone, kills it with SIGKILL once its file has a line, runs it again, and
 #      checks that the merge of it with the local engine's other shards is byte-identical too.
 # The cluster is stopped, and checked to leave no process behind, on every exit path.
+# SPDX-License-Identifier: BSD-3-Clause
 set -euo pipefail
 flexloop=$1 repo=$2
 fail() { echo "slurm campaign: $*" >&2; exit 1; }

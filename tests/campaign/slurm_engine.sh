@@ -4,6 +4,7 @@
 # cluster cases of test_campaign ([slurm_cluster]: an array of a stand-in program through
 # submit_slurm, a failing element, the resubmission, an element that requeues itself), then stops
 # the cluster on every exit path and checks that no process of it is left.
+# SPDX-License-Identifier: BSD-3-Clause
 set -euo pipefail
 test_campaign=$1 repo=$2
 dir=$(mktemp -d /tmp/flexloop-slurm-test.XXXXXX)

@@ -9,6 +9,7 @@
 #      with squeue -M far and scontrol -M far;
 #   3. an --sbatch-arg with a newline, or one setting --array, and --shards above MaxArraySize
 #      exit 2 naming the option and value, and nothing is submitted.
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 root=$2
 tmp=$(mktemp -d /tmp/flexloop-slurm-options.XXXXXX)

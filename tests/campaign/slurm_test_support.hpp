@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What the Slurm engine's tests share: a scratch directory (its name may hold a blank, as a
 // user's may) and small file helpers.

@@ -4,6 +4,7 @@
 # {estimate, cov, lo, hi, evaluations, method "subset"} and the levels, report.md and one line
 # per evaluated machine in samples.jsonl; the same seed gives the same bytes; bad input exits 2
 # with its place (n not a multiple of 10, a --design, --simulate; --margin without subset).
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1
 root=$2

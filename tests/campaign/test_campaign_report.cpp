@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The campaign report (offline/campaign/campaign_report.hpp) on synthetic plans and samples made
 // here with known values: the summary's counts, P(unstable), quantiles and Sobol indices against
 // numbers computed by hand or by SciPy, and the files it writes.

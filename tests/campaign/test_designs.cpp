@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The unit designs (offline/campaign/designs.hpp): purity, the Latin hypercube's strata, the
 // Sobol sequence against SciPy's, the Saltelli layout, and uniformity measured by OpenTURNS.
 #include <algorithm>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The distributions' inverse CDFs (offline/campaign/distributions.hpp) against scipy.stats
 // (python3-scipy): uniform, normal, lognormal (median and relative sd), truncated normal (below,
 // in the upper tail, two-sided); the cut tails at kTailProbability.

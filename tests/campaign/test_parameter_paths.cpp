@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Drawn values applied to the model and scene documents (offline/campaign/parameter_paths.hpp)
 // and read back by the project's readers: the parsed value is the drawn one; a one-mass spring's
 // natural frequency is sqrt(k/m)/(2 pi) of each sample's drawn k and m (the project's own

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A campaign's sample (offline/campaign/sample_figures.hpp) against independent references: the
 // one-mass spring's natural frequency sqrt(k/m)/2pi, `flexloop analyse`'s own analysis.json for
 // the nominal machine, a long simulation of each machine's scene (the model written to a file

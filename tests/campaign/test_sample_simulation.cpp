@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `campaign --simulate S` (offline/campaign/sample_simulation.hpp): each stable sample's loop run
 // by `flexloop sim`'s code. References: the sample's Lyapunov RMS (the loop made linear) with a
 // tolerance derived from independent runs of the same machine (16 other seeds: the scatter of an

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Shards (offline/campaign/shard_run.hpp), their merge (shard_merge.hpp) and the plan file
 // (plan_file.hpp): a shard killed mid-line and rerun ends with the bytes of an uninterrupted
 // run and computes only what was missing; a file of another plan is refused with file:line;

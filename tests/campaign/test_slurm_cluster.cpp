@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The Slurm engine against a running Slurm (hidden: tests/campaign/slurm_engine.sh starts a
 // single-node cluster with tools/slurm/start-local-cluster and runs this with SLURM_CONF set).
 //

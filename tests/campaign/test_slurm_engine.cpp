@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The Slurm engine's parts that need no cluster (offline/campaign/slurm_engine.hpp):
 //   - the batch script: its #SBATCH lines for given options (array range and throttle, partition
 //     and account only when given, the time limit rounded up to whole minutes, logs into the work

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The campaign's estimators (offline/campaign/statistics.hpp) against outside references:
 // order-statistic ranks against SciPy's binomial (brute force) and OpenTURNS's Wilks sample
 // sizes, Clopper-Pearson against SciPy's beta quantiles, coverage by simulation, and the Sobol

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Subset simulation of a fleet (offline/campaign/subset_campaign.hpp) against an exact
 // probability: the one-strut machine under its frozen PI (tests/fixtures/one_strut_campaign.toml)
 // with one uncertain number, the piezo actuator's gain, lognormal about 1. Its loop is unstable

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Subset simulation (offline/campaign/subset_simulation.hpp) on analytic limit states in the
 // standard normal space, where the probability is known exactly: the linear g = (z_1 + ... +
 // z_d) / sqrt(d) - beta has P(g >= 0) = Phi(-beta) in every dimension d. Checked: the estimate

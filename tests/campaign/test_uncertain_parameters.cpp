@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The uncertain parameters file (offline/campaign/uncertain_parameters.hpp) and its planning on a
 // machine (planned_parameters.hpp): every refusal names the file and line of the entry; unknown
 // paths come with the nearest valid names; globs take the elements that have the key;

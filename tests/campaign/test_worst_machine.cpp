@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The worst machine in the box (offline/campaign/worst_machine.hpp) against independent
 // references: every machine of a campaign drawn from the same ranges with another seed, a full
 // grid over the box's corners and inside, the machine written as a scene and judged again by its

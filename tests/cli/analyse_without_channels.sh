@@ -3,6 +3,7 @@
 # with its cart held fixed: no prescribed coordinate, no actuator, so no default input) writes the
 # modal analysis, skips the pictures it cannot draw, says so in one line, and exits 0. The same
 # model with an input named draws them.
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1
 root=$2

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The command line's contract: good input writes the artefact and exits 0; bad input exits 2
 # with "file:line: what is wrong" (or the channel name) and leaves no file behind.
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1
 root=$2
@@ -124,6 +125,25 @@ for opt in "--log $tmp/a_file/log.csv" "--plots $tmp/a_file/plots"; do
   [[ $rc -eq 2 && "$out" == *"a_file"*"cannot be written"* && "$out" != *"real time"* ]] ||
     fail "sim $opt: exit $rc ($out)"
 done
+# Every command that writes refuses an output it cannot write before its work (exit 2), and a
+# folder in a file's place too (it would end in a failed rename).
+for cmd in "linearise $root/tools/models/cart.toml -o $tmp/a_file/x.json" \
+  "analyse $root/tools/models/cart.toml --out-dir $tmp/a_file/an" \
+  "build $root/tools/scenes/cart.toml -o $tmp/a_file/x.json" \
+  "discretise $tmp/cart.json --method zoh --rate 1000 -o $tmp/a_file/x.json" \
+  "reduce $tmp/cart.json --method modal --order 1 -o $tmp/a_file/x.json" \
+  "fit-metrology -o $tmp/a_file/x.toml" \
+  "log $tmp/cart.json -o $tmp/a_file/x.csv" \
+  "export-fmu $root/tools/scenes/cart.toml -o $tmp/a_file/x.fmu" \
+  "baseline timer --duration 1 --json $tmp/a_file/t.json" \
+  "campaign worst $root/tools/scenes/metrology_frame.toml -u $root/tools/scenes/metrology_frame_uncertain.toml --figure rms --out-dir $tmp/a_file/w"; do
+  out=$("$flexloop" $cmd 2>&1); rc=$?
+  [[ $rc -eq 2 && "$out" == *"a_file"*"cannot be written"* ]] || fail "$cmd: exit $rc ($out)"
+done
+mkdir "$tmp/a_folder"
+out=$("$flexloop" build "$root/tools/scenes/cart.toml" -o "$tmp/a_folder" 2>&1); rc=$?
+[[ $rc -eq 2 && "$out" == *"a_folder: cannot be written: Is a directory"* && "$out" != *"wrote"* ]] ||
+  fail "build -o a folder: exit $rc ($out)"
 for bad in nan inf -1; do
   out=$("$flexloop" sim "$root/tools/scenes/metrology_frame.toml" --duration "$bad" 2>&1); rc=$?
   [[ $rc -eq 2 && "$out" == *"--duration"* && "$out" != *"real time"* ]] || fail "sim --duration $bad: exit $rc ($out)"

@@ -4,6 +4,7 @@
 # build one, and a short closed loop of an artefact `flexloop build` wrote for a machine other
 # than the metrology frame, inside a private loopback-only namespace (tools/netns-run).
 #   tests/cli/online_programs.sh FLEXLOOP FLEXLOOP_PLANT FLEXLOOP_CONTROLLER SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 plant=$2 controller=$3 root=$4
 tmp=$(mktemp -d)

@@ -4,6 +4,7 @@
 # prints as "warning: plot FILE: gnuplot: ..."). The metrology frame's (README) and another
 # machine's. The hil histograms need the private namespace (root); without it they are skipped.
 #   tests/cli/pictures.sh FLEXLOOP SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 root=$2
 tmp=$(mktemp -d)

@@ -4,6 +4,7 @@
 # --safe-after-th on); a bad report exits 2 naming file and key, a record that contradicts itself
 # exits 1 saying why, and neither writes --json.
 #   tests/cli/replay_contract.sh FLEXLOOP SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 root=$2
 tmp=$(mktemp -d)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Disk margins of the sampled loop (controller/design/disk_margins.hpp). References the code under
 // test did not produce: a first-order loop whose sensitivity is written out by hand and scanned
 // on a fine grid, its exact gain margin, and the loop's own poles (sampled_loop_stability) with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The general (start-up-sized) PI controller: against the independent dynamic-size state-space
 // reference (tests/support/dynamic_reference.hpp, with the loop solved by an LU every sample) at
 // channel counts the runtime has no compiled path for, with saturation, a coupled feedthrough and

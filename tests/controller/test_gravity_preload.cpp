@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Integral force feedback on the gravity-loaded metrology frame (doc/design.md §4, §9;
 // controller/design/loop_stability.hpp). The struts carry the weight in compression, so the
 // preload's geometric stiffness Gdd has negative directions; a pure integrator removes the struts'

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The reference machine (doc/design.md §4): the committed model file reproduces the paper's passive
 // frequencies, its symmetric mode pairs are degenerate, and the gravity preload moves the modes
 // only a little.

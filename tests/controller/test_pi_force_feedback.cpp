@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PI force feedback on the metrology frame (doc/design.md §4, seed slides 31-33): the closed-loop
 // poles land where the design puts them, the state-space loop equals the frequency-wise formula
 // for T, and the sampled loop equals a step-by-step run of the loop it models.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The fixed-size discrete PI force-feedback controller (controller/runtime/pi_controller.hpp):
 // the law against an independent dynamic-size state-space reference, start-up checks, bumpless
 // start, anti-windup, and the loop around the metrology frame against the offline model of the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Sampled closed-loop stability (issue 17, case 7; controller/design/sampled_loop_stability.hpp).
 // A continuous loop that is stable can be unstable as it runs: sampled at the scene's rate, with
 // the discrete PI, the held command and the delays. The one-strut fixture (tests/fixtures/

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The state-space controller (controller/runtime/state_space_controller.hpp), a user's own design
 // of any size: against plant::lti::close_loop_sampled (the offline model of the sampled loop, an
 // independent formula) with sensors and actuators of different counts, a coupled feedthrough D22

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Independent high-precision reference for ZOH and FOH (test_stiff_exponential.cpp): the FOH
 // augmented matrix [A B 0; 0 0 I/T; 0 0 0]·T (discretise.hpp) exponentiated in binary128

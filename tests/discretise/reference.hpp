@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Independent references for the discretisation tests: a system built in real modal form with
 // known eigenvalues, propagated mode by mode with closed-form (scalar, complex) solutions — no

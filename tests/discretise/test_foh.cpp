@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // First-order (triangle) hold: with the input piecewise linear through the samples, the outputs
 // of the shifted-state discrete system equal the exact continuous response at the samples.
 #include <catch2/catch.hpp>

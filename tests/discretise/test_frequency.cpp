@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Pole maps and frequency responses: H_d(z) = Cd (zI - Ad)^-1 Bd + Dd by a linear solve, compared
 // with the continuous H_c(s) = C (sI - A)^-1 B + D at the s each method substitutes for z.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The stability guard, input checks and method names.
 #include <catch2/catch.hpp>
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // JSON artefacts: bit-exact round trips, atomic writes, and bad files reported with their place.
 #include <unistd.h>
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Stiff plants through ZOH and FOH (doc/design.md §9, issue 17 case 1). In SI units a mechanical
 // A = [0 I; -M⁻¹K -M⁻¹C] has ‖A‖ ~ ω_max² but spectral radius ω_max, so ‖A T‖ is huge and the
 // exponential of the augmented matrix must not lose digits to it (balanced_exponential.hpp).

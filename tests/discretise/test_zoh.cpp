@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Zero-order hold: step and impulse responses at the sample instants equal the exact continuous
 // solution (analytic formulas, or the modal closed form) to 1e-10 of the response's size.
 #include <catch2/catch.hpp>

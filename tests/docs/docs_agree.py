@@ -1,11 +1,17 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Docs that agree with the program (issue 55, 5): in README.md and doc/*.md
 
   - every relative link resolves: its file exists, and its #anchor is a heading of that file
-    (GitHub's slugs);
+    (GitHub's slugs); a page of doc/ links nothing outside the repository;
   - every `flexloop CMD [SUB] ... --option` written in a code span or block is an option of that
     command (read from `flexloop CMD --help`);
-  - every README "Section" that doc/design.md cites is a heading of README.md.
+  - in `flexloop linearise|analyse`, `-i/--input` and `-O/--output` name channels (`pos:x.2`), and
+    no other command's `-o/--output` is given a channel;
+  - every README "Section" that a page of doc/ cites is a heading of README.md;
+  - every TOML example (```toml) parses, and a whole model, scene or U.toml is accepted by the
+    program (`linearise`, `build`, `campaign plan`);
+  - doc/lcm_messages.md lists each message's fields as msgs/*.lcm declares them, in that order.
 
   tests/docs/docs_agree.py FLEXLOOP REPO_ROOT   # prints each disagreement; exit 1 if any
 """
@@ -13,12 +19,14 @@ import pathlib
 import re
 import subprocess
 import sys
+import tempfile
+import tomllib
 
 LINK = re.compile(r"\[[^\]]*\]\(([^)\s]+)\)")
 HEADING = re.compile(r"^(#{1,6})\s+(.*?)\s*#*\s*$")
 FENCE = re.compile(r"^\s*```")
 INLINE_CODE = re.compile(r"`([^`\n]+)`")
-README_SECTION = re.compile(r'README[\'’]?s? "([^"]+)"')
+README_SECTION = re.compile(r'README[\'’]?s?,? "([^"]+)"')
 
 
 def slug(heading):
@@ -52,8 +60,11 @@ def check_links(root, files):
         text = f.read_text(encoding="utf-8")
         for number, line in enumerate(text.splitlines(), 1):
             for target in LINK.findall(line):
-                if re.match(r"^[a-z]+:", target):
-                    continue  # http:, https:, mailto:
+                if re.match(r"^[a-z]+:", target):  # http:, https:, mailto:
+                    if f.parent.name == "doc":
+                        problems.append(f"{f.relative_to(root)}:{number}: link to {target}: "
+                                        f"doc/ points only inside the repository")
+                    continue
                 file_part, _, anchor = target.partition("#")
                 dest = f if not file_part else (f.parent / file_part).resolve()
                 where = f"{f.relative_to(root)}:{number}"
@@ -169,7 +180,29 @@ def check_commands(root, files, commands):
                         if opt and opt.group(1) not in commands.options(path) | {"--help"}:
                             problems.append(f"{f.relative_to(root)}:{number}: flexloop "
                                             f"{' '.join(path)} has no option {opt.group(1)}")
+                    for problem in channel_or_file(path, words[used:]):
+                        problems.append(f"{f.relative_to(root)}:{number}: flexloop "
+                                        f"{' '.join(path)}: {problem}")
     return problems
+
+
+CHANNEL = re.compile(r"^\[?(pos|vel|acc|force|stress|reaction):\S+")
+
+
+def channel_or_file(path, words):
+    """`--output` is a channel in linearise and analyse (their file is -o/--out, their folder
+    --out-dir) and a file everywhere else: each value written after it must be the right kind."""
+    channel_options = {"-i", "--input", "-O", "--output"} if path in (("linearise",),
+                                                                     ("analyse",)) else set()
+    for option, value in zip(words, words[1:]):
+        option = option.lstrip("[")
+        if value.startswith(("-", "[", "NAME", "...")):
+            continue  # a synopsis placeholder or the next option
+        if option in channel_options and not CHANNEL.match(value):
+            yield f"{option} names a channel (pos:x.2, stress:e1.4, ...), not {value}"
+        elif option in {"-o", "--output", "--out"} and option not in channel_options and \
+                CHANNEL.match(value):
+            yield f"{option} is the file to write, not the channel {value}"
 
 
 def check_readme_sections(root):
@@ -178,11 +211,100 @@ def check_readme_sections(root):
     readme = [slug(h) for h in re.findall(r"^#{1,6}\s+(.*?)\s*$",
                                           (root / "README.md").read_text(encoding="utf-8"), re.M)]
     problems = []
-    design = root / "doc" / "design.md"
-    for number, line in enumerate(design.read_text(encoding="utf-8").splitlines(), 1):
-        for section in README_SECTION.findall(line):
-            if not any(h.startswith(slug(section)) for h in readme):
-                problems.append(f"doc/design.md:{number}: README has no section \"{section}\"")
+    for page in sorted((root / "doc").glob("*.md")):
+        for number, line in enumerate(page.read_text(encoding="utf-8").splitlines(), 1):
+            for section in README_SECTION.findall(line):
+                if not any(h.startswith(slug(section)) for h in readme):
+                    problems.append(f"{page.relative_to(root)}:{number}: README has no section "
+                                    f"\"{section}\"")
+    return problems
+
+
+def toml_blocks(path):
+    """(line number, text) of each ```toml block."""
+    block, start = None, 0
+    for number, line in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+        if block is None and re.match(r"^\s*```toml\s*$", line):
+            block, start = [], number + 1
+        elif block is not None and FENCE.match(line):
+            yield start, "\n".join(block) + "\n"
+            block = None
+        elif block is not None:
+            block.append(line)
+
+
+def program_accepts(flexloop, root, text, work):
+    """What the program says of a whole model, scene or U.toml (None: accepted, or not whole).
+    A scene is placed in a folder beside links to tools/models and tools/controllers, so that
+    its relative paths (`../models/...`) resolve as from tools/scenes/."""
+    doc = tomllib.loads(text)
+    scenes = work / "scenes"
+    scenes.mkdir(exist_ok=True)
+    for folder in ("models", "controllers"):
+        if not (work / folder).exists():
+            (work / folder).symlink_to(root / "tools" / folder)
+    example = scenes / "example.toml"
+    example.write_text(text, encoding="utf-8")
+    if "model" in doc and "node" in doc:
+        command = ["linearise", str(example), "-o", str(work / "lin.json")]
+    elif "scene" in doc:
+        command = ["build", str(example), "-o", str(work / "loop.json")]
+    elif "parameter" in doc:
+        command = ["campaign", "plan", str(root / "tools/scenes/metrology_frame.toml"), "-u",
+                   str(example), "-n", "2", "-o", str(work / "plan.json")]
+    else:
+        return None  # a table or two of a larger file: parsed above, not run
+    r = subprocess.run([flexloop, *command], capture_output=True, text=True)
+    if r.returncode != 0:
+        return f"flexloop {command[0]} refuses it: {(r.stderr or r.stdout).strip()[-300:]}"
+    return None
+
+
+def check_toml_examples(flexloop, root, files):
+    problems = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for f in files:
+            for number, text in toml_blocks(f):
+                where = f"{f.relative_to(root)}:{number}"
+                try:
+                    problem = program_accepts(flexloop, root, text, pathlib.Path(tmp))
+                except tomllib.TOMLDecodeError as e:
+                    problem = f"not TOML: {e}"
+                if problem:
+                    problems.append(f"{where}: the TOML example: {problem}")
+    return problems
+
+
+def lcm_fields(path):
+    """The fields of an .lcm struct, in declaration order (`sensors[n_sensors]` as `sensors`)."""
+    text = re.sub(r"//[^\n]*", "", path.read_text(encoding="utf-8"))
+    body = text[text.index("{") + 1:text.rindex("}")]
+    return [m.group(1) for m in re.finditer(r"^\s*\w+\s+(\w+)\s*(?:\[[^\]]*\])?\s*;", body, re.M)]
+
+
+def check_lcm_messages(root):
+    """Each row `| \`NAME\` | fields |` of doc/lcm_messages.md: the identifiers in code spans of its
+    fields column, first occurrences in order, are the struct's fields."""
+    problems = []
+    page = root / "doc" / "lcm_messages.md"
+    seen = set()
+    for number, line in enumerate(page.read_text(encoding="utf-8").splitlines(), 1):
+        m = re.match(r"^\|\s*`(\w+_t)`\s*\|(.*)\|\s*$", line)
+        if not m:
+            continue
+        name, declared = m.group(1), lcm_fields(root / "msgs" / f"{m.group(1)}.lcm")
+        seen.add(name)
+        written = []
+        for span in INLINE_CODE.findall(m.group(2)):
+            field = re.match(r"^(\w+)(\[[^\]]*\])?$", span)
+            if field and field.group(1) not in written:
+                written.append(field.group(1))
+        if written != declared:
+            problems.append(f"doc/lcm_messages.md:{number}: {name} lists {written}, "
+                            f"msgs/{name}.lcm declares {declared}")
+    for lcm in sorted((root / "msgs").glob("*.lcm")):
+        if lcm.stem not in seen:
+            problems.append(f"doc/lcm_messages.md: no row for {lcm.stem} (msgs/{lcm.name})")
     return problems
 
 
@@ -190,13 +312,15 @@ def main():
     flexloop, root = sys.argv[1], pathlib.Path(sys.argv[2]).resolve()
     files = [root / "README.md", *sorted((root / "doc").glob("*.md"))]
     problems = (check_links(root, files) + check_commands(root, files, Commands(flexloop)) +
-                check_readme_sections(root))
+                check_readme_sections(root) + check_toml_examples(flexloop, root, files) +
+                check_lcm_messages(root))
     for p in problems:
         print(p)
     if problems:
         print(f"docs agree: {len(problems)} disagreements")
         return 1
-    print(f"docs agree: {len(files)} files, every link, command option and README section found")
+    print(f"docs agree: {len(files)} files, every link, command option, channel, README section, "
+          f"TOML example and message field found")
     return 0
 
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Piezo actuator: gain and force limits exact, saturation flags for the anti-windup, NaN and inf
 // commands handled; the first-order lag equals the analytic step response at the sample instants
 // and its sample means equal the analytic integrals, and for a random held input it matches an

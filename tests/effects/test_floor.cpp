@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Floor vibration: the shaping filter follows each VC curve (design accuracy, by quadrature of its
 // frequency response, itself checked against brute-force quadrature), and the online generator,
 // run for 600 s at 1 and 2 kHz (double) and 1 kHz (float), produces one-third-octave velocity

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // ADC quantiser: every grid value maps to itself, everything within half an LSB of a level maps
 // to that level, ties go to the even code, values beyond the range clip to the end codes — all
 // exact (the LSBs here are powers of two, so no rounding is involved); for a range that is not a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Sensor pieces: gain error and delay exact; white noise with the asked RMS and zero mean within
 // 5 standard errors of the estimators (mean: σ/sqrt(n); variance: σ² sqrt(2/n) for Gaussian
 // samples), uncorrelated in time and across channels (|r| < 5/sqrt(n)); same seed, same numbers.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Welch PSD against known answers: a bin-centred sinusoid of amplitude A carries A²/2 in its
 // three main-lobe bins (exact up to rounding: Parseval with the periodic Hann window), white
 // noise of variance σ² has the level 2σ²/fs (within 5 standard errors, see below), and the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The noise effects' engine (plant/runtime/effects/xoshiro256.hpp) against the published
 // algorithms: xoshiro256++'s first output from the state {1, 2, 3, 4} is rotl(1 + 4, 23) + 1 by
 // its definition, the following ones and the seeded streams come from an independent

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The ziggurat normal source (plant/runtime/effects/ziggurat_normal.hpp): its table against the
 // definition (equal layer areas, the exact tail area), its draws against the normal distribution
 // (Kolmogorov-Smirnov, tail probabilities from erfc), and the side-by-side lanes against the same

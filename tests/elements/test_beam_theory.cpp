@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Small-displacement beam theory: a cantilever element (p clamped at the reference) is given the
 // exact Euler-Bernoulli displacements of a tip force, a tip torque and an axial force, with the
 // beam and the node frames in random orientations. Checked: (a) the deformations against the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Element deformations: zero in the undeformed state, invariant under rigid motions (finite
 // rotations up to pi, deformed configurations), AutoDiff derivatives (1st, nested 2nd and 3rd)
 // against central finite differences, and the input checks of the reference builders.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Element translational mass: total mass and first moments for rigid translation, and the
 // kinetic energy of a linear velocity field, which the consistent matrix must reproduce exactly
 // (checked against Gauss quadrature of (m/2) int_0^1 |v(s)|^2 ds, not against the formula).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Euler parameters: R(lambda) against Eigen's own quaternion and angle-axis code, Shepperd
 // inverse round trip (including angles at and near pi), and composition.
 #include <catch2/catch.hpp>

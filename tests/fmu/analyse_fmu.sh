@@ -4,6 +4,7 @@
 # with an FMU that fails in the analysis's run (a sensor range it exceeds) exits 2 naming the FMU
 # and the call.
 #   tests/fmu/analyse_fmu.sh FLEXLOOP FMU SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 fmu=$2 root=$3
 tmp=$(mktemp -d)

@@ -3,6 +3,7 @@
 # FMU with its description, library, artefact and GUID; bad input exits 2 naming what is wrong,
 # with nothing written.
 #   tests/fmu/export_fmu.sh FLEXLOOP SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 root=$2
 tmp=$(mktemp -d)

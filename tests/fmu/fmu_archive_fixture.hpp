@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What the archive and description refusal tests share (tests/fmu/test_fmu_archive.cpp,
 // test_fmu_description.cpp): a private TMPDIR for the loader to unpack into, so that a test can

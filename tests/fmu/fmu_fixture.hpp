@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The fixture FMUs the build zips (tools/fmu) as the tests use them: their paths, the settings
 // that run them as a given PI or state-space controller, and archives made from the PI fixture's

@@ -13,6 +13,7 @@
 #   3. an FMU that allocates in its step is counted by the controller process (2 per answer),
 #      which says the promise of no allocation is broken; the fixture as shipped keeps it (1.).
 #   tests/fmu/fmu_hil.sh FLEXLOOP FMU SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 fmu=$2 root=$3
 tmp=$(mktemp -d)

@@ -11,6 +11,7 @@
 #   2. a crash (SIGSEGV in fmi2DoStep): the verdict fails naming the signal and the sample the
 #      controller process was answering (at least 21: its 21st answer).
 #   tests/fmu/fmu_hil_failures.sh FLEXLOOP FMU SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 fmu=$2 root=$3
 tmp=$(mktemp -d)

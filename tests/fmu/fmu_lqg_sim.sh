@@ -5,6 +5,7 @@
 # numbers through JSON and TOML, as a user would pass them), then `flexloop sim --start rest` of
 # both scenes over 10 000 samples: the logs agree to 1e-12.
 #   tests/fmu/fmu_lqg_sim.sh FLEXLOOP FMU SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 fmu=$2 root=$3
 tmp=$(mktemp -d)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """A fixture FMU scene made runnable in DIR from a built loop artefact LOOP.json: a copy of the FMU
 beside it, the model path absolute, and the built-in controller's numbers as the FMU's
 [controller.parameters].

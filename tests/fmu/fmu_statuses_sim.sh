@@ -14,6 +14,7 @@
 #   5. an artefact of the FMU loop given a closed-loop start by hand: refused when read, exit 2,
 #      naming the start and why.
 #   tests/fmu/fmu_statuses_sim.sh FLEXLOOP FMU SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 fmu=$2 root=$3
 tmp=$(mktemp -d)

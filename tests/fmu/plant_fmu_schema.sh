@@ -7,6 +7,7 @@
 # under are declared, and the model structure lists every output. An artefact whose channel unit
 # does not read is refused (exit 2, naming the file and the unit, nothing written).
 #   tests/fmu/plant_fmu_schema.sh FLEXLOOP SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 root=$2
 schema=$root/tests/fixtures/fmi2_schema/fmi2ModelDescription.xsd

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Sourced by the tests of a controller FMU's statuses (fmu_statuses_sim.sh, fmu_hil_failures.sh):
 # with $flexloop, $fmu, $root, $tmp and fail() set, writes the fixture PI's scene into $tmp
 # (fmu_scene.py: the metrology frame's designed gains as the FMU's parameters) as $scene, and

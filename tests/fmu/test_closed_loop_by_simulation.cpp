@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The sampled closed loop by simulation (offline/pipeline/closed_loop_by_simulation.hpp), what
 // `flexloop analyse` shows for a controller FMU, checked against references it does not use:
 // - the transform of an impulse response against the analytic H(z) of a first-order system and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A controller FMU's archive is data until proven otherwise (issue 46, doc/controllers.md
 // "Refusals: the archive and its description"): each archive here is the PI fixture's parts with
 // one bad entry added, written by the test with libzip into a private folder. Each refusal is a

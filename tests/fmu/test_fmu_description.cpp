@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A controller FMU's modelDescription.xml read to the FMI 2.0 standard, and its library loaded only
 // once it is proven to be inside the archive and of the standard's platform and version (issue 46,
 // doc/controllers.md "Refusals: the archive and its description"). Each bad FMU is the PI fixture

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The metrology frame's PI force feedback as the fixture FMU equals the built-in compiled PI in
 // the same sampled loop over 10 000 samples (issue 33): the designed gains passed as the FMU's
 // parameters, the ZOH plant at 10 kHz, a deterministic white floor of 1 m/s^2 peak to peak

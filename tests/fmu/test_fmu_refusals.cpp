@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Bad controller FMUs are refused at start-up with an error naming the FMU file and what is wrong
 // (issue 33): each made here from the good fixture's parts, in a temporary directory.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop sim`'s loop with a controller as a fixture FMU equals the loop with the built-in
 // controller to 1e-12 over 10 000 samples (issue 33), both runs from rest with the scene's
 // hardware and seeds:

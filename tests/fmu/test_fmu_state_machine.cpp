@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // flexloop's calls keep to FMI 2.0's state machine when a controller FMU fails. The fixtures
 // abort the process on a call the standard does not allow (tools/fmu/fixture_fmu.h), so each
 // case passing shows none was made: after fmi2Fatal no call at all, not even at destruction;

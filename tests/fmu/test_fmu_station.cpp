@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A controller FMU in the controller process (online/loop/controller_station.hpp), driven message
 // by message on the synthetic clock of tests/hil/station_fixture.hpp: it answers as the built-in
 // PI does, and a failing fmi2DoStep is reported with its sample while the safe command follows.

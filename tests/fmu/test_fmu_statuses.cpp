@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A controller FMU's statuses as FMI 2.0 defines them (controller/fmu/fmu_controller.hpp), its
 // log without bookkeeping in the step (controller/fmu/fmu_log_ring.hpp), and the first real-time
 // cycle of the controller process (online/loop/controller_station.hpp). The fixture PI

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The exported plant FMU (`flexloop export-fmu`, issue 33), driven by a harness through the FMI
 // 2.0 calls as a user's tool would drive it, equals `flexloop sim`'s plant: open loop from the
 // stationary start on machines other than the reference (8 actuators; a 106-state modal arm; the

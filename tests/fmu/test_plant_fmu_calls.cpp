@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The exported plant FMU (`flexloop export-fmu`) against the FMI 2.0 standard's rules for the
 // calls (modelica/fmi-standard v2.0.5, section 4.2.4's table; section 2.1.5 for the logging): each
 // call in a state the table forbids, a get or set naming a variable its state does not allow, a

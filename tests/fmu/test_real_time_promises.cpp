@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The controller process's watch on a controller it cannot see into (online/loop/
 // real_time_promises.hpp): the counting allocator sees the allocations a controller FMU makes in
 // its step (the fixture's allocations_per_step), none for the fixture as shipped, and the report

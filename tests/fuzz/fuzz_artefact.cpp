@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: the loop artefact reader (artefact/loop_artefact.hpp) on any JSON text: what the
 // online programs read before anything else. Text that is not JSON stops at the parser (the file
 // reader reports it as InputError); a JSON document must be accepted or end in

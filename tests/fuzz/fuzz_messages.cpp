@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: what the loop does with received LCM datagrams (rt/message_inbox.hpp: fingerprint,
 // channel counts read before the decode, the generated decode, finite values, the order gate).
 // The input is a sequence of datagrams, each [type (1 byte), length (2 bytes LE), bytes]; the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Fuzz target: the scene parser (offline/scene/scene.hpp) on any text. Bad input must end in
 // flexloop::InputError (file:line and what is wrong); any other exception, a crash or a sanitizer
 // report is a finding (tools/fuzz; the corpus replays in every test run).

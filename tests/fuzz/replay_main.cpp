@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Runs a fuzz target's LLVMFuzzerTestOneInput on every file of the given files and directories
 // (the committed corpus and the crashes kept as regressions), without libFuzzer: the ordinary
 // build replays in every test run what tools/fuzz found.

@@ -7,6 +7,7 @@
 # sensitivity the artefact states (eps |A| over the slowest mode's distance to the unit circle:
 # plant/lti/stable_covariance.hpp). The agreement each loop reaches is printed.
 #   tests/hard_cases/blas_kernels.sh FLEXLOOP SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 root=$2
 tmp=$(mktemp -d)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Hard case 7, the last line of defence (doc/design.md §9): a run that diverges although its
 // artefact passed the stability checks stops at the first sample where the performance outputs and
 // commands leave the stated range (|[z; u]| <= plant::runtime::kDivergenceLimit = 1e12, finite),

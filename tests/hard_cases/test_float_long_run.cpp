@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Hard case 8 (doc/design.md §9): float over 10^8 steps (2.8 hours of the machine at 10 kHz). The
 // metrology plant in modal form, float beside double on the same input, on a thread set up as a
 // real-time loop thread is (denormals flushed to zero, rt/denormals.hpp). The error of the float

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Hard cases at size (issue 57): every flexible arm that tools/models/make_flexible_arm.py writes,
 // 10 to 100 beams, builds, dense and modal, into an artefact that its own reader takes back, and
 // runs. These plants carry the floor's double integrators and bending pairs that sit 1e-10 to 1e-7

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Hard cases at size (issue 57): a planar steel cantilever of 400 lumped beams
 // (tests/fixtures/make_lumped_cantilever.py) has a mass matrix of condition ~1e11 — translational
 // masses of 1e-2 kg beside rotary inertias of 1e-7 kg m^2 — that is positive definite. Its scene

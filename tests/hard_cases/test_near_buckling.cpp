@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Hard case 5 (doc/design.md §9, issue 17): near-buckling preload. The frequencies go to zero
 // smoothly as the load factor alpha approaches 1; beyond it the plant is reported statically
 // unstable, naming the buckling multiplier, and the loop commands refuse it.

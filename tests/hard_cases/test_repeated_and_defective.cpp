@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Hard case 3 (doc/design.md §9): repeated, nearly repeated and defective eigenvalues in the modal
 // form. The modal plant steps z <- Λ z + Bm u with Λ = T^-1 Ad T block-diagonal; when Ad has a
 // Jordan block (no eigenbasis) or nearly so (an eigenbasis with a huge condition number), T is

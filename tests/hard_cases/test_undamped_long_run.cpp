@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Hard case 2 (doc/design.md §9): zero damping. An undamped chain of masses and springs,
 //   M q'' + K q = b u,   energy E = ½ v'M v + ½ q'K q,
 // conserves E exactly, and ZOH keeps that: Ad = e^{AT} is orthogonal in the energy norm, every

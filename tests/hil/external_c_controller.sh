@@ -28,6 +28,7 @@
 # and the same replay check; afterwards no iox-roudi runs and no RouDi socket (/tmp/roudi), lock
 # (/tmp/*.lock), runtime socket or shared-memory segment (/dev/shm) of the run is left.
 #   tests/hil/external_c_controller.sh FLEXLOOP FLEXLOOP_C_CONTROLLER SOURCE_DIR [lcm|iceoryx]
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 ccontroller=$2 root=$3 transport=${4:-lcm}
 tmp=$(mktemp -d)

@@ -7,6 +7,7 @@
 # come used up sched_rt_runtime_us and lost ~50 ms a second: one wake-up 48.4 ms late, 488
 # periods skipped in 2 s at 10 kHz, online/loop/plant_loop_run.hpp).
 #   tests/hil/open_loop.sh FLEXLOOP SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 root=$2
 tmp=$(mktemp -d)

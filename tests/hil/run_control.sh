@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# How a real-time run ends, as the user sees it (README "When a run fails"): the verdict and its
+# How a real-time run ends, as the user sees it (doc/cli.md "When a run fails"): the verdict and its
 # exit code, the overrun policy, SIGINT / SIGTERM, and helper processes that fail. No timing is
 # judged here (the loops run unpinned at normal priority); each check is on exit codes, messages
 # and the written report.
@@ -9,9 +9,11 @@
 #      process alone ends plant and controller, writes the report marked partial, exit 130, and
 #      leaves no process behind.
 #   3. Ctrl-C (SIGINT to the whole process group) with --lcm-log: the same, and the log is kept.
-#   4. an LCM log that cannot be created fails the run before the loop, naming it; a log whose
-#      writes fail during the run (/dev/full) fails the verdict (exit 3), saying why.
+#   4. an LCM log that cannot be created (or a report in a folder's place) is refused before
+#      anything runs, exit 2, naming it; a log whose writes fail during the run (/dev/full) fails
+#      the verdict (exit 3), saying why.
 #   tests/hil/run_control.sh FLEXLOOP SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1 root=$2
 tmp=$(mktemp -d)
@@ -89,13 +91,18 @@ wait "$hil_pid"; rc=$?
 ok
 no_leftovers "Ctrl-C"
 
-# 4. An LCM log that fails.
+# 4. An LCM log that fails. One that cannot be created is bad input, refused before anything
+# runs (exit 2, as every output that cannot be written); a report in a folder's place too.
 mkdir "$tmp/a_directory"
 out=$("$flexloop" hil "${hil_args[@]}" --duration 30 --report "$tmp/nolog.json" --lcm-log "$tmp/a_directory" 2>&1)
 rc=$?
-[[ $rc -eq 1 && "$out" == *"$tmp/a_directory: cannot be created for the LCM log (Is a directory)"* ]] ||
+[[ $rc -eq 2 && "$out" == *"$tmp/a_directory: cannot be written: Is a directory"* && "$out" != *"cycles"* ]] ||
   fail "unopenable log: exit $rc ($out)"
 [[ ! -e "$tmp/nolog.json" ]] || fail "unopenable log: a report was written"
+out=$("$flexloop" hil "${hil_args[@]}" --duration 30 --report "$tmp/a_directory" 2>&1)
+rc=$?
+[[ $rc -eq 2 && "$out" == *"$tmp/a_directory: cannot be written: Is a directory"* && "$out" != *"cycles"* ]] ||
+  fail "report in a folder's place: exit $rc ($out)"
 ok
 no_leftovers "unopenable log"
 "$flexloop" hil "${hil_args[@]}" --duration 2 --report "$tmp/full.json" --lcm-log /dev/full >"$tmp/full.txt" 2>&1

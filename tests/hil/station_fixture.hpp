@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Drives a PlantStation and a ControllerStation by hand, on a synthetic clock (sample k due at
 // k T, answered 100 us later, received 150 us later), with every message going through its LCM

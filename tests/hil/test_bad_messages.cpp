@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Bad input on both ends of the loop (doc/design.md §7, §9): a message that fails to decode,
 // carries NaN or Inf, is stale (another plant run, or longer than a period in transit) or out of
 // order is dropped and counted, and never applied -- the plant holds its command (and counts the

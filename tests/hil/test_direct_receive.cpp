@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/lcm_direct_socket.hpp: the loop thread reads LCM's multicast datagrams itself. In a private
 // loopback-only namespace (entered in-process, as `flexloop hil --netns` does; each ctest case is
 // its own process): what LCM publishes arrives intact through the direct socket, LCM's own

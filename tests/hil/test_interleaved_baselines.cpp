@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The interleaved baselines' arithmetic (online/hil/interleaved_baselines.hpp), on figures made
 // up by hand: each loop segment against the baseline segment before it, the margins, the median
 // and spread, and the neighbouring LCM port the baselines use. The measurement itself runs in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // hil's replay of a run (online/hil/run_replay.hpp): the run's stations on a synthetic clock with
 // the misses the run recorded. Checked against the in-process loop of `flexloop sim` (an
 // independent loop, not the stations): with no miss the replay is sim's loop bit for bit, on

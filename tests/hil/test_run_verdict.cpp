@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The verdict of a real-time run (online/loop/run_verdict.hpp) and hil's status line: which limit
 // fails a run and in which words, which exit code each verdict gets, and that the JSON a report
 // carries reads back as the same verdict; an LCM log that lost messages fails the plant's run.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The plant and controller stations of the real-time loop (online/loop/plant_station.hpp,
 // controller_station.hpp) driven message by message on a synthetic clock: answered in time they
 // reproduce the in-process loop bit for bit; a silent controller makes the plant hold, then apply

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The real-time loop's plant station runs the scene's hardware effects (issue 6 composed into
 // issue 7): with every answer in time, the stations on the all-effects scene (gravity preload,
 // VC-C floor, lagging saturating piezos, sensors with gain error, noise, quantisation and delay,

@@ -8,6 +8,7 @@
 # when namespaces cannot be created.
 #
 #   tests/hil/veth_loop.sh build/release/tools/flexloop tools/scenes/metrology_frame.toml [RATE_HZ] [DURATION_S]
+# SPDX-License-Identifier: BSD-3-Clause
 set -euo pipefail
 flexloop=$(realpath "$1"); scene=$(realpath "$2"); rate=${3:-1000}; duration=${4:-3}
 skip() { echo "SKIP: $*"; exit 77; }

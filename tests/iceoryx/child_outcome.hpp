@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Runs a piece of a test in a child process (an iceoryx runtime is one per process, and the
 // process that owns RouDi must not register) and returns the int it computed. The number comes

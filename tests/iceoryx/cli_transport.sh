@@ -3,6 +3,7 @@
 # them, without timing judgement: they run and write their figures, leave no daemon, segment or
 # socket behind, and refuse with a message naming iox-roudi when it is missing or already runs.
 # Usage: cli_transport.sh FLEXLOOP
+# SPDX-License-Identifier: BSD-3-Clause
 set -euo pipefail
 flexloop=$1
 work=$(mktemp -d)

@@ -10,6 +10,7 @@
 #   5. `flexloop roudi`, `flexloop controller` and `flexloop plant` by hand: the loop closes;
 #   6. Ctrl-C during the loop: exit 130, the report of what ran; nothing left behind.
 # Usage: hil_iceoryx.sh FLEXLOOP SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -euo pipefail
 flexloop=$1
 src=$2

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/iceoryx_pingpong_baseline.hpp without timing judgement (it runs beside other tests, at
 // SCHED_OTHER, sleeping between pings): every ping is accounted for once, each answered one has a
 // round trip, and nothing is left behind; RouDi killed in the middle of the run is an error

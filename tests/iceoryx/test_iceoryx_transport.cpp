@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/iceoryx_transport.hpp against a real RouDi (rt/roudi_process.hpp): a message sent through
 // the iceoryx carrier arrives as exactly the bytes LCM's encode makes of it (read both through
 // the carrier's inbox and through a raw iceoryx subscriber on the same service), decodes equal,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/roudi_process.hpp against the real iox-roudi of Debian's iceoryx 2.0: the config it writes
 // is the TOML it means, RouDi is ready when the constructor returns (an iceoryx runtime registers
 // and moves a loaned chunk of the sized mempool through it), a second RouDi, a missing program

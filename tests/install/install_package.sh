@@ -19,6 +19,7 @@
 #   - `cpack -G DEB` makes a .deb of the same tree under /usr whose dependencies include LCM, and
 #     whose version (+native) and description say so when the build is native (-march=native).
 #   tests/install/install_package.sh BUILD_DIR SOURCE_DIR
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 build=$1 root=$2
 tmp=$(mktemp -d)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // lcm_probe: the two ends of the cross-process LCM test. It refuses to run outside the private
 // loopback-only namespace (tools/netns-run), so test traffic can never reach a real interface.
 //

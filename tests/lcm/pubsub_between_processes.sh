@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Run inside tools/netns-run: one process listens, another publishes; the listener must get
 # every sample intact.
+# SPDX-License-Identifier: BSD-3-Clause
 set -euo pipefail
 probe=$1
 n=200

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The include arrows between folders go only where doc/design.md §2 allows them.
 
 Every `#include "folder/..."` in the project's own code (not tests/, which may include anything)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """No function of the project's own code is longer than its limit (issue 49).
 
 One job per function: over 120 lines is a sign of two. The online side (online/, plant/runtime,

@@ -6,6 +6,7 @@
 # link: each program after --no-fmu defines no controller::fmu symbol and names none of the three
 # on its link line or among its shared libraries; each after --fmu does all of it.
 #   tests/link/online_links.sh BUILD_DIR [--fmu|--no-fmu] EXE... [--fmu|--no-fmu] EXE...
+# SPDX-License-Identifier: BSD-3-Clause
 set -euo pipefail
 build=$1; shift
 offline_ns='flexloop::(plant::model|plant::lti|controller::design|scene|report)::|(^| )toml::'

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Issue 17, case 4: beam elements with a consistent mass that includes rotary inertia
 // (mass_model = "beam", plant/model/beam_mass.hpp).
 //

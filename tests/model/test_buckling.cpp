@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // doc/design.md §3 validation case 3: Euler buckling of a column from the buckling multipliers,
 // det(K + lambda G) = 0, of a compressive reference load P0 at the top:
 //   clamped-free   P_cr = pi^2 EI / (4 L^2),     pinned-pinned   P_cr = pi^2 EI / L^2.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // doc/design.md §3 validation case 2: a clamped-free Euler-Bernoulli beam. Its bending frequencies
 //   omega_i = (beta_i L)^2 sqrt(EI / (rho A L^4)),  beta L = 1.8751, 4.6941, 7.8548
 // are approached by n planar beams (2-D) and n spatial beams (3-D, both bending planes).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // doc/design.md §3 validation case 1: spring-mass-damper on a massless cart (seed slides 25-26).
 //   A = [0 1; -k/m -d/m], B = [0 0 0; -1 0 0], C = [1 0], D = [0 0 1]  for u = (x1'', x1', x1)
 //   G1(s) = x2/x1 = (d/m s + k/m)/(s^2 + d/m s + k/m),  G2(s) = G1(s)/s.

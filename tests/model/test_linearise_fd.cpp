@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // doc/design.md §3 validation case 4: every linearised matrix equals a finite-difference Jacobian
 // of the nonlinear equations of motion R(q, q', q'') at the same configuration, stationary and
 // moving (q' != 0, q'' != 0, so that Cbar and Nbar are exercised):

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Issue 17, case 4: a beam model with lumped translational masses and no nodal rotary inertia
 // goes through the state-space builder (flexloop linearise and analyse), its massless bending
 // directions condensed statically (plant/lti/state_space_builder.hpp).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A bad model file gets "file:line: what is wrong": unknown node, zero-length element,
 // duplicate ids, unknown keys, singular kinematics (naming coordinates and deformations),
 // a massless mechanism (naming the coordinates), wrong coordinate counts.

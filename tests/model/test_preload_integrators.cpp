@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Acceleration inputs get double-integrator states when the dynamics depend on the prescribed
 // position through preload (Gbar_dr != 0; seed slide 24, doc/design.md §3). A taut string: mass m
 // at the end of a truss of length l under tension T (a nodal force), the other end moved

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Reaction outputs (equations of reaction, seed slides 8 and 12-13), against references that do
 // not use the release-to-prescribed construction:
 //  - a mass on a spring on the ground: the support force obeys Newton's law on the mass,

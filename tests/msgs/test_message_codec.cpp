@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The LCM messages of doc/design.md §7: encode/decode round trip, and rejection of truncated or
 // foreign (wrong-fingerprint) buffers.
 #include <catch2/catch.hpp>

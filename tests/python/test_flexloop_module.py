@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """The Python module against the command line (issue 55, 3): the same computation, the same bits.
 
 Run by CTest with PYTHONPATH at the module and FLEXLOOP the command line program; the working

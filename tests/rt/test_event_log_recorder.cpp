@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/event_log_recorder.hpp: what the loop records is in the LCM log, whole and in order, read
 // back with LCM's own reader; what it could not keep (a full ring, an oversize message) is
 // counted, never written half; a file that cannot be created is refused at once.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/latency_histogram.hpp against sorted reference data: min/max/count exact, nearest-rank
 // percentiles exact below 4096 ns and within the stated 1/256 relative bin error above, never
 // above max; bins tile the range; merge equals recording everything; reset forgets.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/lcm_transport.hpp on LCM's in-process provider (memq://): no network, no multicast, so it
 // runs anywhere. Publishing from the preallocated buffer, delivery into an inbox, and the three
 // receive modes returning at their deadline or as soon as the predicate holds.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/message_validation.hpp and rt/message_inbox.hpp without a network: hand-encoded buffers
 // are offered to an inbox; each drop reason is counted and the dropped message is never applied
 // (newest() keeps the last good one).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/deadline_schedule.hpp with synthetic times (deadline grid, lateness, overruns, skip and
 // re-anchor), and rt/periodic_clock.hpp on the real clock: it never wakes before a deadline and
 // its deadlines stay on the absolute grid whatever the wake-up error.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/realtime_setup.hpp: each step either does what it says (checked with the kernel's own
 // view: sched_getcpu, sched_getscheduler) or reports why not; refused steps never throw.
 #include <sched.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // rt/shm_pingpong_baseline.hpp, without timing judgement (it runs beside other tests): every
 // recorded round trip is counted once, the figures are ordered and add up to no more than the
 // wall time the run took, the pong is reaped, and the anonymous page leaves no /dev/shm entry.

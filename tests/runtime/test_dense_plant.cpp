@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // DensePlant: the fixed-size step equals a dynamic-size reference, start-up refuses an artefact
 // of the wrong size with a message naming both sizes, and the size dispatch finds the compiled
 // sizes.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // float against double over 10^6 steps (100 s at 10 kHz) of the metrology plant, dense and modal,
 // within the bound derived in tests/support/float_error_bound.hpp, evaluated for this plant and
 // this run. (tests/hard_cases/test_float_long_run.cpp runs 10^8 steps.)

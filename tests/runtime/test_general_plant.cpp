@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The general (start-up-sized) plant against independent references: a dynamic-size plant
 // stepped from its matrices with the held inputs fed back by hand ([w_k; h_{k-1}]), on sizes the
 // runtime has no compiled path for (odd state counts, unequal channel counts, 200 states), and

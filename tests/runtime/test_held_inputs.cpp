@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Held inputs (plant/runtime/state_output.hpp): a plant whose last NH inputs are held from one
 // advance() to the next gives, in the sampled loop's order, the output a plant without held inputs
 // gives for the input [w_k; h_{k-1}]: y_k = C x_k + D [w_k; h_{k-1}], checked against a

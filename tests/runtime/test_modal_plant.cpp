@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The modal (real block-diagonal) plant against the dense one, in double: the same outputs to
 // 1e-12 relative over 10^5 steps for a plant with an exactly repeated pair, real poles and
 // repeated integrator poles at z = 1, and for the metrology frame (its 13.9/13.9 Hz and 31.3/31.3

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Consistency of the in-process loop (online/sim/closed_loop_run.hpp) with the offline analysis:
 // for a white floor, the simulated closed-loop frame-acceleration spectrum (Welch) equals
 // sum_j |T_ij(e^{jwT})|^2 times the input density, T the sampled closed loop of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The floor between samples (issue 35, item 2; doc/performance.md "The floor between samples"):
 // the runtime holds the floor's sample-mean acceleration over each sample; the machine's floor
 // moves continuously. Both stationary RMS values are exact (Lyapunov equations): the loop as it

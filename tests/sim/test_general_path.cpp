@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop sim`'s general path (any size, sized at start-up; online/sim/scene_runs_general.cpp):
 // - on the metrology frame's default scene (every effect on) it gives the compiled path's
 //   figures, dense and modal;

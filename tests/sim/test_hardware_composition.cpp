@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The two ways the runtime composes a loop's simulated hardware (online/sim/loop_hardware.hpp)
 // give the same loop: a composition fixed at compile time (every absent effect NoEffect) and the
 // one whose slots are chosen at start-up (EffectChoice; an absent transport delay a delay of 0)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The one step from a loop artefact to its runtime objects (issue 34):
 // - plant/runtime/plant_from_artefact.hpp: the general plant in the artefact's form, the compiled
 //   plant of a compiled loop, each stepping as the artefact's discrete plant;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Scenes with the user's own controller ([controller] type = "state_space", a controller file):
 // - the PI's own law written as a continuous controller file (channels in another order) runs the
 //   PI's loop: sim equals the offline sampled closed loop and the PI scene's run;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A run starts in its loop's stationary state (doc/design.md §5a, artefact/loop_start.hpp): the
 // mean square a run reads is the machine's from the first sample, not a release from rest.
 // References: the exact stationary moments of the linear loop (offline/scene/loop_start_builder:

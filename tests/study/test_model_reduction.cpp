@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Model reduction (plant/lti/model_reduction.hpp) against references it did not produce:
 //   - balanced truncation: the Hankel singular values against sqrt(eig(P Q)) with the Gramians
 //     solved here by a Kronecker (vectorised) Lyapunov solve; the error of every reduced order

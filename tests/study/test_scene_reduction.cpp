@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // A scene's [plant] reduction (offline/scene/scene_plant.hpp reduced_plant): the loop artefact,
 // sim and every loop command run the reduced plant. On the three-mass fixture (not shipped; its
 // struts stand on two floor plates, so the plant carries the floor's position and velocity as

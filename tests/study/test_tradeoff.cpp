@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The accuracy-vs-time study (offline/study/tradeoff.hpp) on a machine that is not shipped (the
 // three-mass fixture under PI force feedback): properties that hold whatever the timing,
 //   - ZOH's error in the band falls with the rate, as the hold's half-sample delay does (∝ T);

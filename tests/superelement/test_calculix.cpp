@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Superelements (issue 58) against an outside solver: a steel bar of C3D8 elements, 1 m x 0.05 m
 // x 0.05 m, clamped at x = 0 (tests/fixtures/make_calculix_bar.py), given to CalculiX twice:
 // *FREQUENCY,SOLVER=MATRIXSTORAGE for K, M and the row map, read by flexloop's readers, and a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Superelements (issue 58): the FE tool's matrices read from their text files and reduced by
 // Craig-Bampton, against independent references: a fixed-free spring-mass chain's analytic
 // frequencies, w_j = 2 sqrt(k/m) sin((2j - 1) pi / (2 (2N + 1))), and (test_calculix.cpp)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Counts the heap allocations of the test thread with the programs' own counting allocator
 // (rt/counting_malloc, rt/thread_allocations.hpp): glibc's malloc family, and operator new

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The simulation loop of a plant with inputs [w; u] (NW disturbances, then actuator commands) and
 // outputs [z; y] (performance outputs, then the sensors the controller reads), closed by a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The compiled dense and modal plants side by side on the same seeded N(0,1) input: how far the
 // modal form's outputs are from the dense form's (tests/runtime, tests/hard_cases).

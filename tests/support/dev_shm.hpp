@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The names in /dev/shm (POSIX shared-memory segments of the whole host), for tests that check
 // a run left no segment behind: compare the set before and after.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Discrete test plants with known eigenvalues: Ad = S Λ S^-1 with Λ real block-diagonal (a 2x2
 // block r [[cos θ, sin θ], [-sin θ, cos θ]] per complex pair r e^{±jθ}, a 1x1 block per real

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Independent references in dynamic-size Eigen for the fixed-size runtime: a plant stepped from
 // its matrices, and the PI controller in its general state-space form (Ac, Bc, Cc, Dc, closed

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // float against double, side by side on the same input, with the error bound derived from the
 // rounding model (Higham, Accuracy and Stability of Numerical Algorithms, §3.1-3.5) and evaluated

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Long runs under the sanitizers (tools/sanitize: ASan + UBSan at -O1, 20x slower on these loops)
 // take a tenth of their length: what the sanitizers look for, an access out of bounds or undefined

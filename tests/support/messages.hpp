@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Messages with their channel vectors sized (the loop's messages carry their counts), zero-filled.
 #include <cstdint>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The reference scene for runtime tests and benchmarks: the metrology frame under PI force
 // feedback (tools/scenes/metrology_frame.toml), built once per process, with its ZOH plant at

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The PI controller's reference for the runtime tests: its continuous state space discretised by
 // the offline ZOH, with the parameters' feedthrough (identity when none) and limits (none when

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Comparing computed poles with expected roots (tests of closed loops against polynomials).
 #include <Eigen/Dense>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A rotation drawn uniformly: four independent normals, normalised, are a unit quaternion (Euler
 // parameters, scalar first) distributed uniformly over the rotations.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Runs compared sample by sample with a reference that steps from rest (an offline sampled loop,
 // another form or order of the same machine) start at rest too (online/sim/loop_start.hpp).

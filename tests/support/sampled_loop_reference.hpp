@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The offline model of a loop (plant/lti's sampled plant or closed loop w -> [z; ...]) stepped
 // with an artefact's own floor draws, from the floor's start (the plant's floor states where the

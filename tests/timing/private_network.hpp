@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The timing tests that run `flexloop hil` enter a private loopback-only namespace first.
 #include <catch2/catch.hpp>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The real-time loop end to end (online/hil/hil_run.hpp): the metrology scene, plant and
 // controller in two processes on the two cores over LCM in a private loopback-only namespace,
 // judged only against the baselines measured in the same run, interleaved with it in 5 segments

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Machines that are not the metrology frame, end to end through `flexloop hil` (online/hil):
 // built into their loop artefacts, run as plant and controller processes over LCM in a private
 // loopback-only namespace, on the general runtime path (channel counts 2/2/2/2, 6/8/8/8 and

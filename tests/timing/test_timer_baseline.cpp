@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // Timing sanity of the bare timer baseline (rt/timer_baseline.hpp), measured in this run only:
 // its counts add up, it never reports a wake-up before the deadline, and the hybrid wait is not
 // worse than the plain sleep at p99 by more than kHybridVsSleepFactor. Sleep and hybrid run

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Design a discrete LQG controller for a flexloop loop and write it as a flexloop state-space
 controller file (discrete form, doc/controllers.md).
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /* The iceoryx carrier of the C controller (carrier.h), on iceoryx 2.0's C binding only. The wire
  * contract is doc/iceoryx.md: the LCM channel name is the iceoryx service {"flexloop", <channel>,
  * "lcm"}; one chunk holds one message as LCM encodes it, its user-payload size the encoded

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /* The LCM carrier of the C controller (carrier.h): one UDP multicast datagram per message. */
 #include <lcm/lcm.h>
 #include <stdio.h>

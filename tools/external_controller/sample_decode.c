@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include <flexloop/sample_decode.h>
 
 #include <lcm/lcm_coretypes.h>

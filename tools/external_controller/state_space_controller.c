@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /* An external controller in plain C: what a user's own controller process looks like
  * (doc/external_controller.md is the contract it follows). Of flexloop it links only the C
  * controller library (libflexloop_c_controller: the carriers over the LCM C library or iceoryx's

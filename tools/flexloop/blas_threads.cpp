@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "tools/flexloop/blas_threads.hpp"
 
 #include <dlfcn.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // OpenBLAS's worker threads spin while they wait: a command that calls LAPACK on the small and
 // middling matrices of a loop (a campaign's samples, sim's and hil's set-up) beside other busy

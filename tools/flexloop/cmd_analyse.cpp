@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop analyse MODEL [--input NAME]... [--output NAME]... [--out-dir DIR]`
 // Modes, buckling multipliers and the frequency response of a linearised model: printed, and
 // written as analysis.json, frequency_response.csv, singular_values.csv, bode.png and
@@ -9,6 +10,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "offline/pipeline/analyse_scene.hpp"
 #include "offline/pipeline/linearised_model.hpp"
@@ -80,6 +82,7 @@ void run(const AnalyseArgs& a) {
   if (!(a.f_min > 0 && a.f_max > a.f_min && a.points >= 2))
     throw common::InputError("--fmin/--fmax/--points",
                              "need 0 < fmin < fmax and at least 2 points");
+  common::require_writable(std::filesystem::path(a.out_dir) / "analysis.json");
   if (scene::is_scene_file(a.model)) {
     if (!a.inputs.empty() || !a.outputs.empty())
       throw common::InputError(a.model,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop baseline timer|pingpong|shm`: the same-run baselines of doc/design.md §7 on their
 // own -- a bare periodic thread's wake-up lateness (cyclictest-style, rt/timer_baseline.hpp), the
 // bare LCM round trip between two processes (rt/pingpong_baseline.hpp) and the shared-memory
@@ -10,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "common/atomic_file.hpp"
 #include "online/hil/baseline_json.hpp"
 #include "online/loop/latency_json.hpp"
 #include "plant/lti/state_space_json.hpp"
@@ -76,6 +78,7 @@ void write_json(const std::string& path, const nlohmann::json& j) {
 }
 
 void run_timer(const BaselineArgs& a) {
+  if (!a.json.empty()) common::require_writable(a.json);  // before the run, not after it
   rt::TimerBaselineOptions o;
   o.clock = clock_options(a);
   o.duration_ns = duration_ns(a);
@@ -104,6 +107,7 @@ rt::PingPongResult run_iceoryx_pingpong(const rt::PingPongOptions& o) {
 }
 
 void run_pingpong(const BaselineArgs& a) {
+  if (!a.json.empty()) common::require_writable(a.json);  // before the run, not after it
   const bool iceoryx = a.transport == "iceoryx";
   if (!iceoryx)  // LCM sends multicast: only inside the private namespace, before any output
     rt::require_private_loopback_namespace("flexloop baseline pingpong");
@@ -156,6 +160,7 @@ struct ShmArgs {
 };
 
 void run_shm(const ShmArgs& a) {
+  if (!a.json.empty()) common::require_writable(a.json);  // before the run, not after it
   rt::ShmPingPongOptions o;
   o.round_trips = a.round_trips;
   const int pong_cpu = a.cpu < 0 ? -1 : 1 - (a.cpu % 2);  // the other of the two cores

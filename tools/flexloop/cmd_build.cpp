@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop build SCENE -o LOOP.json [--rate HZ] [--form dense|modal]`: runs the offline pipeline
 // of a scene once (model -> linearisation -> controller design -> discretisation) and writes the
 // discrete loop artefact (artefact/loop_artefact.hpp, doc/loop_artefact.md) that `flexloop sim`,
@@ -5,6 +6,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/scene.hpp"
 #include "tools/flexloop/subcommands.hpp"
@@ -32,6 +34,7 @@ void print_start(const char* which, const artefact::StationaryStart& s) {
 }
 
 void run(const BuildArgs& args) {
+  common::require_writable(args.output);  // before the work, not after it
   const artefact::LoopArtefact a = scene::load_loop(
       args.scene,
       {.rate_hz = args.rate_hz, .form = artefact::parse_plant_form(args.form), .duration_s = 0});

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop campaign SCENE --uncertain U.toml -n N --out-dir DIR` and its parts for engines:
 // `campaign plan`, `campaign run plan.json --shard K/M -o shard-K.jsonl`, `campaign submit
 // plan.json --engine local|slurm`, `campaign report plan.json shard-*.jsonl --out-dir DIR`

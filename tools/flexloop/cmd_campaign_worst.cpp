@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop campaign worst SCENE -u U.toml --figure F --out-dir DIR` (issue 54, 3.3;
 // doc/campaign.md "The worst machine in the box"): the machine of the parameters' box whose
 // figure is worst, by a bounded derivative-free search from the worst sampled machines
@@ -6,8 +7,10 @@
 
 #include <chrono>
 #include <cstdio>
+#include <filesystem>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "offline/campaign/local_engine.hpp"
 #include "offline/campaign/worst_machine.hpp"
 #include "tools/flexloop/process_heap.hpp"
@@ -99,6 +102,7 @@ void register_campaign_worst(CLI::App* campaign) {
       "tools/scenes/metrology_frame_uncertain.toml --figure disk_margin_db --out-dir out/worst\n"
       "  flexloop analyse out/worst/worst.toml");
   cmd->callback([a] {
+    common::require_writable(std::filesystem::path(a->out_dir) / "worst.json");
     keep_freed_memory();
     const WorstMachine w = find_worst_machine(a->request, progress_printer(a->quiet));
     print_result(w, write_worst_machine(w, a->out_dir));

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop discretise IN.json --method M --rate HZ -o OUT.json`: continuous state-space JSON ->
 // discrete state-space JSON (plant/lti/discretise.hpp has the equations, state_space_json.hpp
 // the file format). Bad input files and refused discretisations exit 2.
@@ -7,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "plant/lti/discretise.hpp"
@@ -56,6 +58,7 @@ void print_mapping(const lti::StateSpace& c, const lti::DiscretisationOptions& o
 }
 
 void run(const DiscretiseArgs& args) {
+  common::require_writable(args.output);  // before the work, not after it
   const auto in = lti::read_continuous(args.input);
   const lti::DiscretisationOptions opts{.method = lti::parse_discretisation_method(args.method),
                                         .dt = 1.0 / args.rate_hz,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop export-fmu SCENE|LOOP.json -o PLANT.fmu [--rate HZ] [--form dense|modal]`: the loop's
 // plant with its simulated hardware and floor as an FMI 2.0 Co-Simulation FMU
 // (offline/pipeline/plant_fmu_export.hpp), for a user's own simulation tool.
@@ -7,6 +8,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "offline/pipeline/plant_fmu_export.hpp"
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/scene.hpp"
@@ -37,6 +39,7 @@ std::filesystem::path plant_library() {
 }
 
 void run(const ExportArgs& args) {
+  common::require_writable(args.output);  // before the work, not after it
   const artefact::LoopArtefact a = scene::load_loop(
       args.loop, {.rate_hz = args.rate_hz,
                   .form = args.form.empty() ? std::nullopt

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop fit-metrology -o MODEL.toml [--mass KG] [--damping-ratio Z]`: choose the inertia,
 // centre-of-gravity depth and strut stiffness of the metrology frame (doc/design.md §4) so that its
 // passive natural frequencies are the paper's, and write the model file
@@ -53,6 +54,7 @@ std::string describe(const pipeline::MetrologyFrameFit& f, const FitArgs& a) {
 }
 
 void run(const FitArgs& a) {
+  common::require_writable(a.output);  // before the work, not after it
   std::printf("fitting the metrology frame: m = %g kg, triangle side %g m, struts at %g deg\n",
               a.mass_kg, a.geometry.triangle_side_m, a.geometry.strut_angle_deg);
   const pipeline::MetrologyFrameFit fit = pipeline::fit_metrology_frame(

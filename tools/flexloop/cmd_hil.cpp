@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop hil SCENE --rate HZ --duration S --report OUT.json [--wait MODE] [--netns]
 //  [--lcm-log FILE] [--sweep]`: the hardware-in-the-loop rehearsal (online/hil/hil_run.hpp):
 // same-run baselines (bare timer, bare LCM ping-pong), then the controller and plant processes

@@ -1,9 +1,11 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop linearise MODEL [--input NAME]... [--output NAME]... -o OUT.json`
 // Linearises a model file about its stationary configuration and writes the labelled state
 // space with the natural frequencies and provenance.
 #include <cstdio>
 #include <memory>
 
+#include "common/atomic_file.hpp"
 #include "offline/pipeline/linearised_model.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "offline/pipeline/superelement_provenance.hpp"
@@ -40,6 +42,7 @@ std::string name_list(const std::vector<std::string>& names) {
 }
 
 void run(const LineariseArgs& a) {
+  common::require_writable(a.output);  // before the work, not after it
   const pipeline::LinearisedModel r = pipeline::linearise_model_file(a.model, a.inputs, a.outputs);
   const auto& m = r.model;
   const auto& lin = r.lin;

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop log LOG -o OUT.csv|OUT.mat`: a recorded run (`flexloop hil --lcm-log LOG`) as a table
 // for MATLAB, Octave and Python (offline/report/run_log.hpp has the columns); a table (`flexloop
 // sim --log`, or this command's own) LOG.csv or LOG.mat into the other format, value for value.
@@ -5,6 +6,7 @@
 #include <memory>
 #include <string>
 
+#include "common/atomic_file.hpp"
 #include "offline/report/run_log.hpp"
 #include "offline/report/table_file.hpp"
 #include "tools/flexloop/subcommands.hpp"
@@ -35,6 +37,7 @@ void register_log(CLI::App& app) {
       "  flexloop log out/run.lcmlog -o out/run.mat\n"
       "  flexloop log out/sim.mat -o out/sim.csv");
   cmd->callback([args] {
+    common::require_writable(args->out);     // before the work, not after it
     if (report::is_table_file(args->log)) {  // a table: into the other format
       const report::Table t = report::read_table(args->log);
       report::write_table(args->out, t.names, t.data);

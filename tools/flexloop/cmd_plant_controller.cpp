@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop plant` and `flexloop controller`: the loop processes (tools/loop_cli) on a scene,
 // built into its loop artefact first, or on an artefact. flexloop-plant and flexloop-controller
 // (tools/online) are the same processes for artefacts alone, linking no offline code.

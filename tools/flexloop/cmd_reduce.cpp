@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop reduce PLANT.json --method balanced|modal|modal-dc (--order N | --below-hz F)
 //  -o REDUCED.json`
 // A continuous state-space JSON (as `flexloop linearise` writes it) reduced to fewer states with
@@ -6,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "offline/pipeline/provenance.hpp"
 #include "plant/lti/model_reduction.hpp"
@@ -25,6 +27,7 @@ struct ReduceArgs {
 };
 
 void run(const ReduceArgs& a) {
+  common::require_writable(a.output);  // before the work, not after it
   const auto in = lti::read_continuous(a.input);
   const int n = static_cast<int>(in.sys.nx());
   if (a.order > n)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop replay LOOP --plant-report PLANT.json [--controller-record C.json] [--json OUT.json]`:
 // a run of `flexloop plant` with a controller process of one's own (doc/external_controller.md),
 // replayed in-process sample for sample with the run's own misses (online/hil/run_replay.hpp),
@@ -17,6 +18,7 @@
 #include <vector>
 
 #include "artefact/loop_artefact.hpp"
+#include "common/atomic_file.hpp"
 #include "common/input_error.hpp"
 #include "common/json_document.hpp"
 #include "offline/scene/loop_input.hpp"
@@ -106,6 +108,7 @@ artefact::LoopArtefact load_at_rate(const std::string& loop, const std::string& 
 }
 
 void run(const ReplayArgs& a) {
+  if (!a.json.empty()) common::require_writable(a.json);  // before the work, not after it
   PlantRecord p = read_plant_report(a.plant_report);
   if (!a.controller_record.empty()) {
     const nlohmann::json j = common::parse_json_file(a.controller_record);

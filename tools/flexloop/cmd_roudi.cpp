@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop roudi [--duration S]`: iceoryx's RouDi for loops run by hand over shared memory
 // (`flexloop plant|controller --transport iceoryx`, an external controller on iceoryx's C
 // binding). It starts iox-roudi with a config sized for flexloop's messages, says when it is

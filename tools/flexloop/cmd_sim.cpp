@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop sim SCENE|LOOP.json [--duration S] [--controller on|off] [--form dense|modal]
 //  [--start stationary|rest] [--log OUT.csv] [--log-every N] [--json OUT.json] [--plots DIR]`:
 // the discrete plant, hardware and controller in one process, faster than real time

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop tradeoff SCENE [--methods ...] [--rates ...] [--forms ...] [--scalars ...]
 //  [--reductions ...] [--orders ...] [--budget ERR] [--out-dir DIR]`
 // What accuracy costs in time: the scene's plant over method x rate x form x scalar x model

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop version`: what was built, from which commit, with which compiler and libraries.
 #include <dlfcn.h>
 #include <lcm/lcm.h>

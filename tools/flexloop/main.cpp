@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // flexloop: finite-element multibody model -> linearised, discretised plant -> real-time loop.
 #include "tools/flexloop/blas_threads.hpp"
 #include "tools/flexloop/subcommands.hpp"
@@ -7,7 +8,7 @@ int main(int argc, char** argv) {
   flexloop::cli::set_blas_threads();  // one spinning BLAS thread per process (blas_threads.hpp)
   CLI::App app{
       "flexloop: linearise a flexible multibody model, discretise it, and run plant and\n"
-      "controller at a hard real-time rate over LCM.\n\n"
+      "controller as two real-time processes over LCM or iceoryx.\n\n"
       "Example:\n  flexloop version\n  flexloop <subcommand> --help"};
   app.require_subcommand(1);
   app.set_help_all_flag("--help-all", "Help for every subcommand");

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "tools/flexloop/process_heap.hpp"
 
 #include <malloc.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A command that builds and drops the same matrices thousands of times (a campaign's samples, a
 // worst-machine search, subset simulation's chains) pays for glibc's defaults: its blocks above

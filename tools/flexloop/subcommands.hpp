@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Each subcommand lives in its own cmd_<name>.cpp and registers itself on the main app.
 // A subcommand's callback throws flexloop::InputError for bad input (exit 2) and

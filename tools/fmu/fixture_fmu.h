@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #ifndef FLEXLOOP_TOOLS_FMU_FIXTURE_FMU_H
 #define FLEXLOOP_TOOLS_FMU_FIXTURE_FMU_H
 /* What the project's fixture FMUs (tools/fmu) share: the FMI 2.0 entry points that only store

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # Shared by tools/demo, tools/check and tools/bench: install what is missing, configure, build.
 # Sourced, not run.
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop controller SCENE|LOOP.json` and `flexloop-controller LOOP.json` [--rate HZ]
 // [--wait sleep|hybrid|spin] [--cpu N] [--safe-after N] [--duration S]: the controller process of
 // the real-time loop (online/loop/controller_loop.hpp). Answers every FLEXLOOP_SENSOR sample with a

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The plant and controller processes of the real-time loop as command lines, shared by
 // `flexloop plant|controller` (a scene or an artefact: the offline pipeline may run first) and

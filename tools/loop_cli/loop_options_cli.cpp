@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "tools/loop_cli/loop_options_cli.hpp"
 #include "tools/loop_cli/number_checks.hpp"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Command-line options shared by `flexloop plant`, `controller` and `hil` and the online programs
 // flexloop-plant and flexloop-controller (online/loop/loop_options.hpp): --rate, --wait,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Number checks for command-line options. CLI11's PositiveNumber and Range let NaN through (every
 // comparison with NaN is false), and PositiveNumber takes "inf": a duration of "nan" then fell

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // `flexloop plant SCENE|LOOP.json` and `flexloop-plant LOOP.json` [--rate HZ] [--duration S]
 // [--wait sleep|hybrid|spin] [--cpu N] [--safe-after N] [--safe-ramp S] [--json OUT.json]
 // [--lcm-log LOG]: the

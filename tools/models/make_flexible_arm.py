@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Write a flexible arm of any size: a 2 m steel cantilever (40 x 40 mm) in N planar beams on a
 base that moves with the floor, two piezo struts from the floor to node 2, and its scene (VC-C
 floor, force sensors, no controller), like tools/models/flexible_arm.toml (N = 25). With

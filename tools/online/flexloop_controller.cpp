@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // flexloop-controller: the controller process of the real-time loop for a loop artefact, as
 // deployed. It links only online code (artefact, controller runtime, rt, msgs; the build and
 // tests/link check it).

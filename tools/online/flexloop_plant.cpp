@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // flexloop-plant: the plant process of the real-time loop for a loop artefact, as deployed. It
 // links only online code (artefact, plant runtime, controller runtime, rt, msgs; the build and
 // tests/link check it), so it starts in milliseconds and carries no model or scene parser, and no

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // The Python module `flexloop` (issue 55, 3; doc/python.md): the command line's computations as
 // functions, numpy arrays in and out, the same code and so the same bits as the CLI. An input the
 // CLI refuses raises flexloop.InputError (a ValueError) with the CLI's message (file:line).

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """High-precision ZOH / FOH reference for `flexloop discretise` (issue 17, case 1).
 
 Reads a continuous state-space JSON (as written by `flexloop linearise`), forms the augmented

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Writes the continuous state space of a stiff spring-mass chain (issue 17, case 1 fixture).
 
 Four masses on a soft suspension (about 2 Hz) joined by stiff undamped struts whose top mode is

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """Writes plant/runtime/effects/ziggurat_table.hpp: the 1024-layer ziggurat of the standard normal
 density f(x) = exp(-x^2/2) (Marsaglia and Tsang, "The ziggurat method for generating random
 variables", J. Stat. Softw. 5(8), 2000), computed in 50-digit arithmetic (mpmath) and rounded

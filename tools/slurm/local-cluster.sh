@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 # shellcheck shell=bash disable=SC2154
 # Shared by start-local-cluster and stop-local-cluster (sourced; $dir is the cluster's directory).
 

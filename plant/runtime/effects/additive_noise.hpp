@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Additive white Gaussian sensor noise:  y_k = x_k + σ ⊙ n_k,  n_k ~ N(0, I) from GaussianNoise
 // (per-channel engines, reproducible for a seed; see gaussian_noise.hpp). σ [sensor unit, RMS]

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Shared vocabulary of the simulated-hardware effects (doc/design.md §6): N channels (one per strut
 // or sensor) of Scalar (double or float) at run time, SI parameters in double at start-up.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // First-order lag τ df/dt = -f + v per channel, discretised exactly for an input v held constant
 // over each sample [kT, (k+1)T) (zero-order hold):

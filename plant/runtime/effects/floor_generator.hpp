@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Stationary random floor acceleration on N independent channels (doc/design.md §6): each channel
 // runs the same discrete shaping filter of order NF, driven by its own unit-variance white

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Sensor (or actuator) gain error:  y_k = (1 + ε) ⊙ x_k,  ε the relative error per channel
 // (0.02 reads 2 % high), ε > -1 so the sign of the signal survives.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // N independent standard normal sequences n_k (mean 0, variance 1), one per channel, for the
 // sensor noise and the floor generator.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Piezo actuator: command u (the controller's actuator output, e.g. σa in N) to strut force f.
 //   c = g ⊙ u                          commanded force [N], g force per command unit

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // ADC quantisation: a b-bit bipolar converter over the full-scale range R (peak to peak, centred
 // on zero, per channel), mid-tread (zero is a level), two's-complement codes, clipping at range:

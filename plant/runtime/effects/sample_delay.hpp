@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Pure delay of D samples:  y_k = x_{k-D}, and y_k = the initial value (zero unless reset) for
 // k < D. D is chosen at start-up, 0 <= D <= kMaxDelay (a compile-time bound that sizes the ring

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A sensor as the hardware has it: gain error, then white noise, then the ADC, then a delay of
 // D samples (doc/design.md §6):   y_k = Q((1 + eps) x_{k-D} ... ) — precisely

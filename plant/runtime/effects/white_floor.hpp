@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Band-limited white floor acceleration: w_k = rms * n_k, n_k independent standard normal per
 // channel (seeded). The flat-spectrum alternative to FloorGenerator, with the same step().

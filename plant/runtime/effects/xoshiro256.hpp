@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // xoshiro256++ (Blackman and Vigna, "Scrambled linear pseudorandom number generators", 2021): a
 // 64-bit generator with 256 bits of state and period 2^256 - 1 that passes BigCrush and PractRand,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Standard normal draws by the ziggurat (Marsaglia and Tsang, J. Stat. Softw. 5(8), 2000; 1024
 // layers of equal area, ziggurat_table.hpp), from one 64-bit engine output on the usual path:

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /* A shared library that is no FMU: loading it writes "<its own path>.loaded" (its constructor
  * runs in dlopen, before any function of it is called). tests/fmu places it where an FMU's
  * modelIdentifier would reach from outside the archive ("../../../../x", "/abs/x") and checks

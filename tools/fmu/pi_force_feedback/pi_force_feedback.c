@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /* The metrology frame's PI force feedback (controller/runtime/pi_controller.hpp has the law) as an
  * FMI 2.0 Co-Simulation FMU: the project's own fixture for the FMU loop (issue 33). Six channels,
  * force sensors in series with the actuators (D22 = I, no extra delay). Parameters: the full

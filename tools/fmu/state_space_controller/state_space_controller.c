@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /* A discrete state-space controller as an FMI 2.0 Co-Simulation FMU: flexloop's own law
  * (controller/runtime/state_space_controller.hpp) for a fixture FMU (issue 33), sized at compile
  * time (NX states, NS sensors, NC actuators; tools/fmu/CMakeLists.txt builds one FMU per size and

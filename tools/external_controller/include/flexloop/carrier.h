@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /* How a C controller's messages travel (doc/external_controller.md): LCM over UDP multicast
  * (carrier_lcm.c) or Eclipse iceoryx's shared memory through its C binding (carrier_iceoryx.c,
  * doc/iceoryx.md). Either carries the bytes LCM encodes, one message each; the law and its

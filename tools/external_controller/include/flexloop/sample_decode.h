@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 /* FLEXLOOP_SENSOR's bytes into a sensor_sample_t without allocating: lcm-gen's C decoder
  * allocates the two arrays on every call; this one decodes into arrays the caller owns. */
 #ifndef FLEXLOOP_C_CONTROLLER_SAMPLE_DECODE_H
