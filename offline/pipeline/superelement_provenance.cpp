@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/pipeline/superelement_provenance.hpp"
 
 #include <sys/stat.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What an artefact records of a model's superelements (issue 58): the FE files it was reduced
 // from (path, bytes, modification time: their SHA-256 would read a gigabyte of text again at

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "offline/scene/collocated_struts.hpp"
 
 #include <cmath>

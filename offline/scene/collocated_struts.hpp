@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // The collocated struts of a PI force-feedback scene (controller/design/pi_force_feedback.hpp):
 // which design rule applies, the pairing of each actuator with the force sensor of its own strut,

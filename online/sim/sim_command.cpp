@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "online/sim/sim_command.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // What `flexloop sim` computes, apart from what it prints and writes (the command line and the
 // Python module's flexloop.sim both call it, so both give the same bits): the two runs of a loop

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/model/superelement_reader.hpp"
 
 #include <cmath>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // [[superelement]] tables of a model file (doc/model_format.md): each body's FE files read and
 // reduced (plant/superelement), and its interface nodes as model nodes. The model reader adds the

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Text files of an FE tool read where they lie (issue 58): a whole file memory-mapped read-only,
 // its lines numbered for error messages (file:line), and numbers taken with std::from_chars (no

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // Where a superelement's mesh nodes are (issue 58): the coordinates of the nodes a model names as
 // its interface, read from the FE tool's own input deck or from a CSV table.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #include "plant/superelement/superelement_files.hpp"
 
 #include <sys/stat.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A superelement as a model file names it (issue 58): the FE tool's files (stiffness, mass, DOF
 // map, node coordinates), the interface nodes and the cut-off, read and reduced by Craig-Bampton

@@ -4,6 +4,7 @@
 # (continuous and sampled), every mode is damped more than open loop, and its closed-loop poles
 # are those of an independent model (a rigid body on eight axial springs, numpy) closed by the
 # printed gains. A scene whose sensor 8 is not actuator 8's force sensor exits 2 at that entry.
+# SPDX-License-Identifier: BSD-3-Clause
 set -uo pipefail
 flexloop=$1
 root=$2

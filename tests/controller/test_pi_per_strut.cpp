@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // PI force feedback designed per strut (controller/design/pi_force_feedback.hpp): one loop per
 // collocated actuator and force sensor, for any number of struts. On the metrology frame the
 // scene keeps the coupled rule (its gains bitwise) and the per-strut rule is that rule's diagonal;

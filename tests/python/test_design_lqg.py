@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """tools/controllers/design_lqg.py (issue 55, 3; issue 58, 5): it reads the loop through the
 module, reproduces the shipped controller, and designs for a plant with floor states -- the
 gravity-preloaded metrology frame, whose floor positions and velocities the actuators cannot move

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """flexloop.sim and flexloop.campaign against the command line (issue 55, 3): the same runs and
 samples, the same bits.
 

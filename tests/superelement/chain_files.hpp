@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 #pragma once
 // A fixed-free spring-mass chain as an FE tool would export it (tests of issue 58): its Matrix
 // Market files, row map and node table, and its analytic frequencies,

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The shipped superelement machine against an outside solver (issue 58): the lens support ring
 (tools/models/lens_support) meshed coarse, exported by CalculiX, joined to six flexloop struts
 and linearised by flexloop; and the same machine solved whole by CalculiX (the ring and six

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: BSD-3-Clause
 // [[superelement]] in a model file (issue 58): the reduced body joins the model's coordinates,
 // and the linearised model has the frequencies of independent references: the analytic ones of
 // a fixed-free spring-mass chain, w_j = 2 sqrt(k/m) sin((2j - 1) pi / (2 (2N + 1))), and those of

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: BSD-3-Clause
 """CalculiX input decks from gmsh meshes (issue 58), shared by the shipped superelement models
 (tools/models/lens_support) and the tests' bar (tests/fixtures/make_calculix_bar.py)."""
 import re

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: BSD-3-Clause
 """The lens support as a superelement (issue 58): a steel ring (lens_support.geo) meshed by
 gmsh in tet10, exported by CalculiX (*FREQUENCY, SOLVER=MATRIXSTORAGE: K, M, the row map), and
 a flexloop model and scene that hold it on six piezo struts, as the metrology frame's bipods:
