@@ -7,6 +7,7 @@
 
 #include "common/input_error.hpp"
 #include "common/toml_reader.hpp"
+#include "numeric/constants.hpp"
 #include "plant/lti/state_space_builder.hpp"
 
 namespace flexloop::scene {
@@ -47,6 +48,32 @@ std::string deformation_of(const std::string& channel) {
   return channel.substr(std::char_traits<char>::length(kStressPrefix));
 }
 
+// 1/m_i over the machine's modes up to ten times omega_d, where the loop acts: sum_j (phi_j' b_i)^2
+// with phi_j mass-normalised and b_i the strut's generalised force. Above them a flexible body's
+// modes add the local mass of the strut's attachment (a superelement's mesh node: grams), which
+// b_i' Mdd^-1 b_i counts in full and which would tune the loop to a gain of 10^4. A machine whose
+// every mode lies below (a rigid payload) keeps b_i' Mdd^-1 b_i, to the bit.
+void suspension_inverse_mass(const plant::model::Model& m, const plant::model::Linearisation& lin,
+                             const Scene& scene, Eigen::VectorXd& inverse_mass) {
+  const int nd = m.nd();
+  const Eigen::MatrixXd Mdd = lin.M.topLeftCorner(nd, nd);
+  const Eigen::MatrixXd Kdd = (lin.K + lin.G + lin.N).topLeftCorner(nd, nd);
+  const Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> modes(
+      0.5 * (Kdd + Kdd.transpose()), Mdd);
+  if (modes.info() != Eigen::Success) return;  // massless directions: the full count stands
+  const double limit = std::pow(10.0 * numeric::kTwoPi * scene.controller.omega_d_hz, 2);
+  const Eigen::VectorXd& lambda = modes.eigenvalues();
+  if (lambda.maxCoeff() <= limit) return;
+  for (std::size_t i = 0; i < scene.actuators.size(); ++i) {
+    const int k = m.deformation_index(deformation_of(scene.actuators[i]));
+    const Eigen::VectorXd b = lin.DFe.row(k).head(nd).transpose();
+    double sum = 0;
+    for (Eigen::Index j = 0; j < lambda.size() && lambda(j) <= limit; ++j)
+      sum += std::pow(modes.eigenvectors().col(j).dot(b), 2);
+    inverse_mass(static_cast<Eigen::Index>(i)) = sum;
+  }
+}
+
 }  // namespace
 
 bool struts_are_the_coordinates(const Scene& scene, const plant::model::Model& m) {
@@ -80,7 +107,8 @@ std::vector<controller::design::CollocatedStrut> collocated_struts(
   // e_i(s) / sigma_a_i(s) = C (sI - A)^-1 B + D = ... + (C A B) / s^2 + ...: C B = 0 (an
   // elongation is a position), so -(C A B)_ii = b_i^T Mdd^-1 b_i exactly, damping or not.
   const auto path = plant::lti::build_state_space(m, lin, scene.actuators, elongations);
-  const Eigen::VectorXd inverse_mass = -(path.C * (path.A * path.B)).diagonal();
+  Eigen::VectorXd inverse_mass = -(path.C * (path.A * path.B)).diagonal();
+  suspension_inverse_mass(m, lin, scene, inverse_mass);
   std::vector<controller::design::CollocatedStrut> struts;
   for (std::size_t i = 0; i < scene.actuators.size(); ++i) {
     const int k = m.deformation_index(deformation_of(scene.actuators[i]));

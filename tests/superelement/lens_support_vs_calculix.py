@@ -4,7 +4,7 @@
 (tools/models/lens_support) meshed coarse, exported by CalculiX, joined to six flexloop struts
 and linearised by flexloop; and the same machine solved whole by CalculiX (the ring and six
 SPRINGA struts to held floor nodes, *FREQUENCY). The modes below f_cut / 5 must agree to the
-reduction's truncation, from above (Rayleigh-Ritz): within 1e-4 below f_cut / 20 (the six
+reduction's truncation, from above (Rayleigh-Ritz), and its scene's loop must be stable: within 1e-4 below f_cut / 20 (the six
 suspension modes, measured 3e-6 ... 4.1e-5), within 2e-3 up to f_cut / 5 (the ring's first
 flexible pair at f_cut / 8, measured 7.2e-4, and 8e-5 with f_cut doubled: truncation).
 
@@ -51,6 +51,12 @@ def main():
         ours = lin["natural_frequencies_hz"]
         theirs = calculix_hz(os.path.join(out, "ring_struts.dat"))
         cut = lin["provenance"]["superelements"][0]["modes_up_to_hz"]
+        # The scene's per-strut force feedback closes a stable loop on the reduced ring.
+        analysed = subprocess.run([a.flexloop, "analyse", os.path.join(
+            out, "lens_support_scene.toml"), "--out-dir", os.path.join(out, "analyse")],
+            check=True, capture_output=True, text=True).stdout
+        if "closed loop: stable (continuous, and sampled as it runs)" not in analysed:
+            sys.exit("the lens support's closed loop is not stable:\n" + analysed)
     compared = [(k, f, g) for k, (f, g) in enumerate(zip(ours, theirs), 1) if g <= cut / 5]
     if len(compared) < 6:
         sys.exit(f"only {len(compared)} CalculiX modes below f_cut / 5 = {cut / 5} Hz")
