@@ -12,11 +12,14 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <memory>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "offline/report/csv_writer.hpp"
 #include "plant/lti/frequency_response.hpp"
@@ -130,13 +133,16 @@ std::string datablock(const std::string& name, const std::vector<double>& x,
   return s + "EOD\n";
 }
 
-// Read a whole (small) file, for quoting gnuplot's complaints.
-std::string slurp(const std::string& path) {
+// A whole (small) file: gnuplot's log.
+std::string slurp_whole(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// The end of gnuplot's complaints, for an error message.
+std::string tail(const std::string& said) {
   constexpr std::size_t kMax = 2000;
-  if (s.size() > kMax) s = "..." + s.substr(s.size() - kMax);
-  return s;
+  return said.size() > kMax ? "..." + said.substr(said.size() - kMax) : said;
 }
 
 struct TempFile {
@@ -154,67 +160,146 @@ struct TempFile {
   TempFile& operator=(const TempFile&) = delete;
 };
 
-// Write the script (whose body refers to the output via `set output`), run gnuplot, check the
-// PNG and move it into place.
-void run_gnuplot(const std::string& png_path, const std::string& body_without_preamble,
-                 const PlotSpec& spec) {
-  TempFile image(png_path + ".tmp", png_path);
-  TempFile script(png_path + ".gp", png_path);
-  TempFile log(png_path + ".log", png_path);
-  {
-    std::ofstream out(script.path, std::ios::trunc);
-    out << preamble(spec, image.path) << body_without_preamble << "unset output\n";
-    out.close();
-    if (!out) throw std::runtime_error("plot " + png_path + ": cannot write gnuplot script");
-  }
-  const char* env = std::getenv("FLEXLOOP_GNUPLOT");
-  const std::string program = env && *env ? env : "gnuplot";
+// What each picture's commands print when its PNG is written: the log's text between two of
+// them is that picture's (a warning goes with the picture it is about).
+constexpr const char* kPictureDone = "flexloop: picture drawn";
 
+// One gnuplot process and the pictures it draws, in order: its script, its log (stdout and
+// stderr) and a temporary image per picture, each renamed over its PNG once checked.
+struct GnuplotRun {
+  std::vector<std::size_t> pictures;  // indices into the scripts
+  std::unique_ptr<TempFile> script, log;
+  std::vector<std::unique_ptr<TempFile>> images;
+  pid_t pid = -1;
+  std::string spawn_error;  // non-empty: the process did not start
+};
+
+std::string gnuplot_program() {
+  const char* env = std::getenv("FLEXLOOP_GNUPLOT");
+  return env && *env ? env : "gnuplot";
+}
+
+// The pictures shared out over at most `processes` runs, largest first to the run with the
+// fewest pixels so far (drawing and compressing a PNG costs about its pixels); each run's
+// pictures in the scripts' order.
+std::vector<std::vector<std::size_t>> share_out(const std::vector<PlotScript>& scripts,
+                                                int processes) {
+  const auto pixels = [&](std::size_t k) {
+    return static_cast<long>(scripts[k].spec.width_px) * scripts[k].spec.height_px;
+  };
+  std::vector<std::size_t> by_size(scripts.size());
+  for (std::size_t k = 0; k < by_size.size(); ++k) by_size[k] = k;
+  std::stable_sort(by_size.begin(), by_size.end(),
+                   [&](std::size_t a, std::size_t b) { return pixels(a) > pixels(b); });
+  const std::size_t width =
+      std::min<std::size_t>(static_cast<std::size_t>(std::max(processes, 1)), scripts.size());
+  std::vector<std::vector<std::size_t>> shares(width);
+  std::vector<long> load(width, 0);
+  for (std::size_t k : by_size) {
+    const auto least = static_cast<std::size_t>(
+        std::distance(load.begin(), std::min_element(load.begin(), load.end())));
+    shares[least].push_back(k);
+    load[least] += pixels(k);
+  }
+  for (auto& share : shares) std::sort(share.begin(), share.end());
+  return shares;
+}
+
+// Writes the run's script: each picture's terminal, output and commands, then its mark, then a
+// reset of everything it set (its datablocks too) before the next.
+void write_script(GnuplotRun& run, const std::vector<PlotScript>& scripts) {
+  const std::string& first = scripts[run.pictures.front()].png_path;
+  run.script = std::make_unique<TempFile>(first + ".gp", first);
+  run.log = std::make_unique<TempFile>(first + ".log", first);
+  std::ofstream out(run.script->path, std::ios::trunc);
+  for (std::size_t k : run.pictures) {
+    const PlotScript& p = scripts[k];
+    run.images.push_back(std::make_unique<TempFile>(p.png_path + ".tmp", p.png_path));
+    out << preamble(p.spec, run.images.back()->path) << p.body << "unset output\n"
+        << "print " << quote(kPictureDone) << "\nreset session\n";
+  }
+  out.close();
+  if (!out) throw std::runtime_error("plot " + first + ": cannot write gnuplot script");
+}
+
+// Starts `gnuplot -d SCRIPT`, its output to the log; pid -1 and spawn_error when it cannot.
+void start_gnuplot(GnuplotRun& run, const std::string& program) {
   posix_spawn_file_actions_t actions;
   posix_spawn_file_actions_init(&actions);
   posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.path.c_str(), O_WRONLY | O_TRUNC,
-                                   0);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, run.log->path.c_str(),
+                                   O_WRONLY | O_TRUNC, 0);
   posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
   std::string arg_d = "-d";
-  std::vector<char*> argv{const_cast<char*>(program.c_str()), arg_d.data(), script.path.data(),
+  std::vector<char*> argv{const_cast<char*>(program.c_str()), arg_d.data(), run.script->path.data(),
                           nullptr};
-  pid_t pid = -1;
-  const int rc = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
+  const int rc = ::posix_spawnp(&run.pid, program.c_str(), &actions, nullptr, argv.data(), environ);
   posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0)
-    throw std::runtime_error(
-        "plot " + png_path + ": cannot run '" + program +
-        "' (is gnuplot installed? apt-get install gnuplot-nox): " + std::strerror(rc));
+  if (rc != 0) {
+    run.pid = -1;
+    run.spawn_error = "cannot run '" + program +
+                      "' (is gnuplot installed? apt-get install gnuplot-nox): " + std::strerror(rc);
+  }
+}
+
+// The process's end: empty when it exited 0, else why not.
+std::string wait_for(pid_t pid) {
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR)
-      throw std::runtime_error("plot " + png_path + ": waitpid: " + std::strerror(errno));
+    if (errno != EINTR) return std::string("waitpid: ") + std::strerror(errno);
   }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    // glibc's posix_spawnp reports a missing program through rc; 127 covers other shells/libcs.
-    const std::string why = WIFEXITED(status)
-                                ? "exited with status " + std::to_string(WEXITSTATUS(status))
-                                : "was killed by signal " + std::to_string(WTERMSIG(status));
-    throw std::runtime_error("plot " + png_path + ": '" + program + "' " + why + ": " +
-                             slurp(log.path));
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
+  // glibc's posix_spawnp reports a missing program through rc; 127 covers other shells/libcs.
+  return WIFEXITED(status) ? "exited with status " + std::to_string(WEXITSTATUS(status))
+                           : "was killed by signal " + std::to_string(WTERMSIG(status));
+}
+
+// The log cut at each picture's mark: element k is what gnuplot said while drawing the run's
+// k-th picture; one more element (what it said after the last mark) when it stopped early.
+std::vector<std::string> said_per_picture(const std::string& log) {
+  const std::string mark = std::string(kPictureDone) + "\n";
+  std::vector<std::string> said;
+  std::size_t from = 0;
+  for (std::size_t at; (at = log.find(mark, from)) != std::string::npos; from = at + mark.size())
+    said.push_back(log.substr(from, at - from));
+  said.push_back(log.substr(from));
+  return said;
+}
+
+bool is_png_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  static const char kPng[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
+  return in && std::memcmp(sig, kPng, 8) == 0;
+}
+
+// After the run's process ended (`ended`: empty, or why it failed): each drawn picture checked
+// and moved into place, gnuplot's warnings passed on; the first picture not drawn is the error.
+void finish(const GnuplotRun& run, const std::vector<PlotScript>& scripts, const std::string& ended,
+            const std::string& program) {
+  const auto failed = [&](std::size_t i, const std::string& why) {
+    return std::runtime_error("plot " + scripts[run.pictures[i]].png_path + ": " + why);
+  };
+  if (!run.spawn_error.empty()) throw failed(0, run.spawn_error);
+  const std::vector<std::string> said = said_per_picture(slurp_whole(run.log->path));
+  for (std::size_t i = 0; i < run.pictures.size(); ++i) {
+    const std::string& png_path = scripts[run.pictures[i]].png_path;
+    const std::string& image = run.images[i]->path;
+    const bool drawn = i + 1 < said.size();  // its mark was printed
+    if (!drawn && !ended.empty())
+      throw failed(i, "'" + program + "' " + ended + ": " + tail(said[i]));
+    if (!drawn || !is_png_file(image)) throw failed(i, "gnuplot produced no PNG: " + tail(said[i]));
+    if (std::rename(image.c_str(), png_path.c_str()) != 0)
+      throw failed(i, std::string("rename: ") + std::strerror(errno));
+    // gnuplot succeeded but said something (a warning: an empty range, a bad tic): pass it on, a
+    // picture drawn around a warning is rarely the one meant (tests/cli/pictures.sh expects none).
+    if (!said[i].empty())
+      std::fprintf(stderr, "warning: plot %s: gnuplot: %s%s", png_path.c_str(), said[i].c_str(),
+                   said[i].back() == '\n' ? "" : "\n");
   }
-  {
-    std::ifstream in(image.path, std::ios::binary);
-    char sig[8] = {};
-    in.read(sig, 8);
-    static const char kPng[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
-    if (!in || std::memcmp(sig, kPng, 8) != 0)
-      throw std::runtime_error("plot " + png_path +
-                               ": gnuplot produced no PNG: " + slurp(log.path));
-  }
-  if (std::rename(image.path.c_str(), png_path.c_str()) != 0)
-    throw std::runtime_error("plot " + png_path + ": rename: " + std::strerror(errno));
-  // gnuplot succeeded but said something (a warning: an empty range, a bad tic): pass it on, a
-  // picture drawn around a warning is rarely the one meant (tests/cli/pictures.sh expects none).
-  if (const std::string said = slurp(log.path); !said.empty())
-    std::fprintf(stderr, "warning: plot %s: gnuplot: %s%s", png_path.c_str(), said.c_str(),
-                 said.back() == '\n' ? "" : "\n");
+  if (!ended.empty())  // every picture drawn, yet gnuplot failed after the last
+    throw failed(run.pictures.size() - 1, "'" + program + "' " + ended + ": " + tail(said.back()));
 }
 
 std::string plot_title(const std::string& t) {
@@ -251,13 +336,49 @@ std::string lines_body(const PlotSpec& spec, const std::vector<Series>& series,
 
 }  // namespace
 
+void draw_plots(const std::vector<PlotScript>& scripts, int processes) {
+  if (scripts.empty()) return;
+  const std::string program = gnuplot_program();
+  std::vector<GnuplotRun> runs;
+  for (auto& share : share_out(scripts, processes)) {
+    runs.emplace_back().pictures = std::move(share);
+    write_script(runs.back(), scripts);
+  }
+  for (GnuplotRun& run : runs) start_gnuplot(run, program);
+  std::vector<std::string> ended;
+  for (const GnuplotRun& run : runs) ended.push_back(run.pid > 0 ? wait_for(run.pid) : "");
+  // Every run's drawn pictures into place before the first error (in the scripts' order) is
+  // thrown: the error a single process per picture would have met first.
+  std::vector<std::pair<std::size_t, std::exception_ptr>> errors;
+  for (std::size_t r = 0; r < runs.size(); ++r) try {
+      finish(runs[r], scripts, ended[r], program);
+    } catch (...) {
+      errors.emplace_back(runs[r].pictures.front(), std::current_exception());
+    }
+  if (errors.empty()) return;
+  std::rethrow_exception(
+      std::min_element(errors.begin(), errors.end(), [](const auto& a, const auto& b) {
+        return a.first < b.first;
+      })->second);
+}
+
+PlotScript lines_script(const PlotSpec& spec, const std::vector<Series>& series,
+                        const std::string& png_path) {
+  return {png_path, spec, labels(spec) + lines_body(spec, series, "s", png_path)};
+}
+
 void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
                 const std::string& png_path) {
-  run_gnuplot(png_path, labels(spec) + lines_body(spec, series, "s", png_path), spec);
+  draw_plots({lines_script(spec, series, png_path)}, 1);
 }
 
 void plot_stacked(const PlotSpec& spec, const std::vector<Panel>& panels,
                   const std::string& png_path) {
+  draw_plots({stacked_script(spec, panels, png_path)}, 1);
+}
+
+PlotScript stacked_script(const PlotSpec& spec, const std::vector<Panel>& panels,
+                          const std::string& png_path) {
   if (panels.empty()) throw std::invalid_argument("plot " + png_path + ": no panel to draw");
   PlotSpec s = spec;
   s.title.clear();
@@ -268,7 +389,7 @@ void plot_stacked(const PlotSpec& spec, const std::vector<Panel>& panels,
     s.xlabel = k + 1 == panels.size() ? spec.xlabel : "";  // one x label, under the last panel
     body += labels(s) + lines_body(s, panels[k].series, "p" + std::to_string(k) + "_", png_path);
   }
-  run_gnuplot(png_path, body + "unset multiplot\n", spec);
+  return {png_path, spec, body + "unset multiplot\n"};
 }
 
 std::vector<std::complex<double>> channel(const std::vector<Eigen::MatrixXcd>& G,
@@ -318,7 +439,7 @@ void plot_bode(const PlotSpec& spec, const std::vector<BodeSeries>& series,
        << "unset key\nset ylabel 'phase [deg]'\nset ytics 90\nset mytics 2\n"
        << phase << "\n"
        << "unset multiplot\n";
-  run_gnuplot(png_path, body.str(), s);
+  draw_plots({{png_path, s, body.str()}}, 1);
 }
 
 void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& systems,
@@ -356,7 +477,7 @@ void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& 
     }
   }
   if (first) throw std::invalid_argument("plot " + png_path + ": no singular values to draw");
-  run_gnuplot(png_path, body + cmd + "\n", s);
+  draw_plots({{png_path, s, body + cmd + "\n"}}, 1);
 }
 
 namespace {
@@ -378,6 +499,11 @@ std::string log_ticks(double lo, double hi) {
 
 void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
                     const std::vector<double>& counts, const std::string& png_path) {
+  draw_plots({histogram_script(spec, bin_edges, counts, png_path)}, 1);
+}
+
+PlotScript histogram_script(const PlotSpec& spec, const std::vector<double>& bin_edges,
+                            const std::vector<double>& counts, const std::string& png_path) {
   if (counts.empty() || bin_edges.size() != counts.size() + 1)
     throw std::invalid_argument("plot " + png_path + ": need counts.size() + 1 bin edges, got " +
                                 std::to_string(bin_edges.size()) + " edges for " +
@@ -410,7 +536,7 @@ void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
   else if (!spec.logy)
     body += "set yrange [0:*]\n";
   body += "plot $h using 1:3:2 with boxes lc rgb '#4a90d9' notitle\n";
-  run_gnuplot(png_path, body, spec);
+  return {png_path, spec, body};
 }
 
 namespace {
@@ -428,6 +554,11 @@ std::string data_label(const std::string& label) {
 
 void plot_interval_bars(const PlotSpec& spec, const std::vector<std::string>& categories,
                         const std::vector<BarSeries>& series, const std::string& png_path) {
+  draw_plots({interval_bars_script(spec, categories, series, png_path)}, 1);
+}
+
+PlotScript interval_bars_script(const PlotSpec& spec, const std::vector<std::string>& categories,
+                                const std::vector<BarSeries>& series, const std::string& png_path) {
   if (categories.empty() || series.empty())
     throw std::invalid_argument("plot " + png_path + ": no bars to draw");
   for (const BarSeries& b : series)
@@ -457,7 +588,7 @@ void plot_interval_bars(const PlotSpec& spec, const std::vector<std::string>& ca
            std::to_string(3 * k + 3) + ":" + std::to_string(3 * k + 4) +
            (k == 0 ? ":xtic(1)" : "") + " " + plot_title(series[k].title);
   }
-  run_gnuplot(png_path, body + cmd + "\n", spec);
+  return {png_path, spec, body + cmd + "\n"};
 }
 
 }  // namespace flexloop::report

@@ -1,12 +1,17 @@
 #pragma once
 // PNG plots for reports, drawn by gnuplot (the distribution's gnuplot-nox).
 //
-// Each call writes one self-contained gnuplot script (data inline as datablocks) to a temporary
-// file beside the PNG, runs `gnuplot -d SCRIPT` (-d: ignore the user's ~/.gnuplot so pictures
-// are reproducible), and renames the finished image over png_path; on failure no PNG is left
-// behind. Terminal: pngcairo when this gnuplot has it, else the libgd png terminal. Text is
-// drawn literally (noenhanced: "sigma_1" is not a subscript). The gnuplot program is taken from
-// the environment variable FLEXLOOP_GNUPLOT when set, else `gnuplot` on PATH.
+// Each picture is a self-contained gnuplot script (data inline as datablocks). The plot_*
+// functions draw one at once: the script goes to a temporary file beside the PNG, `gnuplot -d
+// SCRIPT` runs it (-d: ignore the user's ~/.gnuplot so pictures are reproducible), and the
+// finished image is renamed over png_path; on failure no PNG is left behind. A report of many
+// pictures builds their scripts with the *_script functions and draws them with draw_plots: a
+// few gnuplot processes, each drawing its share one picture after the other (`reset session`
+// between them, so each PNG has the bytes a process of its own would draw), since starting
+// gnuplot costs more than drawing a simple picture. Terminal: pngcairo when this gnuplot has it,
+// else the libgd png terminal. Text is drawn literally (noenhanced: "sigma_1" is not a subscript).
+// The gnuplot program is taken from the environment variable FLEXLOOP_GNUPLOT when set, else
+// `gnuplot` on PATH.
 //
 // Errors: std::invalid_argument for inconsistent input; std::runtime_error naming png_path when
 // gnuplot is missing, fails (its stderr is quoted) or produces no PNG.
@@ -29,6 +34,20 @@ struct PlotSpec {
   double x_min = 0, x_max = 0;
 };
 
+/// A picture not drawn yet: its PNG, its size and title (spec) and the gnuplot commands that
+/// draw it (without terminal and output, which draw_plots sets).
+struct PlotScript {
+  std::string png_path;
+  PlotSpec spec;
+  std::string body;
+};
+
+/// Draws every script, in at most `processes` gnuplot processes at once, each drawing its share
+/// (shared out by picture size) one after the other; each PNG is renamed into place when drawn.
+/// Errors as the plot_* functions', for the first picture in `scripts` order that failed, thrown
+/// after every process has ended; a picture after a failed one in the same process is not drawn.
+void draw_plots(const std::vector<PlotScript>& scripts, int processes);
+
 /// One curve. `style` is a gnuplot `with` clause, e.g. "lines lw 2 dt 2" (dashed) or
 /// "linespoints pt 7"; empty means "lines lw 2". Only letters, digits, blanks and . # ' " - _ :
 /// are accepted (no second plot element, no function call, no shell escape).
@@ -42,6 +61,8 @@ struct Series {
 /// axis, are left out (the line breaks there).
 void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
                 const std::string& png_path);
+PlotScript lines_script(const PlotSpec& spec, const std::vector<Series>& series,
+                        const std::string& png_path);
 
 /// One panel of a stacked plot: its y label (with units) and its lines.
 struct Panel {
@@ -54,6 +75,8 @@ struct Panel {
 /// disturbance, and a performance output with the controller off and on).
 void plot_stacked(const PlotSpec& spec, const std::vector<Panel>& panels,
                   const std::string& png_path);
+PlotScript stacked_script(const PlotSpec& spec, const std::vector<Panel>& panels,
+                          const std::string& png_path);
 
 /// One frequency-response channel for a Bode plot.
 struct BodeSeries {
@@ -93,6 +116,8 @@ void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& 
 /// count.
 void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
                     const std::vector<double>& counts, const std::string& png_path);
+PlotScript histogram_script(const PlotSpec& spec, const std::vector<double>& bin_edges,
+                            const std::vector<double>& counts, const std::string& png_path);
 
 /// One group member of a bar chart: a value per category and its interval (lo <= value <= hi;
 /// NaN: no bar there).
@@ -105,5 +130,7 @@ struct BarSeries {
 /// by side, each with its [lo, hi] interval drawn over it (Sobol indices with their intervals).
 void plot_interval_bars(const PlotSpec& spec, const std::vector<std::string>& categories,
                         const std::vector<BarSeries>& series, const std::string& png_path);
+PlotScript interval_bars_script(const PlotSpec& spec, const std::vector<std::string>& categories,
+                                const std::vector<BarSeries>& series, const std::string& png_path);
 
 }  // namespace flexloop::report
