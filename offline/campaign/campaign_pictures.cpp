@@ -244,28 +244,31 @@ report::PlotScript p_unstable_script(const json& convergence, const std::string&
   return report::lines_script(spec, {estimate, lo, hi}, png);
 }
 
-// The pictures to draw, each with its script, in the order report.md shows them.
+// The pictures that may be drawn, each with the builder of its script, in the order report.md
+// shows them. A builder runs when its picture's turn comes (in one of draw_plots's threads), so
+// that a large campaign's scripts (millions of points as text) are not all in memory at once.
 class PictureList {
  public:
   explicit PictureList(std::string out_dir) : out_dir_(std::move(out_dir)) {}
   std::string path(const std::string& file) const { return out_dir_ + "/" + file; }
-  void add(Picture picture, std::optional<report::PlotScript> script) {
-    if (!script) return;  // nothing to draw
+  void add(Picture picture, report::PlotBuilder build) {
     pictures_.push_back(std::move(picture));
-    scripts_.push_back(std::move(*script));
+    builders_.push_back(std::move(build));
   }
-  // Every script drawn, in one gnuplot process per core (each process draws its share one after
-  // the other: a process's start costs as much as a picture); the pictures drawn.
+  // Every picture drawn, one gnuplot process per core; the pictures drawn.
   std::vector<Picture> draw() const {
-    report::draw_plots(scripts_,
-                       static_cast<int>(std::max(1U, std::thread::hardware_concurrency())));
-    return pictures_;
+    const std::vector<bool> drawn = report::draw_plots(
+        builders_, static_cast<int>(std::max(1U, std::thread::hardware_concurrency())));
+    std::vector<Picture> out;
+    for (std::size_t k = 0; k < pictures_.size(); ++k)
+      if (drawn[k]) out.push_back(pictures_[k]);
+    return out;
   }
 
  private:
   std::string out_dir_;
   std::vector<Picture> pictures_;
-  std::vector<report::PlotScript> scripts_;
+  std::vector<report::PlotBuilder> builders_;
 };
 
 }  // namespace
@@ -278,15 +281,18 @@ std::vector<Picture> draw_campaign_pictures(const json& plan, const SampleTable&
   const std::vector<SampleStatus>& status = machines.status;
   const std::vector<FigureColumn>& figures = machines.figures();
   PictureList list(out_dir);
-  list.add({"p_unstable.png", "P(unstable) and its interval against n"},
-           p_unstable_script(summary["p_unstable_convergence"], list.path("p_unstable.png")));
+  list.add({"p_unstable.png", "P(unstable) and its interval against n"}, [&] {
+    return p_unstable_script(summary["p_unstable_convergence"], list.path("p_unstable.png"));
+  });
   for (const FigureColumn& f : figures) {
     const std::string file = "ecdf_" + file_stem(f.name) + ".png";
-    const auto xs = population_values(f, status, static_cast<long>(status.size()));
     list.add({file, "ECDF of " + f.name + " with its quantile intervals"},
-             xs.empty() ? std::nullopt
-                        : ecdf_script(f.name, xs, to_string(f.population),
-                                      summary["figures"][f.name]["quantiles"], list.path(file)));
+             [&, file]() -> std::optional<report::PlotScript> {
+               const auto xs = population_values(f, status, static_cast<long>(status.size()));
+               if (xs.empty()) return std::nullopt;
+               return ecdf_script(f.name, xs, to_string(f.population),
+                                  summary["figures"][f.name]["quantiles"], list.path(file));
+             });
   }
   for (int r = 1; r <= kHistogramRanks; ++r) {
     const std::string name = "natural_frequency_" + std::to_string(r) + "_hz";
@@ -294,24 +300,29 @@ std::vector<Picture> draw_campaign_pictures(const json& plan, const SampleTable&
                                  [&](const FigureColumn& f) { return f.name == name; });
     if (it == figures.end()) break;
     const std::string file = "histogram_" + name + ".png";
-    const auto xs = population_values(*it, status, static_cast<long>(status.size()));
-    list.add(
-        {file, "histogram of " + name},
-        xs.empty() ? std::nullopt : std::optional(histogram_script(name, xs, list.path(file))));
+    list.add({file, "histogram of " + name},
+             [&, it, name, file]() -> std::optional<report::PlotScript> {
+               const auto xs = population_values(*it, status, static_cast<long>(status.size()));
+               if (xs.empty()) return std::nullopt;
+               return histogram_script(name, xs, list.path(file));
+             });
   }
-  list.add({"sigma_envelope.png", "closed-loop sigma envelope against the nominal"},
-           sigma_envelope_script(plan, table.sigma, list.path("sigma_envelope.png")));
+  list.add({"sigma_envelope.png", "closed-loop sigma envelope against the nominal"}, [&] {
+    return sigma_envelope_script(plan, table.sigma, list.path("sigma_envelope.png"));
+  });
   if (plan.contains("columns"))
     for (std::size_t c = 0; c < plan["columns"].size(); ++c) {
       const std::string column = plan["columns"][c].get<std::string>(),
                         file = "scatter_" + file_stem(column) + ".png";
       list.add({file, "the worst figures against " + column},
-               scatter_script(column, c, table, list.path(file)));
+               [&, column, c, file] { return scatter_script(column, c, table, list.path(file)); });
     }
   if (summary.contains("sobol"))
     for (const auto& [figure, sobol] : summary["sobol"].items()) {
       const std::string file = "sobol_" + file_stem(figure) + ".png";
-      list.add({file, "Sobol indices of " + figure}, sobol_script(figure, sobol, list.path(file)));
+      list.add({file, "Sobol indices of " + figure}, [&, figure = figure, file] {
+        return sobol_script(figure, summary["sobol"][figure], list.path(file));
+      });
     }
   return list.draw();
 }

@@ -2,11 +2,13 @@
 
 #include <fcntl.h>
 #include <spawn.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -17,8 +19,10 @@
 #include <iterator>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
 #include <utility>
 
 #include "offline/report/csv_writer.hpp"
@@ -133,12 +137,6 @@ std::string datablock(const std::string& name, const std::vector<double>& x,
   return s + "EOD\n";
 }
 
-// A whole (small) file: gnuplot's log.
-std::string slurp_whole(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
 // The end of gnuplot's complaints, for an error message.
 std::string tail(const std::string& said) {
   constexpr std::size_t kMax = 2000;
@@ -160,111 +158,118 @@ struct TempFile {
   TempFile& operator=(const TempFile&) = delete;
 };
 
-// What each picture's commands print when its PNG is written: the log's text between two of
-// them is that picture's (a warning goes with the picture it is about).
-constexpr const char* kPictureDone = "flexloop: picture drawn";
-
-// One gnuplot process and the pictures it draws, in order: its script, its log (stdout and
-// stderr) and a temporary image per picture, each renamed over its PNG once checked.
-struct GnuplotRun {
-  std::vector<std::size_t> pictures;  // indices into the scripts
-  std::unique_ptr<TempFile> script, log;
-  std::vector<std::unique_ptr<TempFile>> images;
-  pid_t pid = -1;
-  std::string spawn_error;  // non-empty: the process did not start
-};
+// A picture's script prints kScriptDone as its last command; the session prints kPictureEnd
+// after running it (also when an error cut the script short): what gnuplot said between two
+// ends is that picture's, and a picture without its "done" failed.
+constexpr const char* kScriptDone = "flexloop: picture drawn";
+constexpr const char* kPictureEnd = "flexloop: end of picture";
 
 std::string gnuplot_program() {
   const char* env = std::getenv("FLEXLOOP_GNUPLOT");
   return env && *env ? env : "gnuplot";
 }
 
-// The pictures shared out over at most `processes` runs, largest first to the run with the
-// fewest pixels so far (drawing and compressing a PNG costs about its pixels); each run's
-// pictures in the scripts' order.
-std::vector<std::vector<std::size_t>> share_out(const std::vector<PlotScript>& scripts,
-                                                int processes) {
-  const auto pixels = [&](std::size_t k) {
-    return static_cast<long>(scripts[k].spec.width_px) * scripts[k].spec.height_px;
+// One `gnuplot -d` process reading commands from a socket that also takes its output: it runs
+// one picture's script file after another (`reset session` between them, so each PNG has the
+// bytes a process of its own would draw). A socket, not a pipe: a write to a gnuplot that died
+// is an error, not SIGPIPE.
+class GnuplotSession {
+ public:
+  explicit GnuplotSession(std::string program) : program_(std::move(program)) {
+    int fds[2];
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0) {
+      failure_ = std::string("socketpair: ") + std::strerror(errno);
+      return;
+    }
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    for (int to : {STDIN_FILENO, STDOUT_FILENO, STDERR_FILENO})
+      posix_spawn_file_actions_adddup2(&actions, fds[1], to);
+    std::string arg_d = "-d";
+    std::vector<char*> argv{program_.data(), arg_d.data(), nullptr};
+    const int rc = ::posix_spawnp(&pid_, program_.c_str(), &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(fds[1]);
+    fd_ = fds[0];
+    if (rc != 0) {
+      pid_ = -1;
+      failure_ = "cannot run '" + program_ +
+                 "' (is gnuplot installed? apt-get install gnuplot-nox): " + std::strerror(rc);
+    }
+  }
+  ~GnuplotSession() { end(); }
+  GnuplotSession(const GnuplotSession&) = delete;
+  GnuplotSession& operator=(const GnuplotSession&) = delete;
+
+  /// Empty while gnuplot runs; else why it does not.
+  const std::string& failure() const { return failure_; }
+
+  /// Runs a script file; what gnuplot said while it ran, and whether it ran to its end.
+  struct Said {
+    bool done = false;
+    std::string text;
   };
-  std::vector<std::size_t> by_size(scripts.size());
-  for (std::size_t k = 0; k < by_size.size(); ++k) by_size[k] = k;
-  std::stable_sort(by_size.begin(), by_size.end(),
-                   [&](std::size_t a, std::size_t b) { return pixels(a) > pixels(b); });
-  const std::size_t width =
-      std::min<std::size_t>(static_cast<std::size_t>(std::max(processes, 1)), scripts.size());
-  std::vector<std::vector<std::size_t>> shares(width);
-  std::vector<long> load(width, 0);
-  for (std::size_t k : by_size) {
-    const auto least = static_cast<std::size_t>(
-        std::distance(load.begin(), std::min_element(load.begin(), load.end())));
-    shares[least].push_back(k);
-    load[least] += pixels(k);
+  Said run(const std::string& script_path) {
+    const std::string commands =
+        "load " + quote(script_path) + "\nprint " + quote(kPictureEnd) + "\nreset session\n";
+    if (!failure_.empty() || !send_all(commands)) return {false, ended()};
+    const std::string end_mark = std::string(kPictureEnd) + "\n";
+    std::size_t at;
+    while ((at = output_.find(end_mark)) == std::string::npos)
+      if (!read_more()) return {false, std::exchange(output_, "") + ended()};
+    Said said{false, output_.substr(0, at)};
+    output_.erase(0, at + end_mark.size());
+    const std::string done_mark = std::string(kScriptDone) + "\n";
+    if (const std::size_t d = said.text.find(done_mark); d != std::string::npos)
+      said.done = true, said.text.erase(d, done_mark.size());
+    return said;
   }
-  for (auto& share : shares) std::sort(share.begin(), share.end());
-  return shares;
-}
 
-// Writes the run's script: each picture's terminal, output and commands, then its mark, then a
-// reset of everything it set (its datablocks too) before the next.
-void write_script(GnuplotRun& run, const std::vector<PlotScript>& scripts) {
-  const std::string& first = scripts[run.pictures.front()].png_path;
-  run.script = std::make_unique<TempFile>(first + ".gp", first);
-  run.log = std::make_unique<TempFile>(first + ".log", first);
-  std::ofstream out(run.script->path, std::ios::trunc);
-  for (std::size_t k : run.pictures) {
-    const PlotScript& p = scripts[k];
-    run.images.push_back(std::make_unique<TempFile>(p.png_path + ".tmp", p.png_path));
-    out << preamble(p.spec, run.images.back()->path) << p.body << "unset output\n"
-        << "print " << quote(kPictureDone) << "\nreset session\n";
+ private:
+  bool send_all(const std::string& text) {
+    for (std::size_t sent = 0; sent < text.size();) {
+      const ssize_t n = ::send(fd_, text.data() + sent, text.size() - sent, MSG_NOSIGNAL);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      sent += static_cast<std::size_t>(n);
+    }
+    return true;
   }
-  out.close();
-  if (!out) throw std::runtime_error("plot " + first + ": cannot write gnuplot script");
-}
-
-// Starts `gnuplot -d SCRIPT`, its output to the log; pid -1 and spawn_error when it cannot.
-void start_gnuplot(GnuplotRun& run, const std::string& program) {
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, run.log->path.c_str(),
-                                   O_WRONLY | O_TRUNC, 0);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  std::string arg_d = "-d";
-  std::vector<char*> argv{const_cast<char*>(program.c_str()), arg_d.data(), run.script->path.data(),
-                          nullptr};
-  const int rc = ::posix_spawnp(&run.pid, program.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0) {
-    run.pid = -1;
-    run.spawn_error = "cannot run '" + program +
-                      "' (is gnuplot installed? apt-get install gnuplot-nox): " + std::strerror(rc);
+  bool read_more() {
+    char buffer[4096];
+    ssize_t n;
+    while ((n = ::read(fd_, buffer, sizeof buffer)) < 0 && errno == EINTR) {
+    }
+    if (n <= 0) return false;
+    output_.append(buffer, static_cast<std::size_t>(n));
+    return true;
   }
-}
-
-// The process's end: empty when it exited 0, else why not.
-std::string wait_for(pid_t pid) {
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return std::string("waitpid: ") + std::strerror(errno);
+  // Closes the socket (gnuplot reads its end and exits) and reaps it; why it failed, if it did.
+  std::string end() {
+    if (fd_ >= 0) ::close(fd_), fd_ = -1;
+    if (pid_ > 0) {
+      int status = 0;
+      while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+      }
+      pid_ = -1;
+      // glibc's posix_spawnp reports a missing program through rc; 127 covers other libcs.
+      if (!WIFEXITED(status))
+        failure_ = "'" + program_ + "' was killed by signal " + std::to_string(WTERMSIG(status));
+      else if (WEXITSTATUS(status) != 0)
+        failure_ = "'" + program_ + "' exited with status " + std::to_string(WEXITSTATUS(status));
+    }
+    return failure_;
   }
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) return "";
-  // glibc's posix_spawnp reports a missing program through rc; 127 covers other shells/libcs.
-  return WIFEXITED(status) ? "exited with status " + std::to_string(WEXITSTATUS(status))
-                           : "was killed by signal " + std::to_string(WTERMSIG(status));
-}
+  // The process is gone (or never ran): why, as the end of what it said.
+  std::string ended() {
+    end();
+    return failure_.empty() ? "'" + program_ + "' ended" : failure_;
+  }
 
-// The log cut at each picture's mark: element k is what gnuplot said while drawing the run's
-// k-th picture; one more element (what it said after the last mark) when it stopped early.
-std::vector<std::string> said_per_picture(const std::string& log) {
-  const std::string mark = std::string(kPictureDone) + "\n";
-  std::vector<std::string> said;
-  std::size_t from = 0;
-  for (std::size_t at; (at = log.find(mark, from)) != std::string::npos; from = at + mark.size())
-    said.push_back(log.substr(from, at - from));
-  said.push_back(log.substr(from));
-  return said;
-}
+  std::string program_, failure_, output_;
+  int fd_ = -1;
+  pid_t pid_ = -1;
+};
 
 bool is_png_file(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -274,32 +279,38 @@ bool is_png_file(const std::string& path) {
   return in && std::memcmp(sig, kPng, 8) == 0;
 }
 
-// After the run's process ended (`ended`: empty, or why it failed): each drawn picture checked
-// and moved into place, gnuplot's warnings passed on; the first picture not drawn is the error.
-void finish(const GnuplotRun& run, const std::vector<PlotScript>& scripts, const std::string& ended,
-            const std::string& program) {
-  const auto failed = [&](std::size_t i, const std::string& why) {
-    return std::runtime_error("plot " + scripts[run.pictures[i]].png_path + ": " + why);
-  };
-  if (!run.spawn_error.empty()) throw failed(0, run.spawn_error);
-  const std::vector<std::string> said = said_per_picture(slurp_whole(run.log->path));
-  for (std::size_t i = 0; i < run.pictures.size(); ++i) {
-    const std::string& png_path = scripts[run.pictures[i]].png_path;
-    const std::string& image = run.images[i]->path;
-    const bool drawn = i + 1 < said.size();  // its mark was printed
-    if (!drawn && !ended.empty())
-      throw failed(i, "'" + program + "' " + ended + ": " + tail(said[i]));
-    if (!drawn || !is_png_file(image)) throw failed(i, "gnuplot produced no PNG: " + tail(said[i]));
-    if (std::rename(image.c_str(), png_path.c_str()) != 0)
-      throw failed(i, std::string("rename: ") + std::strerror(errno));
-    // gnuplot succeeded but said something (a warning: an empty range, a bad tic): pass it on, a
-    // picture drawn around a warning is rarely the one meant (tests/cli/pictures.sh expects none).
-    if (!said[i].empty())
-      std::fprintf(stderr, "warning: plot %s: gnuplot: %s%s", png_path.c_str(), said[i].c_str(),
-                   said[i].back() == '\n' ? "" : "\n");
+// One picture drawn by the session: its script beside the PNG, gnuplot run on it, the image
+// checked and renamed over the PNG. gnuplot's warnings are passed on.
+void draw_in(GnuplotSession& session, const PlotScript& p) {
+  TempFile image(p.png_path + ".tmp", p.png_path);
+  TempFile script(p.png_path + ".gp", p.png_path);
+  {
+    std::ofstream out(script.path, std::ios::trunc);
+    out << preamble(p.spec, image.path) << p.body << "unset output\nprint " << quote(kScriptDone)
+        << "\n";
+    out.close();
+    if (!out) throw std::runtime_error("plot " + p.png_path + ": cannot write gnuplot script");
   }
-  if (!ended.empty())  // every picture drawn, yet gnuplot failed after the last
-    throw failed(run.pictures.size() - 1, "'" + program + "' " + ended + ": " + tail(said.back()));
+  const GnuplotSession::Said said = session.run(script.path);
+  if (!said.done)
+    throw std::runtime_error("plot " + p.png_path + ": " +
+                             (session.failure().empty() ? "gnuplot failed: " : "") +
+                             tail(said.text));
+  if (!is_png_file(image.path))
+    throw std::runtime_error("plot " + p.png_path +
+                             ": gnuplot produced no PNG: " + tail(said.text));
+  if (std::rename(image.path.c_str(), p.png_path.c_str()) != 0)
+    throw std::runtime_error("plot " + p.png_path + ": rename: " + std::strerror(errno));
+  // gnuplot succeeded but said something (a warning: an empty range, a bad tic): pass it on, a
+  // picture drawn around a warning is rarely the one meant (tests/cli/pictures.sh expects none).
+  if (!said.text.empty())
+    std::fprintf(stderr, "warning: plot %s: gnuplot: %s%s", p.png_path.c_str(), said.text.c_str(),
+                 said.text.back() == '\n' ? "" : "\n");
+}
+
+void draw_one(const PlotScript& p) {
+  GnuplotSession session(gnuplot_program());
+  draw_in(session, p);
 }
 
 std::string plot_title(const std::string& t) {
@@ -336,30 +347,35 @@ std::string lines_body(const PlotSpec& spec, const std::vector<Series>& series,
 
 }  // namespace
 
-void draw_plots(const std::vector<PlotScript>& scripts, int processes) {
-  if (scripts.empty()) return;
+std::vector<bool> draw_plots(const std::vector<PlotBuilder>& builders, int processes) {
+  std::vector<char> drawn(builders.size(), 0);
+  std::vector<std::exception_ptr> errors(builders.size());
+  std::atomic<std::size_t> next{0};
   const std::string program = gnuplot_program();
-  std::vector<GnuplotRun> runs;
-  for (auto& share : share_out(scripts, processes)) {
-    runs.emplace_back().pictures = std::move(share);
-    write_script(runs.back(), scripts);
-  }
-  for (GnuplotRun& run : runs) start_gnuplot(run, program);
-  std::vector<std::string> ended;
-  for (const GnuplotRun& run : runs) ended.push_back(run.pid > 0 ? wait_for(run.pid) : "");
-  // Every run's drawn pictures into place before the first error (in the scripts' order) is
-  // thrown: the error a single process per picture would have met first.
-  std::vector<std::pair<std::size_t, std::exception_ptr>> errors;
-  for (std::size_t r = 0; r < runs.size(); ++r) try {
-      finish(runs[r], scripts, ended[r], program);
-    } catch (...) {
-      errors.emplace_back(runs[r].pictures.front(), std::current_exception());
-    }
-  if (errors.empty()) return;
-  std::rethrow_exception(
-      std::min_element(errors.begin(), errors.end(), [](const auto& a, const auto& b) {
-        return a.first < b.first;
-      })->second);
+  // Each thread its gnuplot, taking the next picture when its last is drawn: the cores stay busy
+  // whatever each picture costs, and at most one script per thread is in memory at once.
+  const auto worker = [&] {
+    std::unique_ptr<GnuplotSession> session;
+    for (std::size_t k = next++; k < builders.size(); k = next++) try {
+        const std::optional<PlotScript> script = builders[k]();
+        if (!script) continue;  // nothing to draw
+        if (!session || !session->failure().empty())
+          session = std::make_unique<GnuplotSession>(program);
+        draw_in(*session, *script);
+        drawn[k] = 1;
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+  };
+  const std::size_t width = std::min<std::size_t>(static_cast<std::size_t>(std::max(processes, 1)),
+                                                  std::max<std::size_t>(builders.size(), 1));
+  std::vector<std::thread> threads;
+  for (std::size_t t = 1; t < width; ++t) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  return {drawn.begin(), drawn.end()};
 }
 
 PlotScript lines_script(const PlotSpec& spec, const std::vector<Series>& series,
@@ -369,12 +385,12 @@ PlotScript lines_script(const PlotSpec& spec, const std::vector<Series>& series,
 
 void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
                 const std::string& png_path) {
-  draw_plots({lines_script(spec, series, png_path)}, 1);
+  draw_one(lines_script(spec, series, png_path));
 }
 
 void plot_stacked(const PlotSpec& spec, const std::vector<Panel>& panels,
                   const std::string& png_path) {
-  draw_plots({stacked_script(spec, panels, png_path)}, 1);
+  draw_one(stacked_script(spec, panels, png_path));
 }
 
 PlotScript stacked_script(const PlotSpec& spec, const std::vector<Panel>& panels,
@@ -439,7 +455,7 @@ void plot_bode(const PlotSpec& spec, const std::vector<BodeSeries>& series,
        << "unset key\nset ylabel 'phase [deg]'\nset ytics 90\nset mytics 2\n"
        << phase << "\n"
        << "unset multiplot\n";
-  draw_plots({{png_path, s, body.str()}}, 1);
+  draw_one({png_path, s, body.str()});
 }
 
 void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& systems,
@@ -477,7 +493,7 @@ void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& 
     }
   }
   if (first) throw std::invalid_argument("plot " + png_path + ": no singular values to draw");
-  draw_plots({{png_path, s, body + cmd + "\n"}}, 1);
+  draw_one({png_path, s, body + cmd + "\n"});
 }
 
 namespace {
@@ -499,7 +515,7 @@ std::string log_ticks(double lo, double hi) {
 
 void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
                     const std::vector<double>& counts, const std::string& png_path) {
-  draw_plots({histogram_script(spec, bin_edges, counts, png_path)}, 1);
+  draw_one(histogram_script(spec, bin_edges, counts, png_path));
 }
 
 PlotScript histogram_script(const PlotSpec& spec, const std::vector<double>& bin_edges,
@@ -554,7 +570,7 @@ std::string data_label(const std::string& label) {
 
 void plot_interval_bars(const PlotSpec& spec, const std::vector<std::string>& categories,
                         const std::vector<BarSeries>& series, const std::string& png_path) {
-  draw_plots({interval_bars_script(spec, categories, series, png_path)}, 1);
+  draw_one(interval_bars_script(spec, categories, series, png_path));
 }
 
 PlotScript interval_bars_script(const PlotSpec& spec, const std::vector<std::string>& categories,

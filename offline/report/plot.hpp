@@ -5,10 +5,10 @@
 // functions draw one at once: the script goes to a temporary file beside the PNG, `gnuplot -d
 // SCRIPT` runs it (-d: ignore the user's ~/.gnuplot so pictures are reproducible), and the
 // finished image is renamed over png_path; on failure no PNG is left behind. A report of many
-// pictures builds their scripts with the *_script functions and draws them with draw_plots: a
-// few gnuplot processes, each drawing its share one picture after the other (`reset session`
-// between them, so each PNG has the bytes a process of its own would draw), since starting
-// gnuplot costs more than drawing a simple picture. Terminal: pngcairo when this gnuplot has it,
+// pictures builds their scripts with the *_script functions and draws them with draw_plots: one
+// gnuplot process per core, each drawing one picture after another (`reset session` between
+// them, so each PNG has the bytes a process of its own would draw), since starting gnuplot costs
+// more than drawing a simple picture. Terminal: pngcairo when this gnuplot has it,
 // else the libgd png terminal. Text is drawn literally (noenhanced: "sigma_1" is not a subscript).
 // The gnuplot program is taken from the environment variable FLEXLOOP_GNUPLOT when set, else
 // `gnuplot` on PATH.
@@ -17,6 +17,8 @@
 // gnuplot is missing, fails (its stderr is quoted) or produces no PNG.
 #include <Eigen/Dense>
 #include <complex>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -35,18 +37,21 @@ struct PlotSpec {
 };
 
 /// A picture not drawn yet: its PNG, its size and title (spec) and the gnuplot commands that
-/// draw it (without terminal and output, which draw_plots sets).
+/// draw it (without terminal and output, which the drawing sets).
 struct PlotScript {
   std::string png_path;
   PlotSpec spec;
   std::string body;
 };
 
-/// Draws every script, in at most `processes` gnuplot processes at once, each drawing its share
-/// (shared out by picture size) one after the other; each PNG is renamed into place when drawn.
-/// Errors as the plot_* functions', for the first picture in `scripts` order that failed, thrown
-/// after every process has ended; a picture after a failed one in the same process is not drawn.
-void draw_plots(const std::vector<PlotScript>& scripts, int processes);
+/// Builds one picture's script when its turn comes (none: nothing to draw).
+using PlotBuilder = std::function<std::optional<PlotScript>()>;
+
+/// Builds and draws every picture, `processes` at once: each of as many threads runs one gnuplot
+/// process and takes the next picture when its last is drawn (so at most `processes` scripts are
+/// in memory at once). Which were drawn (false: the builder had nothing to draw). Errors as the
+/// plot_* functions', the first in `builders` order, thrown after every picture was tried.
+std::vector<bool> draw_plots(const std::vector<PlotBuilder>& builders, int processes);
 
 /// One curve. `style` is a gnuplot `with` clause, e.g. "lines lw 2 dt 2" (dashed) or
 /// "linespoints pt 7"; empty means "lines lw 2". Only letters, digits, blanks and . # ' " - _ :
