@@ -1,6 +1,5 @@
 #include "offline/report/plot.hpp"
 
-#include <fcntl.h>
 #include <spawn.h>
 #include <sys/socket.h>
 #include <sys/stat.h>
@@ -204,14 +203,16 @@ class GnuplotSession {
   /// Empty while gnuplot runs; else why it does not.
   const std::string& failure() const { return failure_; }
 
-  /// Runs a script file; what gnuplot said while it ran, and whether it ran to its end.
+  /// Runs a script file; what gnuplot said while it ran, and whether it ran to its end. An error
+  /// cuts the script short, maybe inside a multiplot, which is ended before the next picture.
   struct Said {
     bool done = false;
     std::string text;
   };
   Said run(const std::string& script_path) {
-    const std::string commands =
-        "load " + quote(script_path) + "\nprint " + quote(kPictureEnd) + "\nreset session\n";
+    const std::string commands = "load " + quote(script_path) +
+                                 "\nunset multiplot\nunset output\nprint " + quote(kPictureEnd) +
+                                 "\nreset session\n";
     if (!failure_.empty() || !send_all(commands)) return {false, ended()};
     const std::string end_mark = std::string(kPictureEnd) + "\n";
     std::size_t at;
