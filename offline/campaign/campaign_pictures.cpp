@@ -2,14 +2,13 @@
 #include "offline/campaign/campaign_pictures.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cctype>
 #include <cmath>
-#include <exception>
-#include <functional>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "offline/campaign/sample_table.hpp"
 #include "offline/campaign/statistics.hpp"
@@ -38,14 +37,15 @@ double json_or_nan(const json& j) {
 // The ECDF of xs (sorted here) as a staircase, each quantile's estimate and its interval as a
 // horizontal bar at height p (an unbounded end drawn to the data's end, dashed). Infinite values
 // (an unbounded margin) count in the heights but cannot be drawn: the staircase ends below 1.
-// False when no value is finite.
-bool draw_ecdf(const std::string& name, std::vector<double> xs, const char* population,
-               const json& quantiles, const std::string& png) {
+// None when no value is finite.
+std::optional<report::PlotScript> ecdf_script(const std::string& name, std::vector<double> xs,
+                                              const char* population, const json& quantiles,
+                                              const std::string& png) {
   std::sort(xs.begin(), xs.end());
   std::vector<double> finite;
   std::copy_if(xs.begin(), xs.end(), std::back_inserter(finite),
                [](double x) { return std::isfinite(x); });
-  if (finite.empty()) return false;
+  if (finite.empty()) return std::nullopt;
   report::Series ecdf{"ECDF of " + std::to_string(xs.size()) + " " + population,
                       {finite.front()},
                       {0.0},
@@ -78,12 +78,11 @@ bool draw_ecdf(const std::string& name, std::vector<double> xs, const char* popu
     const double half = finite.front() != 0.0 ? 0.005 * std::abs(finite.front()) : 0.5;
     spec.x_min = finite.front() - half, spec.x_max = finite.front() + half;
   }
-  report::plot_lines(spec, series, png);
-  return true;
+  return report::lines_script(spec, series, png);
 }
 
-void draw_histogram(const std::string& name, const std::vector<double>& xs,
-                    const std::string& png) {
+report::PlotScript histogram_script(const std::string& name, const std::vector<double>& xs,
+                                    const std::string& png) {
   const auto [min_it, max_it] = std::minmax_element(xs.begin(), xs.end());
   double lo = *min_it, hi = *max_it;
   if (!(hi > lo)) {  // one value: a bin of +-0.5 % around it
@@ -101,7 +100,7 @@ void draw_histogram(const std::string& name, const std::vector<double>& xs,
   spec.title = name + ": histogram over " + std::to_string(xs.size()) + " stable samples";
   spec.xlabel = "frequency [Hz]";
   spec.ylabel = "samples";
-  report::plot_histogram(spec, edges, counts, png);
+  return report::histogram_script(spec, edges, counts, png);
 }
 
 // The order statistic x_(k) of xs (k = max(1, ceil(p n))): the ECDF's inverse at p. Moves xs's
@@ -116,8 +115,9 @@ double order_statistic(std::vector<double>& xs, std::size_t end, double p) {
 
 // Per grid point: 5/50/95 % (ECDF inverse) and the max of sigma_max over the stable machines
 // (the independent evaluations, as the summary's figures), one frequency's values at a time.
-bool draw_sigma_envelope(const json& plan, const ColumnSpill& sigma, const std::string& png) {
-  if (!plan.contains("sigma_grid_hz") || !plan["sigma_grid_hz"].is_array()) return false;
+std::optional<report::PlotScript> sigma_envelope_script(const json& plan, const ColumnSpill& sigma,
+                                                        const std::string& png) {
+  if (!plan.contains("sigma_grid_hz") || !plan["sigma_grid_hz"].is_array()) return std::nullopt;
   const std::vector<double> f = plan["sigma_grid_hz"].get<std::vector<double>>();
   const auto db = [](double s) { return s > 0.0 ? 20.0 * std::log10(s) : kMissing; };
   std::vector<report::Series> lines{{"max over samples", f, {}, "lines lw 2 lc rgb '#d62728'"},
@@ -143,7 +143,7 @@ bool draw_sigma_envelope(const json& plan, const ColumnSpill& sigma, const std::
     lines[2].y.push_back(db(q50));
     lines[3].y.push_back(db(q05));
   }
-  if (!any) return false;
+  if (!any) return std::nullopt;
   const json& nominal = plan.contains("nominal") ? plan["nominal"] : json();
   if (nominal.is_object() && nominal.contains("sigma_max") && nominal["sigma_max"].is_array() &&
       nominal["sigma_max"].size() == f.size()) {
@@ -156,8 +156,7 @@ bool draw_sigma_envelope(const json& plan, const ColumnSpill& sigma, const std::
   spec.xlabel = "frequency [Hz]";
   spec.ylabel = "sigma_max [dB]";
   spec.logx = true;
-  report::plot_lines(spec, lines, png);
-  return true;
+  return report::lines_script(spec, lines, png);
 }
 
 const std::vector<double>& figure_values(const SampleTable& table, const std::string& name) {
@@ -170,8 +169,8 @@ const std::vector<double>& figure_values(const SampleTable& table, const std::st
 // The worst figures against one parameter (column c of the plan): the disk margin and the peak
 // sigma of the stable samples, and the spectral radius of every judged sample (unstable ones in
 // red, above 1), over every evaluation.
-bool draw_scatter(const std::string& column, std::size_t c, const SampleTable& table,
-                  const std::string& png) {
+std::optional<report::PlotScript> scatter_script(const std::string& column, std::size_t c,
+                                                 const SampleTable& table, const std::string& png) {
   const std::vector<double>& xs = table.parameters[c];
   const auto figure = [&](const char* field, bool stable, bool unstable) {
     report::Series s{"", {}, {}, "points pt 7 ps 0.6 lc rgb '#1f4e79'"};
@@ -195,16 +194,16 @@ bool draw_scatter(const std::string& column, std::size_t c, const SampleTable& t
   if (!radius_unstable.x.empty()) panels.back().series.push_back(radius_unstable);
   for (auto it = panels.begin(); it != panels.end();)
     it = it->series.front().x.empty() && it->series.size() == 1 ? panels.erase(it) : it + 1;
-  if (panels.empty()) return false;
+  if (panels.empty()) return std::nullopt;
   report::PlotSpec spec;
   spec.title = "the worst-case figures against " + column;
   spec.xlabel = column;
   spec.height_px = 300 * static_cast<int>(panels.size()) + 100;
-  report::plot_stacked(spec, panels, png);
-  return true;
+  return report::stacked_script(spec, panels, png);
 }
 
-bool draw_sobol(const std::string& figure, const json& sobol, const std::string& png) {
+std::optional<report::PlotScript> sobol_script(const std::string& figure, const json& sobol,
+                                               const std::string& png) {
   std::vector<std::string> names;
   report::BarSeries first{"first order", {}, {}, {}}, total{"total", {}, {}, {}};
   for (const json& p : sobol["parameters"]) {
@@ -219,16 +218,15 @@ bool draw_sobol(const std::string& figure, const json& sobol, const std::string&
   // Nothing to draw where the figure does not vary (an indicator with no unstable machine).
   if (names.empty() || std::none_of(first.value.begin(), first.value.end(),
                                     [](double v) { return std::isfinite(v); }))
-    return false;
+    return std::nullopt;
   report::PlotSpec spec;
   spec.title = figure + ": Sobol indices with their 95 % bootstrap intervals (" +
                std::to_string(sobol["base_rows"].get<long>()) + " base rows)";
   spec.ylabel = "share of the variance";
-  report::plot_interval_bars(spec, names, {first, total}, png);
-  return true;
+  return report::interval_bars_script(spec, names, {first, total}, png);
 }
 
-void draw_p_unstable(const json& convergence, const std::string& png) {
+report::PlotScript p_unstable_script(const json& convergence, const std::string& png) {
   report::Series estimate{"estimate", {}, {}, "linespoints lw 2 pt 7 lc rgb '#1f4e79'"};
   report::Series lo{"Clopper-Pearson 95 % interval", {}, {}, "lines lw 2 dt 2 lc rgb '#d62728'"};
   report::Series hi{"", {}, {}, "lines lw 2 dt 2 lc rgb '#d62728'"};
@@ -244,42 +242,35 @@ void draw_p_unstable(const json& convergence, const std::string& png) {
   spec.xlabel = "n (evaluations)";
   spec.ylabel = "P(unstable)";
   spec.logx = true;
-  report::plot_lines(spec, {estimate, lo, hi}, png);
+  return report::lines_script(spec, {estimate, lo, hi}, png);
 }
 
-// A picture and how to draw it (false: nothing to draw).
-struct PictureTask {
-  Picture picture;
-  std::function<bool()> draw;
+// The pictures that may be drawn, each with the builder of its script, in the order report.md
+// shows them. A builder runs when its picture's turn comes (in one of draw_plots's threads), so
+// that a large campaign's scripts (millions of points as text) are not all in memory at once.
+class PictureList {
+ public:
+  explicit PictureList(std::string out_dir) : out_dir_(std::move(out_dir)) {}
+  std::string path(const std::string& file) const { return out_dir_ + "/" + file; }
+  void add(Picture picture, report::PlotBuilder build) {
+    pictures_.push_back(std::move(picture));
+    builders_.push_back(std::move(build));
+  }
+  // Every picture drawn, one gnuplot process per core; the pictures drawn.
+  std::vector<Picture> draw() const {
+    const std::vector<bool> drawn = report::draw_plots(
+        builders_, static_cast<int>(std::max(1U, std::thread::hardware_concurrency())));
+    std::vector<Picture> out;
+    for (std::size_t k = 0; k < pictures_.size(); ++k)
+      if (drawn[k]) out.push_back(pictures_[k]);
+    return out;
+  }
+
+ private:
+  std::string out_dir_;
+  std::vector<Picture> pictures_;
+  std::vector<report::PlotBuilder> builders_;
 };
-
-// Every task drawn, as many at once as there are cores: each picture is its own gnuplot
-// process, most of a large campaign's report time, and independent of the others. The pictures
-// drawn, in the tasks' order; the first error any task threw, after all have finished.
-std::vector<Picture> draw_side_by_side(const std::vector<PictureTask>& tasks) {
-  std::vector<char> drawn(tasks.size(), 0);
-  std::vector<std::exception_ptr> errors(tasks.size());
-  std::atomic<std::size_t> next{0};
-  const auto worker = [&] {
-    for (std::size_t k = next++; k < tasks.size(); k = next++) try {
-        drawn[k] = tasks[k].draw() ? 1 : 0;
-      } catch (...) {
-        errors[k] = std::current_exception();
-      }
-  };
-  const std::size_t width =
-      std::min<std::size_t>(std::max(1U, std::thread::hardware_concurrency()), tasks.size());
-  std::vector<std::thread> threads;
-  for (std::size_t t = 1; t < width; ++t) threads.emplace_back(worker);
-  worker();
-  for (auto& t : threads) t.join();
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
-  std::vector<Picture> out;
-  for (std::size_t k = 0; k < tasks.size(); ++k)
-    if (drawn[k]) out.push_back(tasks[k].picture);
-  return out;
-}
 
 }  // namespace
 
@@ -290,20 +281,19 @@ std::vector<Picture> draw_campaign_pictures(const json& plan, const SampleTable&
   // rows); the scatter against a parameter shows every evaluation.
   const std::vector<SampleStatus>& status = machines.status;
   const std::vector<FigureColumn>& figures = machines.figures();
-  const auto path = [&](const std::string& file) { return out_dir + "/" + file; };
-  std::vector<PictureTask> tasks;
-  tasks.push_back({{"p_unstable.png", "P(unstable) and its interval against n"}, [&] {
-                     draw_p_unstable(summary["p_unstable_convergence"], path("p_unstable.png"));
-                     return true;
-                   }});
+  PictureList list(out_dir);
+  list.add({"p_unstable.png", "P(unstable) and its interval against n"}, [&] {
+    return p_unstable_script(summary["p_unstable_convergence"], list.path("p_unstable.png"));
+  });
   for (const FigureColumn& f : figures) {
     const std::string file = "ecdf_" + file_stem(f.name) + ".png";
-    tasks.push_back(
-        {{file, "ECDF of " + f.name + " with its quantile intervals"}, [&, file] {
-           const auto xs = population_values(f, status, static_cast<long>(status.size()));
-           return !xs.empty() && draw_ecdf(f.name, xs, to_string(f.population),
-                                           summary["figures"][f.name]["quantiles"], path(file));
-         }});
+    list.add({file, "ECDF of " + f.name + " with its quantile intervals"},
+             [&, file]() -> std::optional<report::PlotScript> {
+               const auto xs = population_values(f, status, static_cast<long>(status.size()));
+               if (xs.empty()) return std::nullopt;
+               return ecdf_script(f.name, xs, to_string(f.population),
+                                  summary["figures"][f.name]["quantiles"], list.path(file));
+             });
   }
   for (int r = 1; r <= kHistogramRanks; ++r) {
     const std::string name = "natural_frequency_" + std::to_string(r) + "_hz";
@@ -311,33 +301,31 @@ std::vector<Picture> draw_campaign_pictures(const json& plan, const SampleTable&
                                  [&](const FigureColumn& f) { return f.name == name; });
     if (it == figures.end()) break;
     const std::string file = "histogram_" + name + ".png";
-    tasks.push_back({{file, "histogram of " + name}, [&, it, name, file] {
-                       const auto xs =
-                           population_values(*it, status, static_cast<long>(status.size()));
-                       if (xs.empty()) return false;
-                       draw_histogram(name, xs, path(file));
-                       return true;
-                     }});
+    list.add({file, "histogram of " + name},
+             [&, it, name, file]() -> std::optional<report::PlotScript> {
+               const auto xs = population_values(*it, status, static_cast<long>(status.size()));
+               if (xs.empty()) return std::nullopt;
+               return histogram_script(name, xs, list.path(file));
+             });
   }
-  tasks.push_back({{"sigma_envelope.png", "closed-loop sigma envelope against the nominal"}, [&] {
-                     return draw_sigma_envelope(plan, table.sigma, path("sigma_envelope.png"));
-                   }});
+  list.add({"sigma_envelope.png", "closed-loop sigma envelope against the nominal"}, [&] {
+    return sigma_envelope_script(plan, table.sigma, list.path("sigma_envelope.png"));
+  });
   if (plan.contains("columns"))
     for (std::size_t c = 0; c < plan["columns"].size(); ++c) {
       const std::string column = plan["columns"][c].get<std::string>(),
                         file = "scatter_" + file_stem(column) + ".png";
-      tasks.push_back({{file, "the worst figures against " + column}, [&, column, c, file] {
-                         return draw_scatter(column, c, table, path(file));
-                       }});
+      list.add({file, "the worst figures against " + column},
+               [&, column, c, file] { return scatter_script(column, c, table, list.path(file)); });
     }
   if (summary.contains("sobol"))
     for (const auto& [figure, sobol] : summary["sobol"].items()) {
       const std::string file = "sobol_" + file_stem(figure) + ".png";
-      tasks.push_back({{file, "Sobol indices of " + figure}, [&, figure = figure, file] {
-                         return draw_sobol(figure, summary["sobol"][figure], path(file));
-                       }});
+      list.add({file, "Sobol indices of " + figure}, [&, figure = figure, file] {
+        return sobol_script(figure, summary["sobol"][figure], list.path(file));
+      });
     }
-  return draw_side_by_side(tasks);
+  return list.draw();
 }
 
 }  // namespace flexloop::campaign

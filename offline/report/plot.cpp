@@ -1,23 +1,29 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "offline/report/plot.hpp"
 
-#include <fcntl.h>
 #include <spawn.h>
+#include <sys/socket.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <memory>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <thread>
+#include <utility>
 
 #include "offline/report/csv_writer.hpp"
 #include "plant/lti/frequency_response.hpp"
@@ -131,13 +137,10 @@ std::string datablock(const std::string& name, const std::vector<double>& x,
   return s + "EOD\n";
 }
 
-// Read a whole (small) file, for quoting gnuplot's complaints.
-std::string slurp(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::string s((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+// The end of gnuplot's complaints, for an error message.
+std::string tail(const std::string& said) {
   constexpr std::size_t kMax = 2000;
-  if (s.size() > kMax) s = "..." + s.substr(s.size() - kMax);
-  return s;
+  return said.size() > kMax ? "..." + said.substr(said.size() - kMax) : said;
 }
 
 struct TempFile {
@@ -155,67 +158,161 @@ struct TempFile {
   TempFile& operator=(const TempFile&) = delete;
 };
 
-// Write the script (whose body refers to the output via `set output`), run gnuplot, check the
-// PNG and move it into place.
-void run_gnuplot(const std::string& png_path, const std::string& body_without_preamble,
-                 const PlotSpec& spec) {
-  TempFile image(png_path + ".tmp", png_path);
-  TempFile script(png_path + ".gp", png_path);
-  TempFile log(png_path + ".log", png_path);
+// A picture's script prints kScriptDone as its last command; the session prints kPictureEnd
+// after running it (also when an error cut the script short): what gnuplot said between two
+// ends is that picture's, and a picture without its "done" failed.
+constexpr const char* kScriptDone = "flexloop: picture drawn";
+constexpr const char* kPictureEnd = "flexloop: end of picture";
+
+std::string gnuplot_program() {
+  const char* env = std::getenv("FLEXLOOP_GNUPLOT");
+  return env && *env ? env : "gnuplot";
+}
+
+// One `gnuplot -d` process reading commands from a socket that also takes its output: it runs
+// one picture's script file after another (`reset session` between them, so each PNG has the
+// bytes a process of its own would draw). A socket, not a pipe: a write to a gnuplot that died
+// is an error, not SIGPIPE.
+class GnuplotSession {
+ public:
+  explicit GnuplotSession(std::string program) : program_(std::move(program)) {
+    int fds[2];
+    if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, fds) != 0) {
+      failure_ = std::string("socketpair: ") + std::strerror(errno);
+      return;
+    }
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    for (int to : {STDIN_FILENO, STDOUT_FILENO, STDERR_FILENO})
+      posix_spawn_file_actions_adddup2(&actions, fds[1], to);
+    std::string arg_d = "-d";
+    std::vector<char*> argv{program_.data(), arg_d.data(), nullptr};
+    const int rc = ::posix_spawnp(&pid_, program_.c_str(), &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    ::close(fds[1]);
+    fd_ = fds[0];
+    if (rc != 0) {
+      pid_ = -1;
+      failure_ = "cannot run '" + program_ +
+                 "' (is gnuplot installed? apt-get install gnuplot-nox): " + std::strerror(rc);
+    }
+  }
+  ~GnuplotSession() { end(); }
+  GnuplotSession(const GnuplotSession&) = delete;
+  GnuplotSession& operator=(const GnuplotSession&) = delete;
+
+  /// Empty while gnuplot runs; else why it does not.
+  const std::string& failure() const { return failure_; }
+
+  /// Runs a script file; what gnuplot said while it ran, and whether it ran to its end. An error
+  /// cuts the script short, maybe inside a multiplot, which is ended before the next picture.
+  struct Said {
+    bool done = false;
+    std::string text;
+  };
+  Said run(const std::string& script_path) {
+    const std::string commands = "load " + quote(script_path) +
+                                 "\nunset multiplot\nunset output\nprint " + quote(kPictureEnd) +
+                                 "\nreset session\n";
+    if (!failure_.empty() || !send_all(commands)) return {false, ended()};
+    const std::string end_mark = std::string(kPictureEnd) + "\n";
+    std::size_t at;
+    while ((at = output_.find(end_mark)) == std::string::npos)
+      if (!read_more()) return {false, std::exchange(output_, "") + ended()};
+    Said said{false, output_.substr(0, at)};
+    output_.erase(0, at + end_mark.size());
+    const std::string done_mark = std::string(kScriptDone) + "\n";
+    if (const std::size_t d = said.text.find(done_mark); d != std::string::npos)
+      said.done = true, said.text.erase(d, done_mark.size());
+    return said;
+  }
+
+ private:
+  bool send_all(const std::string& text) {
+    for (std::size_t sent = 0; sent < text.size();) {
+      const ssize_t n = ::send(fd_, text.data() + sent, text.size() - sent, MSG_NOSIGNAL);
+      if (n < 0 && errno == EINTR) continue;
+      if (n <= 0) return false;
+      sent += static_cast<std::size_t>(n);
+    }
+    return true;
+  }
+  bool read_more() {
+    char buffer[4096];
+    ssize_t n;
+    while ((n = ::read(fd_, buffer, sizeof buffer)) < 0 && errno == EINTR) {
+    }
+    if (n <= 0) return false;
+    output_.append(buffer, static_cast<std::size_t>(n));
+    return true;
+  }
+  // Closes the socket (gnuplot reads its end and exits) and reaps it; why it failed, if it did.
+  std::string end() {
+    if (fd_ >= 0) ::close(fd_), fd_ = -1;
+    if (pid_ > 0) {
+      int status = 0;
+      while (::waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+      }
+      pid_ = -1;
+      // glibc's posix_spawnp reports a missing program through rc; 127 covers other libcs.
+      if (!WIFEXITED(status))
+        failure_ = "'" + program_ + "' was killed by signal " + std::to_string(WTERMSIG(status));
+      else if (WEXITSTATUS(status) != 0)
+        failure_ = "'" + program_ + "' exited with status " + std::to_string(WEXITSTATUS(status));
+    }
+    return failure_;
+  }
+  // The process is gone (or never ran): why, as the end of what it said.
+  std::string ended() {
+    end();
+    return failure_.empty() ? "'" + program_ + "' ended" : failure_;
+  }
+
+  std::string program_, failure_, output_;
+  int fd_ = -1;
+  pid_t pid_ = -1;
+};
+
+bool is_png_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  static const char kPng[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
+  return in && std::memcmp(sig, kPng, 8) == 0;
+}
+
+// One picture drawn by the session: its script beside the PNG, gnuplot run on it, the image
+// checked and renamed over the PNG. gnuplot's warnings are passed on.
+void draw_in(GnuplotSession& session, const PlotScript& p) {
+  TempFile image(p.png_path + ".tmp", p.png_path);
+  TempFile script(p.png_path + ".gp", p.png_path);
   {
     std::ofstream out(script.path, std::ios::trunc);
-    out << preamble(spec, image.path) << body_without_preamble << "unset output\n";
+    out << preamble(p.spec, image.path) << p.body << "unset output\nprint " << quote(kScriptDone)
+        << "\n";
     out.close();
-    if (!out) throw std::runtime_error("plot " + png_path + ": cannot write gnuplot script");
+    if (!out) throw std::runtime_error("plot " + p.png_path + ": cannot write gnuplot script");
   }
-  const char* env = std::getenv("FLEXLOOP_GNUPLOT");
-  const std::string program = env && *env ? env : "gnuplot";
-
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
-  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, log.path.c_str(), O_WRONLY | O_TRUNC,
-                                   0);
-  posix_spawn_file_actions_adddup2(&actions, STDOUT_FILENO, STDERR_FILENO);
-  std::string arg_d = "-d";
-  std::vector<char*> argv{const_cast<char*>(program.c_str()), arg_d.data(), script.path.data(),
-                          nullptr};
-  pid_t pid = -1;
-  const int rc = ::posix_spawnp(&pid, program.c_str(), &actions, nullptr, argv.data(), environ);
-  posix_spawn_file_actions_destroy(&actions);
-  if (rc != 0)
-    throw std::runtime_error(
-        "plot " + png_path + ": cannot run '" + program +
-        "' (is gnuplot installed? apt-get install gnuplot-nox): " + std::strerror(rc));
-  int status = 0;
-  while (::waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR)
-      throw std::runtime_error("plot " + png_path + ": waitpid: " + std::strerror(errno));
-  }
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
-    // glibc's posix_spawnp reports a missing program through rc; 127 covers other shells/libcs.
-    const std::string why = WIFEXITED(status)
-                                ? "exited with status " + std::to_string(WEXITSTATUS(status))
-                                : "was killed by signal " + std::to_string(WTERMSIG(status));
-    throw std::runtime_error("plot " + png_path + ": '" + program + "' " + why + ": " +
-                             slurp(log.path));
-  }
-  {
-    std::ifstream in(image.path, std::ios::binary);
-    char sig[8] = {};
-    in.read(sig, 8);
-    static const char kPng[8] = {'\x89', 'P', 'N', 'G', '\r', '\n', '\x1a', '\n'};
-    if (!in || std::memcmp(sig, kPng, 8) != 0)
-      throw std::runtime_error("plot " + png_path +
-                               ": gnuplot produced no PNG: " + slurp(log.path));
-  }
-  if (std::rename(image.path.c_str(), png_path.c_str()) != 0)
-    throw std::runtime_error("plot " + png_path + ": rename: " + std::strerror(errno));
+  const GnuplotSession::Said said = session.run(script.path);
+  if (!said.done)
+    throw std::runtime_error("plot " + p.png_path + ": " +
+                             (session.failure().empty() ? "gnuplot failed: " : "") +
+                             tail(said.text));
+  if (!is_png_file(image.path))
+    throw std::runtime_error("plot " + p.png_path +
+                             ": gnuplot produced no PNG: " + tail(said.text));
+  if (std::rename(image.path.c_str(), p.png_path.c_str()) != 0)
+    throw std::runtime_error("plot " + p.png_path + ": rename: " + std::strerror(errno));
   // gnuplot succeeded but said something (a warning: an empty range, a bad tic): pass it on, a
   // picture drawn around a warning is rarely the one meant (tests/cli/pictures.sh expects none).
-  if (const std::string said = slurp(log.path); !said.empty())
-    std::fprintf(stderr, "warning: plot %s: gnuplot: %s%s", png_path.c_str(), said.c_str(),
-                 said.back() == '\n' ? "" : "\n");
+  if (!said.text.empty())
+    std::fprintf(stderr, "warning: plot %s: gnuplot: %s%s", p.png_path.c_str(), said.text.c_str(),
+                 said.text.back() == '\n' ? "" : "\n");
+}
+
+void draw_one(const PlotScript& p) {
+  GnuplotSession session(gnuplot_program());
+  draw_in(session, p);
 }
 
 std::string plot_title(const std::string& t) {
@@ -252,13 +349,54 @@ std::string lines_body(const PlotSpec& spec, const std::vector<Series>& series,
 
 }  // namespace
 
+std::vector<bool> draw_plots(const std::vector<PlotBuilder>& builders, int processes) {
+  std::vector<char> drawn(builders.size(), 0);
+  std::vector<std::exception_ptr> errors(builders.size());
+  std::atomic<std::size_t> next{0};
+  const std::string program = gnuplot_program();
+  // Each thread its gnuplot, taking the next picture when its last is drawn: the cores stay busy
+  // whatever each picture costs, and at most one script per thread is in memory at once.
+  const auto worker = [&] {
+    std::unique_ptr<GnuplotSession> session;
+    for (std::size_t k = next++; k < builders.size(); k = next++) try {
+        const std::optional<PlotScript> script = builders[k]();
+        if (!script) continue;  // nothing to draw
+        if (!session || !session->failure().empty())
+          session = std::make_unique<GnuplotSession>(program);
+        draw_in(*session, *script);
+        drawn[k] = 1;
+      } catch (...) {
+        errors[k] = std::current_exception();
+      }
+  };
+  const std::size_t width = std::min<std::size_t>(static_cast<std::size_t>(std::max(processes, 1)),
+                                                  std::max<std::size_t>(builders.size(), 1));
+  std::vector<std::thread> threads;
+  for (std::size_t t = 1; t < width; ++t) threads.emplace_back(worker);
+  worker();
+  for (auto& t : threads) t.join();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  return {drawn.begin(), drawn.end()};
+}
+
+PlotScript lines_script(const PlotSpec& spec, const std::vector<Series>& series,
+                        const std::string& png_path) {
+  return {png_path, spec, labels(spec) + lines_body(spec, series, "s", png_path)};
+}
+
 void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
                 const std::string& png_path) {
-  run_gnuplot(png_path, labels(spec) + lines_body(spec, series, "s", png_path), spec);
+  draw_one(lines_script(spec, series, png_path));
 }
 
 void plot_stacked(const PlotSpec& spec, const std::vector<Panel>& panels,
                   const std::string& png_path) {
+  draw_one(stacked_script(spec, panels, png_path));
+}
+
+PlotScript stacked_script(const PlotSpec& spec, const std::vector<Panel>& panels,
+                          const std::string& png_path) {
   if (panels.empty()) throw std::invalid_argument("plot " + png_path + ": no panel to draw");
   PlotSpec s = spec;
   s.title.clear();
@@ -269,7 +407,7 @@ void plot_stacked(const PlotSpec& spec, const std::vector<Panel>& panels,
     s.xlabel = k + 1 == panels.size() ? spec.xlabel : "";  // one x label, under the last panel
     body += labels(s) + lines_body(s, panels[k].series, "p" + std::to_string(k) + "_", png_path);
   }
-  run_gnuplot(png_path, body + "unset multiplot\n", spec);
+  return {png_path, spec, body + "unset multiplot\n"};
 }
 
 std::vector<std::complex<double>> channel(const std::vector<Eigen::MatrixXcd>& G,
@@ -319,7 +457,7 @@ void plot_bode(const PlotSpec& spec, const std::vector<BodeSeries>& series,
        << "unset key\nset ylabel 'phase [deg]'\nset ytics 90\nset mytics 2\n"
        << phase << "\n"
        << "unset multiplot\n";
-  run_gnuplot(png_path, body.str(), s);
+  draw_one({png_path, s, body.str()});
 }
 
 void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& systems,
@@ -357,7 +495,7 @@ void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& 
     }
   }
   if (first) throw std::invalid_argument("plot " + png_path + ": no singular values to draw");
-  run_gnuplot(png_path, body + cmd + "\n", s);
+  draw_one({png_path, s, body + cmd + "\n"});
 }
 
 namespace {
@@ -379,6 +517,11 @@ std::string log_ticks(double lo, double hi) {
 
 void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
                     const std::vector<double>& counts, const std::string& png_path) {
+  draw_one(histogram_script(spec, bin_edges, counts, png_path));
+}
+
+PlotScript histogram_script(const PlotSpec& spec, const std::vector<double>& bin_edges,
+                            const std::vector<double>& counts, const std::string& png_path) {
   if (counts.empty() || bin_edges.size() != counts.size() + 1)
     throw std::invalid_argument("plot " + png_path + ": need counts.size() + 1 bin edges, got " +
                                 std::to_string(bin_edges.size()) + " edges for " +
@@ -411,7 +554,7 @@ void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
   else if (!spec.logy)
     body += "set yrange [0:*]\n";
   body += "plot $h using 1:3:2 with boxes lc rgb '#4a90d9' notitle\n";
-  run_gnuplot(png_path, body, spec);
+  return {png_path, spec, body};
 }
 
 namespace {
@@ -429,6 +572,11 @@ std::string data_label(const std::string& label) {
 
 void plot_interval_bars(const PlotSpec& spec, const std::vector<std::string>& categories,
                         const std::vector<BarSeries>& series, const std::string& png_path) {
+  draw_one(interval_bars_script(spec, categories, series, png_path));
+}
+
+PlotScript interval_bars_script(const PlotSpec& spec, const std::vector<std::string>& categories,
+                                const std::vector<BarSeries>& series, const std::string& png_path) {
   if (categories.empty() || series.empty())
     throw std::invalid_argument("plot " + png_path + ": no bars to draw");
   for (const BarSeries& b : series)
@@ -458,7 +606,7 @@ void plot_interval_bars(const PlotSpec& spec, const std::vector<std::string>& ca
            std::to_string(3 * k + 3) + ":" + std::to_string(3 * k + 4) +
            (k == 0 ? ":xtic(1)" : "") + " " + plot_title(series[k].title);
   }
-  run_gnuplot(png_path, body + cmd + "\n", spec);
+  return {png_path, spec, body + cmd + "\n"};
 }
 
 }  // namespace flexloop::report

@@ -2,17 +2,24 @@
 #pragma once
 // PNG plots for reports, drawn by gnuplot (the distribution's gnuplot-nox).
 //
-// Each call writes one self-contained gnuplot script (data inline as datablocks) to a temporary
-// file beside the PNG, runs `gnuplot -d SCRIPT` (-d: ignore the user's ~/.gnuplot so pictures
-// are reproducible), and renames the finished image over png_path; on failure no PNG is left
-// behind. Terminal: pngcairo when this gnuplot has it, else the libgd png terminal. Text is
-// drawn literally (noenhanced: "sigma_1" is not a subscript). The gnuplot program is taken from
-// the environment variable FLEXLOOP_GNUPLOT when set, else `gnuplot` on PATH.
+// Each picture is a self-contained gnuplot script (data inline as datablocks). The plot_*
+// functions draw one at once: the script goes to a temporary file beside the PNG, `gnuplot -d
+// SCRIPT` runs it (-d: ignore the user's ~/.gnuplot so pictures are reproducible), and the
+// finished image is renamed over png_path; on failure no PNG is left behind. A report of many
+// pictures builds their scripts with the *_script functions and draws them with draw_plots: one
+// gnuplot process per core, each drawing one picture after another (`reset session` between
+// them, so each PNG has the bytes a process of its own would draw), since starting gnuplot costs
+// more than drawing a simple picture. Terminal: pngcairo when this gnuplot has it,
+// else the libgd png terminal. Text is drawn literally (noenhanced: "sigma_1" is not a subscript).
+// The gnuplot program is taken from the environment variable FLEXLOOP_GNUPLOT when set, else
+// `gnuplot` on PATH.
 //
 // Errors: std::invalid_argument for inconsistent input; std::runtime_error naming png_path when
 // gnuplot is missing, fails (its stderr is quoted) or produces no PNG.
 #include <Eigen/Dense>
 #include <complex>
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,6 +37,23 @@ struct PlotSpec {
   double x_min = 0, x_max = 0;
 };
 
+/// A picture not drawn yet: its PNG, its size and title (spec) and the gnuplot commands that
+/// draw it (without terminal and output, which the drawing sets).
+struct PlotScript {
+  std::string png_path;
+  PlotSpec spec;
+  std::string body;
+};
+
+/// Builds one picture's script when its turn comes (none: nothing to draw).
+using PlotBuilder = std::function<std::optional<PlotScript>()>;
+
+/// Builds and draws every picture, `processes` at once: each of as many threads runs one gnuplot
+/// process and takes the next picture when its last is drawn (so at most `processes` scripts are
+/// in memory at once). Which were drawn (false: the builder had nothing to draw). Errors as the
+/// plot_* functions', the first in `builders` order, thrown after every picture was tried.
+std::vector<bool> draw_plots(const std::vector<PlotBuilder>& builders, int processes);
+
 /// One curve. `style` is a gnuplot `with` clause, e.g. "lines lw 2 dt 2" (dashed) or
 /// "linespoints pt 7"; empty means "lines lw 2". Only letters, digits, blanks and . # ' " - _ :
 /// are accepted (no second plot element, no function call, no shell escape).
@@ -43,6 +67,8 @@ struct Series {
 /// axis, are left out (the line breaks there).
 void plot_lines(const PlotSpec& spec, const std::vector<Series>& series,
                 const std::string& png_path);
+PlotScript lines_script(const PlotSpec& spec, const std::vector<Series>& series,
+                        const std::string& png_path);
 
 /// One panel of a stacked plot: its y label (with units) and its lines.
 struct Panel {
@@ -55,6 +81,8 @@ struct Panel {
 /// disturbance, and a performance output with the controller off and on).
 void plot_stacked(const PlotSpec& spec, const std::vector<Panel>& panels,
                   const std::string& png_path);
+PlotScript stacked_script(const PlotSpec& spec, const std::vector<Panel>& panels,
+                          const std::string& png_path);
 
 /// One frequency-response channel for a Bode plot.
 struct BodeSeries {
@@ -94,6 +122,8 @@ void plot_singular_values(const PlotSpec& spec, const std::vector<SigmaSeries>& 
 /// count.
 void plot_histogram(const PlotSpec& spec, const std::vector<double>& bin_edges,
                     const std::vector<double>& counts, const std::string& png_path);
+PlotScript histogram_script(const PlotSpec& spec, const std::vector<double>& bin_edges,
+                            const std::vector<double>& counts, const std::string& png_path);
 
 /// One group member of a bar chart: a value per category and its interval (lo <= value <= hi;
 /// NaN: no bar there).
@@ -106,5 +136,7 @@ struct BarSeries {
 /// by side, each with its [lo, hi] interval drawn over it (Sobol indices with their intervals).
 void plot_interval_bars(const PlotSpec& spec, const std::vector<std::string>& categories,
                         const std::vector<BarSeries>& series, const std::string& png_path);
+PlotScript interval_bars_script(const PlotSpec& spec, const std::vector<std::string>& categories,
+                                const std::vector<BarSeries>& series, const std::string& png_path);
 
 }  // namespace flexloop::report

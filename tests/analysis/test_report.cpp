@@ -12,6 +12,8 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -267,4 +269,79 @@ TEST_CASE("plots: missing or failing gnuplot is an error naming the file", "[rep
                     Catch::Contains(png) && Catch::Contains("status 1"));
   ::unsetenv("FLEXLOOP_GNUPLOT");
   CHECK(dir.files().empty());
+}
+
+namespace {
+
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Pictures of each kind and size, for drawing one at a time and in batches.
+std::vector<report::PlotScript> mixed_scripts(const ScratchDir& dir, const std::string& prefix) {
+  std::vector<double> t, y;
+  for (int i = 0; i <= 200; ++i) t.push_back(i * 1e-2), y.push_back(std::sin(3.0 * t.back()));
+  const report::Series line{"sine", t, y, ""};
+  report::PlotSpec tall{"stacked", "time [s]", ""};
+  tall.height_px = 900;
+  return {
+      report::lines_script({"lines", "time [s]", "y [m]"}, {line}, dir / (prefix + "lines.png")),
+      report::stacked_script(tall, {{"a [m]", {line}}, {"b [m]", {line}}},
+                             dir / (prefix + "stacked.png")),
+      report::histogram_script({"histogram", "x [s]", "count"}, {0, 1, 2, 3}, {4, 9, 2},
+                               dir / (prefix + "histogram.png")),
+      report::interval_bars_script({"bars", "", "share"}, {"a", "b"},
+                                   {{"first", {0.5, 0.2}, {0.4, 0.1}, {0.6, 0.3}}},
+                                   dir / (prefix + "bars.png")),
+      report::lines_script({"lines, log x", "time [s]", "y [m]", true}, {line},
+                           dir / (prefix + "log.png"))};
+}
+
+}  // namespace
+
+std::vector<report::PlotBuilder> builders(const std::vector<report::PlotScript>& scripts) {
+  std::vector<report::PlotBuilder> out;
+  for (const auto& script : scripts) out.emplace_back([script] { return script; });
+  return out;
+}
+
+TEST_CASE("plots: a batch in a few gnuplot processes draws the bytes of one process a picture",
+          "[report][plot]") {
+  ScratchDir dir("plot-batch");
+  for (const auto& one : mixed_scripts(dir, "alone_")) report::draw_plots(builders({one}), 1);
+  for (int processes : {1, 2, 7}) {
+    const std::string prefix = "batch" + std::to_string(processes) + "_";
+    std::vector<report::PlotBuilder> batch = builders(mixed_scripts(dir, prefix));
+    batch.insert(batch.begin() + 2, [] { return std::optional<report::PlotScript>(); });
+    CHECK(report::draw_plots(batch, processes) ==
+          std::vector<bool>{true, true, false, true, true, true});
+    for (const char* name : {"lines.png", "stacked.png", "histogram.png", "bars.png", "log.png"}) {
+      INFO(prefix << name);
+      CHECK(is_png(dir / (prefix + name)));
+      CHECK(file_bytes(dir / (prefix + name)) == file_bytes(dir / (std::string("alone_") + name)));
+    }
+  }
+  for (const auto& name : dir.files()) CHECK(name.substr(name.size() - 4) == ".png");
+}
+
+TEST_CASE("plots: a failing picture in a batch is the error, the others are drawn",
+          "[report][plot]") {
+  for (int processes : {1, 2}) {
+    INFO(processes << " gnuplot processes");
+    ScratchDir dir("plot-batch-error-" + std::to_string(processes));
+    std::vector<report::PlotScript> scripts = mixed_scripts(dir, "");
+    // gnuplot stops at "undefined function" inside a multiplot: the next picture of the same
+    // process must not be drawn into it.
+    scripts[1].body = "set multiplot layout 2,1\nplot sin(x)\nplot no_such_function(x)\n";
+    CHECK_THROWS_WITH(report::draw_plots(builders(scripts), processes),
+                      Catch::Contains(dir / "stacked.png") && Catch::Contains("no_such_function"));
+    CHECK_FALSE(fs::exists(dir / "stacked.png"));
+    for (const char* name : {"lines.png", "histogram.png", "bars.png", "log.png"}) {
+      INFO(name);
+      CHECK(is_png(dir / name));
+    }
+    for (const auto& name : dir.files()) CHECK(name.substr(name.size() - 4) == ".png");
+  }
+  CHECK(report::draw_plots({}, 2).empty());
 }
