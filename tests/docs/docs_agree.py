@@ -245,6 +245,8 @@ def program_accepts(flexloop, root, text, work):
             (work / folder).symlink_to(root / "tools" / folder)
     example = scenes / "example.toml"
     example.write_text(text, encoding="utf-8")
+    if "superelement" in doc:
+        return None  # it names the user's FE files, which the repository does not hold: parsed
     if "model" in doc and "node" in doc:
         command = ["linearise", str(example), "-o", str(work / "lin.json")]
     elif "scene" in doc:
