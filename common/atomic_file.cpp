@@ -46,6 +46,20 @@ void require_writable(const std::filesystem::path& file) {
   ::unlink(tmp.c_str());
 }
 
+void require_creatable(const std::filesystem::path& file) {
+  if (file.empty()) throw InputError("(empty file name)", "cannot be written");
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw InputError(file.string(), "cannot be written: Is a directory");
+  std::filesystem::path folder = std::filesystem::absolute(file, ec).parent_path();
+  while (!folder.empty() && !std::filesystem::exists(folder, ec) && folder != folder.root_path())
+    folder = folder.parent_path();
+  if (!std::filesystem::is_directory(folder, ec))
+    throw InputError(file.string(), "cannot be written: " + folder.string() + " is not a folder");
+  if (::access(folder.c_str(), W_OK) != 0)
+    throw InputError(file.string(), std::string("cannot be written: ") + std::strerror(errno));
+}
+
 AtomicFileWriter::AtomicFileWriter(std::filesystem::path file)
     : file_(std::move(file)), tmp_(temporary_beside(file_)) {
   if (file_.empty()) throw std::runtime_error("cannot write a file with an empty name");

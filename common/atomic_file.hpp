@@ -41,4 +41,10 @@ class AtomicFileWriter {
 /// @throws flexloop::InputError "<file>: cannot be written: <system error>" (exit 2).
 void require_writable(const std::filesystem::path& file);
 
+/// The same check without a trace on disk, for a command that may still refuse its input after
+/// it (a refused command leaves nothing behind) or whose writer makes no folders: a folder in the
+/// file's place is refused, and the nearest existing folder on the way must be writable.
+/// @throws flexloop::InputError "<file>: cannot be written: <why>" (exit 2).
+void require_creatable(const std::filesystem::path& file);
+
 }  // namespace flexloop::common

@@ -102,7 +102,7 @@ void register_campaign_worst(CLI::App* campaign) {
       "tools/scenes/metrology_frame_uncertain.toml --figure disk_margin_db --out-dir out/worst\n"
       "  flexloop analyse out/worst/worst.toml");
   cmd->callback([a] {
-    common::require_writable(std::filesystem::path(a->out_dir) / "worst.json");
+    common::require_creatable(std::filesystem::path(a->out_dir) / "worst.json");
     keep_freed_memory();
     const WorstMachine w = find_worst_machine(a->request, progress_printer(a->quiet));
     print_result(w, write_worst_machine(w, a->out_dir));

@@ -39,7 +39,7 @@ std::filesystem::path plant_library() {
 }
 
 void run(const ExportArgs& args) {
-  common::require_writable(args.output);  // before the work, not after it
+  common::require_creatable(args.output);  // before the work, not after it
   const artefact::LoopArtefact a = scene::load_loop(
       args.loop, {.rate_hz = args.rate_hz,
                   .form = args.form.empty() ? std::nullopt
