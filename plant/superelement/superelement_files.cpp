@@ -5,6 +5,7 @@
 
 #include <map>
 #include <mutex>
+#include <set>
 #include <sstream>
 #include <tuple>
 
@@ -41,9 +42,12 @@ std::string request_key(const SuperelementFiles& f) {
 std::vector<Eigen::Index> interface_rows(const SuperelementFiles& f,
                                          const std::vector<DofLabel>& dofs,
                                          std::vector<DofLabel>& kept) {
+  // Only the interface nodes' rows are indexed: one pass over a 10^6-row map, a few entries kept.
+  const std::set<long> wanted(f.interface_nodes.begin(), f.interface_nodes.end());
   std::map<std::pair<long, int>, Eigen::Index> row_of;
   for (std::size_t r = 0; r < dofs.size(); ++r)
-    row_of[{dofs[r].node, dofs[r].direction}] = static_cast<Eigen::Index>(r);
+    if (wanted.count(dofs[r].node))
+      row_of[{dofs[r].node, dofs[r].direction}] = static_cast<Eigen::Index>(r);
   std::vector<Eigen::Index> rows;
   for (const long node : f.interface_nodes) {
     const std::size_t before = rows.size();
