@@ -59,6 +59,10 @@ double db(double v) {
   return 20 * std::log10(v);
 }
 
+// The sampled loop this far above its continuous design and the passive machine somewhere below
+// Nyquist is a warning.
+constexpr double kSampledExcessWarningDb = 6;
+
 // Largest singular value's peak over the grid: value and frequency.
 std::pair<double, double> peak(const Eigen::MatrixXd& sv, const std::vector<double>& f) {
   Eigen::Index i = 0;
@@ -476,6 +480,8 @@ struct Responses {
   lti::StateSpace g11;
   std::vector<Eigen::MatrixXcd> G, T, T_at_resonances;
   Eigen::MatrixXd sv_open, sv_closed;
+  std::optional<SampledAgainstDesign> as_run;  // a continuous loop's design against its run
+  double rate_hz = 0;
   bool closed() const { return !T.empty(); }
 };
 
@@ -505,6 +511,10 @@ Responses frequency_responses(const scene::ScenePlant& p,
   }
   r.sv_open = lti::singular_values(r.G);
   r.sv_closed = r.closed() ? lti::singular_values(r.T) : Eigen::MatrixXd();
+  if (r.closed() && scene::has_continuous_loop(p)) {
+    r.as_run = sampled_against_design(p, scene::sample_scene(p), r.f);
+    r.rate_hz = p.scene.discretisation.rate_hz;
+  }
   return r;
 }
 
@@ -526,6 +536,10 @@ void write_singular_values(const Responses& r, const std::string& scene_name,
   if (r.closed())
     systems.push_back(
         {"closed loop (" + controller_name + ")", r.f, r.sv_closed, "lines lw 2 dt 2"});
+  if (r.as_run)
+    systems.push_back(
+        {"closed loop as it runs, sampled at " + report::format_number(r.rate_hz) + " Hz (largest)",
+         r.as_run->f, r.as_run->sampled, "lines lw 2 dt 3"});
   report::plot_singular_values(
       {scene_name + ": floor acceleration -> frame acceleration, singular values", "", "", true,
        false},
@@ -593,6 +607,44 @@ void print_sigma_peaks(const Responses& r, nlohmann::json& j) {
                          {"closed_hz", closed_f}};
 }
 
+// The loop as it runs (sampled) against its continuous design: the figures above are the
+// design's; a run sees the sampled loop's. More than 6 dB above both the design and the passive
+// machine anywhere below Nyquist is said loudly, with what usually causes it and what to do.
+void print_sampled_against_design(const Responses& r, nlohmann::json& j) {
+  if (!r.as_run || r.as_run->f.empty()) return;
+  const SampledAgainstDesign& a = *r.as_run;
+  Eigen::Index at = 0;
+  a.sampled.maxCoeff(&at);
+  const double peak_hz = a.f[static_cast<std::size_t>(at)];
+  std::printf(
+      "the loop as it runs, sampled at %g Hz: largest singular value peak %.1f dB at %.2f Hz; "
+      "from %.3g to %.3g Hz above both its continuous design and the passive machine by at most "
+      "%+.1f dB (at %.2f Hz)\n",
+      r.rate_hz, db(a.sampled(at)), peak_hz, a.judged_from_hz, a.judged_to_hz, a.excess_db,
+      a.excess_hz);
+  j["sampled_loop_response"] = {{"rate_hz", r.rate_hz},
+                                {"peak_db", db(a.sampled(at))},
+                                {"peak_hz", peak_hz},
+                                {"judged_from_hz", a.judged_from_hz},
+                                {"judged_to_hz", a.judged_to_hz},
+                                {"excess_over_design_db", a.excess_db},
+                                {"excess_hz", a.excess_hz}};
+  if (a.excess_db <= kSampledExcessWarningDb) return;
+  const double nyquist_hz = 0.5 * r.rate_hz;
+  std::printf(
+      "WARNING: the loop as it runs amplifies what its design and the passive machine do not "
+      "(%+.1f dB at %.2f Hz): sim, hil and a campaign see the sampled loop. ",
+      a.excess_db, a.excess_hz);
+  if (a.modes_above_nyquist > 0)
+    std::printf(
+        "%d of the plant's modes lie above Nyquist (%g Hz): a sampled force loop cannot act on "
+        "them as designed. Residualise them ([plant] reduction = \"modal-dc\", below_hz = %g: "
+        "their static compliance kept) or raise the rate\n",
+        a.modes_above_nyquist, nyquist_hz, 0.5 * nyquist_hz);
+  else
+    std::printf("Raise the rate, or design the controller for the sampled loop\n");
+}
+
 std::string controller_name(const scene::ScenePlant& p) {
   if (scene::has_fmu_controller(p)) return "controller FMU, by simulation";
   if (scene::has_pi_controller(p)) return "PI force feedback";
@@ -649,6 +701,7 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   write_singular_values(r, sc.name, controller_name(p), dir);
   write_transmissibility(r, sc.name, dir);
   print_sigma_peaks(r, j);
+  print_sampled_against_design(r, j);
   write_analysis_json();
   std::printf(
       "wrote %s{analysis.json, singular_values.csv, singular_values.png, "

@@ -1,6 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "offline/pipeline/loop_figures.hpp"
 
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include "offline/scene/loop_artefact_builder.hpp"
@@ -44,6 +50,37 @@ Eigen::VectorXd largest_singular_values(const std::vector<Eigen::MatrixXcd>& res
   for (std::size_t k = 0; k < responses.size(); ++k)
     sigma(static_cast<Eigen::Index>(k)) = plant::lti::largest_singular_value(responses[k]);
   return sigma;
+}
+
+SampledAgainstDesign sampled_against_design(const scene::ScenePlant& p,
+                                            const scene::SampledScene& sampled,
+                                            const std::vector<double>& frequencies_hz) {
+  SampledAgainstDesign r;
+  const double nyquist_hz = 0.5 / sampled.closed_loop.dt;
+  for (const double f : frequencies_hz)
+    if (f < nyquist_hz) r.f.push_back(f);
+  r.sampled = largest_singular_values(plant::lti::frequency_response(sampled.closed_loop, r.f));
+  r.design = largest_singular_values(plant::lti::frequency_response(p.closed_loop, r.f));
+  const Eigen::VectorXd open =
+      largest_singular_values(plant::lti::frequency_response(floor_to_performance(p), r.f));
+  r.excess_db = -std::numeric_limits<double>::infinity();
+  r.judged_from_hz =
+      p.natural_frequencies_hz.size() > 0 ? p.natural_frequencies_hz.minCoeff() / 10 : 0.0;
+  r.judged_to_hz = nyquist_hz / 2;
+  for (Eigen::Index k = 0; k < r.sampled.size(); ++k) {
+    const double f = r.f[static_cast<std::size_t>(k)];
+    if (f < r.judged_from_hz || f > r.judged_to_hz) continue;
+    const double reference = std::max(r.design(k), open(k));
+    const double excess = 20 * std::log10(r.sampled(k) / reference);
+    if (excess > r.excess_db) {
+      r.excess_db = excess;
+      r.excess_hz = f;
+    }
+  }
+  const Eigen::VectorXcd poles = p.plant.A.eigenvalues();
+  for (const std::complex<double>& s : poles)
+    r.modes_above_nyquist += s.imag() > 0 && std::abs(s) > 2 * std::numbers::pi * nyquist_hz;
+  return r;
 }
 
 Eigen::VectorXd stationary_rms(const scene::ScenePlant& p, const scene::SampledScene& sampled,

@@ -34,6 +34,29 @@ std::vector<Eigen::MatrixXcd> closed_loop_response(const scene::ScenePlant& p,
                                                    const scene::SampledScene* sampled,
                                                    const std::vector<double>& frequencies_hz);
 
+/// The loop as it runs against its continuous design, floor -> performance, at the frequencies of
+/// `frequencies_hz` below Nyquist: the largest singular value of the sampled closed loop
+/// (`sampled`: the scene's plant and controller sampled at its rate and closed as the runtime
+/// closes them, the hardware's effects aside) and of the continuous one, and where the sampled
+/// one exceeds both the design and the passive machine most, judged from a tenth of the lowest
+/// passive natural frequency to half Nyquist (a sampled loop that stays under the passive
+/// response is not judged by how much deeper its design reaches; the held command's steps lift
+/// the response near Nyquist, and a held floor's sample-long lag feeds a pure integrator at the
+/// lowest frequencies: both are how a sampled loop is). A sampled force loop cannot act as
+/// designed on modes near or above Nyquist: aliased, they reach the whole band through the
+/// controller.
+struct SampledAgainstDesign {
+  std::vector<double> f;            ///< the frequencies below Nyquist
+  Eigen::VectorXd sampled, design;  ///< largest singular values at f
+  double judged_from_hz = 0, judged_to_hz = 0;
+  double excess_db = 0, excess_hz = 0;  ///< largest 20 log10(sampled / max(design, open)), where
+  int modes_above_nyquist = 0;          ///< of the scene's plant (oscillatory pole pairs)
+};
+/// The scene must have a continuous loop (scene::has_continuous_loop).
+SampledAgainstDesign sampled_against_design(const scene::ScenePlant& p,
+                                            const scene::SampledScene& sampled,
+                                            const std::vector<double>& frequencies_hz);
+
 /// The largest singular value of each response.
 Eigen::VectorXd largest_singular_values(const std::vector<Eigen::MatrixXcd>& responses);
 

@@ -68,12 +68,13 @@ void read_scene_table(const common::TomlReader& sr, const std::filesystem::path&
     sr.fail("model file '" + s.model_path + "' does not exist", sr.get("model"));
 }
 
-// `order` and `band_hz` only mean something under a `reduction`; without one they are refused.
+// `order`, `below_hz` and `band_hz` only mean something under a `reduction`; without one they are
+// refused. A reduction keeps `order` states, or (modal, modal-dc) the modes below `below_hz`.
 void read_reduction(const common::TomlReader& pr, ReductionSettings& r) {
   if (!pr.has("reduction")) {
-    if (pr.has("order") || pr.has("band_hz"))
-      pr.fail("'order' and 'band_hz' belong to a 'reduction'",
-              pr.get(pr.has("order") ? "order" : "band_hz"));
+    for (const char* key : {"order", "below_hz", "band_hz"})
+      if (pr.has(key))
+        pr.fail("'order', 'below_hz' and 'band_hz' belong to a 'reduction'", pr.get(key));
     return;
   }
   r.method = pr.string("reduction");
@@ -81,16 +82,25 @@ void read_reduction(const common::TomlReader& pr, ReductionSettings& r) {
   if (r.method != "modal" && r.method != "modal-dc" && r.method != "balanced")
     pr.fail("reduction '" + r.method + "' is not one of modal, modal-dc, balanced",
             pr.get("reduction"));
-  if (!pr.has("order"))
-    pr.fail("a reduction needs an 'order' (states to keep)", pr.get("reduction"));
-  r.order = static_cast<int>(count(pr, "order", 0));
-  if (r.order < 1) pr.fail("'order' must be at least 1", pr.get("order"));
+  if (pr.has("order") == pr.has("below_hz"))
+    pr.fail("a reduction needs either an 'order' (states to keep) or a 'below_hz' (modes kept)",
+            pr.get(pr.has("order") ? "below_hz" : "reduction"));
+  if (pr.has("order")) {
+    r.order = static_cast<int>(count(pr, "order", 0));
+    if (r.order < 1) pr.fail("'order' must be at least 1", pr.get("order"));
+  } else {
+    if (r.method == "balanced")
+      pr.fail("'below_hz' keeps modes: it is for modal and modal-dc (balanced needs an 'order')",
+              pr.get("below_hz"));
+    r.below_hz = non_negative(pr, "below_hz", 0.0);
+    if (!(r.below_hz > 0)) pr.fail("'below_hz' must be > 0", pr.get("below_hz"));
+  }
   r.band_hz = non_negative(pr, "band_hz", 0.0);
 }
 
 void read_plant(const common::TomlReader& pr, Scene& s) {
   pr.allow_only({"gravity_preload", "disturbances", "actuators", "performance", "sensors",
-                 "reduction", "order", "band_hz"});
+                 "reduction", "order", "below_hz", "band_hz"});
   s.gravity_preload = pr.boolean("gravity_preload", false);
   s.disturbances = names(pr, "disturbances");
   s.actuators = names(pr, "actuators");

@@ -62,10 +62,11 @@ struct RunSettings {
 /// [plant] reduction: the linearised plant reduced before anything uses it (the loop artefact,
 /// sim, hil and analyse then see the reduced one); plant/lti/model_reduction.hpp.
 struct ReductionSettings {
-  std::string method;  ///< "" (none), "modal", "modal-dc", "balanced"
-  int order = 0;       ///< states to keep
-  double band_hz = 0;  ///< modal: judge the modes' contributions up to this (0: everywhere)
-  std::string place;   ///< "file:line" of the `reduction` key
+  std::string method;   ///< "" (none), "modal", "modal-dc", "balanced"
+  int order = 0;        ///< states to keep (0: below_hz says which)
+  double below_hz = 0;  ///< modal, modal-dc: keep the modes below this (the rest residualised)
+  double band_hz = 0;   ///< modal: judge the modes' contributions up to this (0: everywhere)
+  std::string place;    ///< "file:line" of the `reduction` key
 };
 
 struct Scene {

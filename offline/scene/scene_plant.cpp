@@ -404,7 +404,8 @@ plant::lti::StateSpace reduced_plant(const plant::lti::StateSpace& full, const S
       return plant::lti::balanced_truncation(full, r.order).sys;
     }
     const plant::lti::ReducedModel m =
-        plant::lti::modal_truncation(full, {.order = r.order,
+        plant::lti::modal_truncation(full, {.order = r.order > 0 ? r.order : -1,
+                                            .below_hz = r.below_hz,
                                             .dc_correction = r.method == "modal-dc",
                                             .band_low_hz = r.band_hz > 0 ? r.band_hz / 1e4 : 0,
                                             .band_hz = r.band_hz,
