@@ -13,6 +13,7 @@
 #include "offline/scene/loop_input.hpp"
 #include "offline/scene/scene_plant.hpp"
 #include "plant/lti/frequency_response.hpp"
+#include "plant/superelement/reduction_store.hpp"
 
 namespace flexloop::campaign {
 
@@ -62,6 +63,11 @@ ControllerMode controller_mode_from_name(const std::string& name) {
 
 double plan_simulate_s(const nlohmann::json& plan) {
   return plan.contains("simulate_s") ? plan["simulate_s"].get<double>() : 0.0;
+}
+
+void keep_reductions_beside(const std::string& plan_path) {
+  plant::superelement::set_reduction_store(
+      (std::filesystem::path(plan_path).parent_path() / "reductions").string());
 }
 
 nlohmann::json make_plan(const PlanRequest& r) {

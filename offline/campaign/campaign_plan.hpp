@@ -30,6 +30,11 @@ struct PlanRequest {
 /// refuses).
 nlohmann::json make_plan(const PlanRequest& request);
 
+/// Superelements are reduced once per plan: the process that plans and every process that runs a
+/// shard of it keep their reductions in `reductions/` beside the plan file (a superelement's
+/// parameters are not drawn: every sample shares its reduction). Call before the model is read.
+void keep_reductions_beside(const std::string& plan_path);
+
 ControllerMode controller_mode_from_name(const std::string& name);
 
 /// The plan's simulated seconds per sample: its `simulate_s`, 0 when absent (no simulation).

@@ -3,6 +3,7 @@
 
 #include <sys/stat.h>
 
+#include <filesystem>
 #include <map>
 #include <mutex>
 #include <set>
@@ -11,17 +12,23 @@
 
 #include "common/input_error.hpp"
 #include "plant/superelement/node_table.hpp"
+#include "plant/superelement/reduction_store.hpp"
 
 namespace flexloop::plant::superelement {
 
 namespace {
 
-// A file's identity as far as a reduction depends on it: path, size and modification time.
+// A file's identity as far as a reduction depends on it: absolute path (one file however a
+// process names it: a campaign's shards name it from the plan, its plan from the command line),
+// size and modification time.
 std::string identity(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) return path + "|missing";
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::weakly_canonical(path, ec);
   std::ostringstream os;
-  os << path << '|' << st.st_size << '|' << st.st_mtim.tv_sec << '.' << st.st_mtim.tv_nsec;
+  os << (ec ? path : absolute.string()) << '|' << st.st_size << '|' << st.st_mtim.tv_sec << '.'
+     << st.st_mtim.tv_nsec;
   return os.str();
 }
 
@@ -92,7 +99,12 @@ std::shared_ptr<const ReducedSuperelement> reduce_superelement(const Superelemen
     const std::lock_guard<std::mutex> lock(mutex);
     if (const auto it = done.find(key); it != done.end()) return it->second;
   }
-  auto reduced = read_and_reduce(files);
+  // Another process of the same campaign may have reduced it already (reduction_store.hpp).
+  std::shared_ptr<const ReducedSuperelement> reduced = load_stored_reduction(key);
+  if (!reduced) {
+    reduced = read_and_reduce(files);
+    store_reduction(key, *reduced);
+  }
   const std::lock_guard<std::mutex> lock(mutex);
   return done.emplace(key, std::move(reduced)).first->second;
 }

@@ -50,8 +50,10 @@ ALLOWED = {
                          "controller/design", "plant/runtime", "controller/runtime",
                          "controller/fmu", "offline/scene", "offline/report", "online/plant_fmu"},
     # Campaigns: what the pipeline may include, and the pipeline; online/sim for --simulate
-    # (a sample's loop run by `flexloop sim`'s code, as offline/study times the online kernels).
-    "offline/campaign": {"numeric", "common", "artefact", "plant/model", "plant/lti",
+    # (a sample's loop run by `flexloop sim`'s code, as offline/study times the online kernels);
+    # plant/superelement for the plan's one reduction that its shards read.
+    "offline/campaign": {"numeric", "common", "artefact", "plant/model", "plant/superelement",
+                         "plant/lti",
                          "controller/design", "plant/runtime", "controller/runtime",
                          "controller/fmu", "offline/scene", "offline/report", "online/plant_fmu",
                          "offline/pipeline", "online/sim"},

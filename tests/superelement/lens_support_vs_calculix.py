@@ -12,6 +12,7 @@ the scene's per-strut force feedback must close a stable loop.
   lens_support_vs_calculix.py FLEXLOOP ROOT [--clmax 0.04]
 """
 import argparse
+import glob
 import json
 import os
 import subprocess
@@ -67,6 +68,44 @@ def check_the_warning(flexloop, out):
     print("analyse warns about the unreduced scene's sampled loop")
 
 
+STRUTS_UNCERTAIN = """[campaign]
+controller = "frozen"
+[[parameter]]
+path = "element.*.stiffness"
+distribution = "normal"
+relative_sd = 0.05
+draw = "each"
+"""
+
+
+def check_the_campaign(flexloop, out):
+    """A campaign over the struts reduces the ring once per plan: the plan stores its reduction
+    beside itself, the shard reads it (the stored file is not written again) and every sample
+    is stable."""
+    uncertain = os.path.join(out, "struts_uncertain.toml")
+    with open(uncertain, "w") as f:
+        f.write(STRUTS_UNCERTAIN)
+    plan = os.path.join(out, "campaign", "plan.json")
+    subprocess.run([flexloop, "campaign", "plan", os.path.join(out, "lens_support_scene.toml"),
+                    "-u", uncertain, "-n", "20", "--design", "lhs", "-o", plan], check=True,
+                   stdout=subprocess.DEVNULL)
+    stored = glob.glob(os.path.join(out, "campaign", "reductions", "*.reduction"))
+    if len(stored) != 1:
+        sys.exit(f"the plan stored {len(stored)} reductions, not one")
+    before = os.stat(stored[0])
+    shard = os.path.join(out, "campaign", "shard-0.jsonl")
+    subprocess.run([flexloop, "campaign", "run", plan, "--shard", "0/1", "-o", shard],
+                   check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    after = os.stat(stored[0])
+    if (after.st_ino, after.st_mtime_ns) != (before.st_ino, before.st_mtime_ns):
+        sys.exit("the shard reduced the ring again instead of reading the plan's reduction")
+    with open(shard) as f:
+        status = [json.loads(line)["status"] for line in f]
+    if len(status) != 20 or any(s != "stable" for s in status):
+        sys.exit(f"campaign samples: {status}")
+    print("campaign: the shard read the plan's reduction; 20 of 20 samples stable")
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawTextHelpFormatter)
     ap.add_argument("flexloop")
@@ -94,6 +133,7 @@ def main():
             sys.exit("analyse warns about the lens support's loop as it runs:\n" + analysed)
         check_the_run(a.flexloop, out)
         check_the_warning(a.flexloop, out)
+        check_the_campaign(a.flexloop, out)
     compared = [(k, f, g) for k, (f, g) in enumerate(zip(ours, theirs), 1) if g <= cut / 5]
     if len(compared) < 6:
         sys.exit(f"only {len(compared)} CalculiX modes below f_cut / 5 = {cut / 5} Hz")

@@ -94,6 +94,7 @@ void write_plan(const nlohmann::json& plan, const std::string& path) {
 
 void run_shard_command(const RunArgs& a) {
   keep_freed_memory();  // thousands of machines built and dropped (process_heap.hpp)
+  keep_reductions_beside(a.plan);
   const nlohmann::json plan = read_plan(a.plan);
   require_plan_inputs_unchanged(plan, a.plan);
   const Shard shard = parse_shard(a.shard);
@@ -161,6 +162,7 @@ std::vector<std::string> submit(const SubmitArgs& a, const nlohmann::json& plan)
 // worst machines' heaps, and dropped (issue 54: a 10^6-sample report in a few hundred MB).
 void report(const std::string& plan_path, const std::vector<std::string>& shards,
             const std::string& out_dir, int worst) {
+  keep_reductions_beside(plan_path);  // the worst machines' scenes read the model again
   const nlohmann::json plan = read_plan(plan_path);
   SampleTableBuilder table(plan);
   WorstSamples worst_samples(plan.value("nominal", nlohmann::json()),
@@ -194,8 +196,9 @@ void report(const std::string& plan_path, const std::vector<std::string>& shards
 void campaign_all(CampaignArgs& a) {
   a.request.scene = a.scene;
   fs::create_directories(a.out_dir);
-  const nlohmann::json plan = make_plan(a.request);
   const std::string plan_path = (fs::path(a.out_dir) / "plan.json").string();
+  keep_reductions_beside(plan_path);
+  const nlohmann::json plan = make_plan(a.request);
   write_plan(plan, plan_path);
   SubmitArgs s;
   s.plan = plan_path;
@@ -301,7 +304,10 @@ void register_plan(CLI::App* campaign) {
       "tools/scenes/metrology_frame_uncertain.toml -n 1000 --design lhs -o out/c/plan.json\n"
       "  flexloop campaign plan tools/scenes/metrology_frame.toml -u "
       "tools/scenes/metrology_frame_uncertain.toml -n 200 --simulate 1 -o out/s/plan.json");
-  cmd->callback([a] { write_plan(make_plan(a->request), a->output); });
+  cmd->callback([a] {
+    keep_reductions_beside(a->output);
+    write_plan(make_plan(a->request), a->output);
+  });
 }
 
 void register_run(CLI::App* campaign) {
