@@ -138,16 +138,13 @@ void distributing_rows(const std::vector<Eigen::Vector3d>& r,
   }
 }
 
-}  // namespace
-
-PadTransform pad_transform(const std::vector<DofLabel>& dofs, const std::vector<PadNodes>& pads) {
-  const auto n = static_cast<Eigen::Index>(dofs.size());
-  const auto rows = pad_rows(dofs, pads);
-  std::vector<std::vector<Eigen::Vector3d>> r(pads.size());
-  std::vector<std::vector<Eigen::Index>> replaced(pads.size());
-  PadTransform out;
-  out.centroids.resize(pads.size());
-  std::vector<bool> gone(static_cast<std::size_t>(n), false);
+// The rows each pad replaces (rigid: every row of its nodes; distributing: six translations),
+// marked in `gone`; each pad's node offsets, its centroid, and a distributing pad's choice.
+void mark_replaced_rows(const std::vector<PadNodes>& pads,
+                        const std::vector<std::vector<std::array<Eigen::Index, 6>>>& rows,
+                        std::vector<std::vector<Eigen::Vector3d>>& r,
+                        std::vector<std::vector<Eigen::Index>>& replaced, PadTransform& out,
+                        std::vector<bool>& gone) {
   for (std::size_t k = 0; k < pads.size(); ++k) {
     r[k] = offsets(pads[k], k, out.centroids[k]);
     if (pads[k].kind == PadKind::kRigid) {
@@ -162,13 +159,60 @@ PadTransform pad_transform(const std::vector<DofLabel>& dofs, const std::vector<
       }
     }
   }
+}
+
+// K restricted to the kept rows and columns, renumbered into w (n' x n', pad columns empty):
+// one pass, in place (column_of keeps the rows' order, so each insert appends).
+SparseMatrix kept_block(const SparseMatrix& a, const std::vector<Eigen::Index>& column_of,
+                        Eigen::Index columns) {
+  Eigen::VectorXi count = Eigen::VectorXi::Zero(columns);
+  for (int c = 0; c < a.outerSize(); ++c)
+    if (const Eigen::Index bc = column_of[static_cast<std::size_t>(c)]; bc >= 0)
+      for (SparseMatrix::InnerIterator it(a, c); it; ++it)
+        count(bc) += column_of[static_cast<std::size_t>(it.row())] >= 0;
+  SparseMatrix b(columns, columns);
+  b.reserve(count);
+  for (int c = 0; c < a.outerSize(); ++c)
+    if (const Eigen::Index bc = column_of[static_cast<std::size_t>(c)]; bc >= 0)
+      for (SparseMatrix::InnerIterator it(a, c); it; ++it)
+        if (const Eigen::Index r = column_of[static_cast<std::size_t>(it.row())]; r >= 0)
+          b.insert(r, bc) = it.value();
+  b.makeCompressed();
+  return b;
+}
+
+// The columns `cols` of A (all rows): A E_g.
+SparseMatrix columns_of(const SparseMatrix& a, const std::vector<Eigen::Index>& cols) {
   Triplets t;
+  for (std::size_t j = 0; j < cols.size(); ++j)
+    for (SparseMatrix::InnerIterator it(a, static_cast<Eigen::Index>(cols[j])); it; ++it)
+      t.emplace_back(static_cast<int>(it.row()), static_cast<int>(j), it.value());
+  SparseMatrix out(a.rows(), static_cast<Eigen::Index>(cols.size()));
+  out.setFromTriplets(t.begin(), t.end());
+  return out;
+}
+
+}  // namespace
+
+PadTransform pad_transform(const std::vector<DofLabel>& dofs, const std::vector<PadNodes>& pads) {
+  const auto n = static_cast<Eigen::Index>(dofs.size());
+  const auto rows = pad_rows(dofs, pads);
+  std::vector<std::vector<Eigen::Vector3d>> r(pads.size());
+  std::vector<std::vector<Eigen::Index>> replaced(pads.size());
+  PadTransform out;
+  out.centroids.resize(pads.size());
+  std::vector<bool> gone(static_cast<std::size_t>(n), false);
+  mark_replaced_rows(pads, rows, r, replaced, out, gone);
   out.column_of.assign(static_cast<std::size_t>(n), -1);
+  std::vector<int> replaced_index(static_cast<std::size_t>(n), -1);
   for (Eigen::Index row = 0; row < n; ++row)
-    if (!gone[static_cast<std::size_t>(row)]) {
-      out.column_of[static_cast<std::size_t>(row)] = out.first_pad_column;
-      t.emplace_back(static_cast<int>(row), static_cast<int>(out.first_pad_column++), 1.0);
+    if (gone[static_cast<std::size_t>(row)]) {
+      replaced_index[static_cast<std::size_t>(row)] = static_cast<int>(out.replaced_rows.size());
+      out.replaced_rows.push_back(row);
+    } else {
+      out.column_of[static_cast<std::size_t>(row)] = out.first_pad_column++;
     }
+  Triplets t;
   for (std::size_t k = 0; k < pads.size(); ++k) {
     const int base = static_cast<int>(out.first_pad_column + 6 * static_cast<Eigen::Index>(k));
     if (pads[k].kind == PadKind::kRigid)
@@ -176,15 +220,36 @@ PadTransform pad_transform(const std::vector<DofLabel>& dofs, const std::vector<
     else
       distributing_rows(r[k], rows[k], replaced[k], out.column_of, base, t);
   }
-  out.T.resize(n, out.first_pad_column + 6 * static_cast<Eigen::Index>(pads.size()));
-  out.T.setFromTriplets(t.begin(), t.end());
+  for (auto& entry : t)  // full rows -> rows of G_g
+    entry = {replaced_index[static_cast<std::size_t>(entry.row())], entry.col(), entry.value()};
+  out.columns = out.first_pad_column + 6 * static_cast<Eigen::Index>(pads.size());
+  out.replaced.resize(static_cast<Eigen::Index>(out.replaced_rows.size()), out.columns);
+  out.replaced.setFromTriplets(t.begin(), t.end());
   return out;
 }
 
-SparseMatrix congruence(const SparseMatrix& a, const SparseMatrix& t) {
-  const SparseMatrix tat = SparseMatrix(t.transpose() * a) * t;
-  const SparseMatrix transposed = tat.transpose();
-  SparseMatrix out = 0.5 * (tat + transposed);
+SparseMatrix congruence(const SparseMatrix& a, const PadTransform& t) {
+  // T = S + E_g G_g: T' A T = S'AS + S'X + (S'X)' + G_g' E_g' X, X = (A E_g) G_g (n x n', its
+  // rows the neighbours of the replaced rows: small). S'AS is A's kept block, in one pass.
+  const SparseMatrix x = columns_of(a, t.replaced_rows) * t.replaced;
+  std::vector<int> replaced_index(t.column_of.size(), -1);
+  for (std::size_t i = 0; i < t.replaced_rows.size(); ++i)
+    replaced_index[static_cast<std::size_t>(t.replaced_rows[i])] = static_cast<int>(i);
+  Triplets kept_rows, gone_rows;
+  for (int c = 0; c < x.outerSize(); ++c)
+    for (SparseMatrix::InnerIterator it(x, c); it; ++it) {
+      const auto row = static_cast<std::size_t>(it.row());
+      if (t.column_of[row] >= 0)
+        kept_rows.emplace_back(static_cast<int>(t.column_of[row]), c, it.value());
+      else
+        gone_rows.emplace_back(replaced_index[row], c, it.value());
+    }
+  SparseMatrix sx(t.columns, t.columns), ex(t.replaced.rows(), t.columns);
+  sx.setFromTriplets(kept_rows.begin(), kept_rows.end());
+  ex.setFromTriplets(gone_rows.begin(), gone_rows.end());
+  const SparseMatrix d = SparseMatrix(t.replaced.transpose()) * ex;
+  const SparseMatrix sx_t = sx.transpose(), d_t = d.transpose();
+  SparseMatrix out = kept_block(a, t.column_of, t.columns) + sx + sx_t + 0.5 * (d + d_t);
   out.makeCompressed();
   return out;
 }

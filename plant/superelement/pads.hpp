@@ -53,12 +53,15 @@ class PadError : public std::invalid_argument {
 };
 
 /// u = T w: the body's rows from its coordinates w = (the rows kept, in order; then six per pad:
-/// x, y, z, rotation about x, y, z of its reference point).
+/// x, y, z, rotation about x, y, z of its reference point). T = S + E_g G_g: S the kept rows'
+/// unit entries, G_g the rows the pads replace (held here; E_g puts them in place).
 struct PadTransform {
-  SparseMatrix T;                          ///< n x (kept + 6 pads)
-  std::vector<Eigen::Index> column_of;     ///< per row of the body: its column in w, -1 if replaced
-  Eigen::Index first_pad_column = 0;       ///< pad k's DOFs are columns first + 6 k ... + 5
-  std::vector<Eigen::Vector3d> centroids;  ///< each pad's reference point (m)
+  Eigen::Index columns = 0;             ///< n' = kept rows + 6 per pad
+  std::vector<Eigen::Index> column_of;  ///< per row of the body: its column in w, -1 if replaced
+  std::vector<Eigen::Index> replaced_rows;  ///< the rows the pads replace, ascending
+  SparseMatrix replaced;                    ///< G_g: those rows of T (replaced_rows x n')
+  Eigen::Index first_pad_column = 0;        ///< pad k's DOFs are columns first + 6 k ... + 5
+  std::vector<Eigen::Vector3d> centroids;   ///< each pad's reference point (m)
 };
 
 /// @throws PadError for a pad of fewer than 3 nodes, nodes on one line (its rotation about the
@@ -66,7 +69,8 @@ struct PadTransform {
 /// the FE tool, or not a node of the mesh).
 PadTransform pad_transform(const std::vector<DofLabel>& dofs, const std::vector<PadNodes>& pads);
 
-/// T' A T, symmetric to the last bit (both triangles stored).
-SparseMatrix congruence(const SparseMatrix& a, const SparseMatrix& t);
+/// T' A T for a symmetric A (both triangles stored), symmetric to the last bit: A's kept block in
+/// one pass, plus the pads' terms from A's replaced columns (cost ~ one pass over A).
+SparseMatrix congruence(const SparseMatrix& a, const PadTransform& t);
 
 }  // namespace flexloop::plant::superelement

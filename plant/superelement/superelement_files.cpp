@@ -119,9 +119,9 @@ CraigBampton reduce_with_pads(const SparseMatrix& K, const SparseMatrix& M,
                               ReducedSuperelement& out, double modes_up_to_hz) {
   const PadTransform t = pad_transform(dofs, out.pads);
   for (Eigen::Index& row : rows) row = t.column_of[static_cast<std::size_t>(row)];
-  for (Eigen::Index c = t.first_pad_column; c < t.T.cols(); ++c) rows.push_back(c);
+  for (Eigen::Index c = t.first_pad_column; c < t.columns; ++c) rows.push_back(c);
   out.positions.insert(out.positions.end(), t.centroids.begin(), t.centroids.end());
-  return craig_bampton(congruence(K, t.T), congruence(M, t.T), rows, modes_up_to_hz);
+  return craig_bampton(congruence(K, t), congruence(M, t), rows, modes_up_to_hz);
 }
 
 std::shared_ptr<const ReducedSuperelement> read_and_reduce(const SuperelementFiles& f) {
