@@ -201,7 +201,7 @@ std::shared_ptr<const se::ReducedSuperelement> reduced_body(const common::TomlRe
   try {
     reduced = se::reduce_superelement(files);
   } catch (const se::PadError& e) {
-    pads.readers[e.pad()].fail(std::string(e.what()) + " (nodes " + files.nodes + ")");
+    pads.readers[e.pad()].fail(e.what());
   } catch (const std::domain_error& e) {
     r.fail(std::string(e.what()) + " (stiffness " + files.stiffness + ", mass " + files.mass + ")");
   }

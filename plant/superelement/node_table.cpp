@@ -58,13 +58,7 @@ class WantedNodes {
           !found_.within[b].emplace(id, x).second)
         throw lines.error("node " + std::to_string(id) + " is defined twice");
   }
-  NodeLookup take_all(const std::string& path) {
-    for (const long id : wanted_)
-      if (!found_.wanted.count(id))
-        throw common::InputError(path, "has no node " + std::to_string(id) +
-                                           " (the model names it as an interface or pad node)");
-    return std::move(found_);
-  }
+  NodeLookup take_all() { return std::move(found_); }
 
  private:
   std::set<long> wanted_;
@@ -126,12 +120,17 @@ NodeLookup look_up_nodes(const std::string& path, const std::vector<long>& wante
     read_deck(lines, nodes);
   else
     read_csv(lines, nodes);
-  return nodes.take_all(path);
+  return nodes.take_all();
 }
 
 std::map<long, Eigen::Vector3d> read_node_coordinates(const std::string& path,
                                                       const std::vector<long>& wanted) {
-  return look_up_nodes(path, wanted, {}).wanted;
+  std::map<long, Eigen::Vector3d> found = look_up_nodes(path, wanted, {}).wanted;
+  for (const long id : wanted)
+    if (!found.count(id))
+      throw common::InputError(
+          path, "has no node " + std::to_string(id) + " (the model names it as an interface node)");
+  return found;
 }
 
 }  // namespace flexloop::plant::superelement

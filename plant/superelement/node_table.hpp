@@ -30,7 +30,9 @@ struct NodeLookup {
   std::vector<std::map<long, Eigen::Vector3d>> within;  ///< per ball, the nodes inside (maybe none)
 };
 
-/// read_node_coordinates, and in the same pass the nodes inside each of `balls`.
+/// The wanted nodes the file has (those it lacks are left out, for the caller to name), and in
+/// the same pass the nodes inside each of `balls`. @throws common::InputError naming file:line for
+/// a malformed node line or a node given twice.
 NodeLookup look_up_nodes(const std::string& path, const std::vector<long>& wanted,
                          const std::vector<Ball>& balls);
 

@@ -50,6 +50,19 @@ std::vector<long> named_nodes(const SuperelementFiles& f) {
   return out;
 }
 
+// The pins' positions, in the order asked; a pin the node file lacks refused.
+std::vector<Eigen::Vector3d> pin_positions(const SuperelementFiles& f, const NodeLookup& found) {
+  std::vector<Eigen::Vector3d> out;
+  for (const long node : f.interface_nodes) {
+    const auto at = found.wanted.find(node);
+    if (at == found.wanted.end())
+      throw common::InputError(f.nodes, "has no node " + std::to_string(node) +
+                                            " (the model names it as an interface node)");
+    out.push_back(at->second);
+  }
+  return out;
+}
+
 // Each pad's nodes and their coordinates, as the node file has them; a mesh node in two pads or
 // in a pad and a pin refused.
 std::vector<PadNodes> find_pads(const SuperelementFiles& f, const NodeLookup& found) {
@@ -65,8 +78,11 @@ std::vector<PadNodes> find_pads(const SuperelementFiles& f, const NodeLookup& fo
       throw PadError(k, "'within' catches no node of " + f.nodes +
                             " (widen its radius, or move its center onto the body)");
     for (const long node : within ? std::vector<long>{} : f.pads[k].nodes) {
+      const auto at = found.wanted.find(node);
+      if (at == found.wanted.end())
+        throw PadError(k, "mesh node " + std::to_string(node) + " is not in " + f.nodes);
       pad.nodes.push_back(node);
-      pad.positions.push_back(found.wanted.at(node));
+      pad.positions.push_back(at->second);
     }
     if (within)
       for (const auto& [node, x] : *within) {
@@ -133,7 +149,7 @@ std::shared_ptr<const ReducedSuperelement> read_and_reduce(const SuperelementFil
   for (const PadRequest& pad : f.pads)
     if (pad.within) balls.push_back(pad.ball);
   const NodeLookup where = look_up_nodes(f.nodes, named_nodes(f), balls);
-  for (const long node : f.interface_nodes) out->positions.push_back(where.wanted.at(node));
+  out->positions = pin_positions(f, where);
   out->pads = find_pads(f, where);
   const std::vector<Eigen::Index> rows = interface_rows(f, dofs, out->interface_dofs);
   const SparseMatrix K = f.format == FileFormat::kCalculix ? read_calculix_matrix(f.stiffness, n)

@@ -268,6 +268,9 @@ TEST_CASE("superelement pads: bad pads are refused at their entry", "[supereleme
                          {"id = \"p\"\nnodes = [390, 391, 400]\nkind = \"rigid\"\n"
                           "within = { center = [1.0, 0.025, 0.025], radius = 0.04 }"}),
              Contains("both.toml:12") && Contains("give either 'nodes'"));
+  CHECK_THAT(
+      pad_refusal("absent.toml", "", {"id = \"p\"\nnodes = [390, 391, 99999]\nkind = \"rigid\""}),
+      Contains("absent.toml:12") && Contains("mesh node 99999 is not in"));
   CHECK_THAT(pad_refusal("held.toml", "", {"id = \"p\"\nnodes = [1, 2, 5]\nkind = \"rigid\""}),
              Contains("held.toml:12") && Contains("mesh node 1 lacks a translation"));
 }
