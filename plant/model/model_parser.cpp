@@ -456,7 +456,8 @@ void read_fixed(const common::TomlReader& cr, Model& m, const NodeIndex& node_in
 }
 
 // What a superelement brings unless [coordinates] lists it: its interface translations dynamic
-// (those the FE tool holds, fixed), then its modal amplitudes, always dynamic.
+// (those the FE tool holds, fixed), a pad node's l1..l3 dynamic (its l0 dependent, from
+// euler.<pad>), then its modal amplitudes, always dynamic.
 void superelement_defaults(Model& m, const std::set<std::string>& listed) {
   for (const auto& body : m.superelements) {
     const std::set<int> carried(body.interface_coordinates.begin(),
@@ -466,8 +467,9 @@ void superelement_defaults(Model& m, const std::set<std::string>& listed) {
       if (!std::any_of(carried.begin(), carried.end(),
                        [&](int c) { return c >= first && c < first + m.dim; }))
         continue;
-      for (int i = first; i < first + m.dim; ++i) {
-        if (listed.count(m.coordinate_labels[i])) continue;
+      for (int i = first; i < first + n.coordinate_count; ++i) {
+        const bool rotation = i >= first + m.dim;
+        if (listed.count(m.coordinate_labels[i]) || (rotation && !carried.count(i))) continue;
         m.coordinate_roles[i] =
             carried.count(i) ? CoordinateRole::kDynamic : CoordinateRole::kFixed;
         if (carried.count(i)) m.generalised.push_back(m.coordinate_labels[i]);

@@ -15,7 +15,8 @@ namespace flexloop::plant::model {
 struct SuperelementTable {
   Superelement body;  // interface_coordinates left for the model reader to fill
   std::vector<Node> interface_nodes;
-  // Per reduced interface row: the index in interface_nodes and the axis (0 x, 1 y, 2 z).
+  // Per reduced interface row: the index in interface_nodes and the coordinate's offset in the
+  // node (0 x, 1 y, 2 z; a pad's rotations: 4..6, its Euler parameters l1..l3).
   std::vector<std::pair<int, int>> interface_rows;
 };
 

@@ -43,25 +43,27 @@ bool parse_node_line(std::string_view line, long& id, Eigen::Vector3d& x) {
   return line.find_first_not_of(" \t,") == std::string_view::npos;
 }
 
+// The nodes asked for by number, and those inside each ball; the rest passed over unstored.
 class WantedNodes {
  public:
-  explicit WantedNodes(const std::vector<long>& wanted) : wanted_(wanted.begin(), wanted.end()) {}
+  WantedNodes(const std::vector<long>& wanted, const std::vector<Ball>& balls)
+      : wanted_(wanted.begin(), wanted.end()), balls_(balls) {
+    found_.within.resize(balls.size());
+  }
   void offer(long id, const Eigen::Vector3d& x, const Lines& lines) {
-    if (!wanted_.count(id)) return;
-    if (!found_.emplace(id, x).second)
+    if (wanted_.count(id) && !found_.wanted.emplace(id, x).second)
       throw lines.error("node " + std::to_string(id) + " is defined twice");
+    for (std::size_t b = 0; b < balls_.size(); ++b)
+      if ((x - balls_[b].center).norm() <= balls_[b].radius &&
+          !found_.within[b].emplace(id, x).second)
+        throw lines.error("node " + std::to_string(id) + " is defined twice");
   }
-  std::map<long, Eigen::Vector3d> take_all(const std::string& path) {
-    for (const long id : wanted_)
-      if (!found_.count(id))
-        throw common::InputError(path, "has no node " + std::to_string(id) +
-                                           " (the model names it as an interface node)");
-    return std::move(found_);
-  }
+  NodeLookup take_all() { return std::move(found_); }
 
  private:
   std::set<long> wanted_;
-  std::map<long, Eigen::Vector3d> found_;
+  std::vector<Ball> balls_;
+  NodeLookup found_;
 };
 
 bool is_deck(std::string_view text) {
@@ -109,16 +111,26 @@ void read_csv(Lines& lines, WantedNodes& nodes) {
 
 }  // namespace
 
-std::map<long, Eigen::Vector3d> read_node_coordinates(const std::string& path,
-                                                      const std::vector<long>& wanted) {
+NodeLookup look_up_nodes(const std::string& path, const std::vector<long>& wanted,
+                         const std::vector<Ball>& balls) {
   const text::MappedText file(path);
   Lines lines(file.text(), path);
-  WantedNodes nodes(wanted);
+  WantedNodes nodes(wanted, balls);
   if (is_deck(file.text()))
     read_deck(lines, nodes);
   else
     read_csv(lines, nodes);
-  return nodes.take_all(path);
+  return nodes.take_all();
+}
+
+std::map<long, Eigen::Vector3d> read_node_coordinates(const std::string& path,
+                                                      const std::vector<long>& wanted) {
+  std::map<long, Eigen::Vector3d> found = look_up_nodes(path, wanted, {}).wanted;
+  for (const long id : wanted)
+    if (!found.count(id))
+      throw common::InputError(
+          path, "has no node " + std::to_string(id) + " (the model names it as an interface node)");
+  return found;
 }
 
 }  // namespace flexloop::plant::superelement

@@ -19,4 +19,21 @@ namespace flexloop::plant::superelement {
 std::map<long, Eigen::Vector3d> read_node_coordinates(const std::string& path,
                                                       const std::vector<long>& wanted);
 
+/// A ball of space: the nodes a pad's `within` catches (|x - center| <= radius).
+struct Ball {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  double radius = 0;
+};
+
+struct NodeLookup {
+  std::map<long, Eigen::Vector3d> wanted;               ///< every wanted node
+  std::vector<std::map<long, Eigen::Vector3d>> within;  ///< per ball, the nodes inside (maybe none)
+};
+
+/// The wanted nodes the file has (those it lacks are left out, for the caller to name), and in
+/// the same pass the nodes inside each of `balls`. @throws common::InputError naming file:line for
+/// a malformed node line or a node given twice.
+NodeLookup look_up_nodes(const std::string& path, const std::vector<long>& wanted,
+                         const std::vector<Ball>& balls);
+
 }  // namespace flexloop::plant::superelement

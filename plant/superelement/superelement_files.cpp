@@ -42,7 +42,70 @@ std::string request_key(const SuperelementFiles& f) {
      << identity(f.nodes) << '\n'
      << f.modes_up_to_hz;
   for (const long n : f.interface_nodes) os << ' ' << n;
+  for (const PadRequest& pad : f.pads) {
+    os << "\npad " << static_cast<int>(pad.kind);
+    if (pad.within) os << " within " << pad.ball.center.transpose() << ' ' << pad.ball.radius;
+    for (const long n : pad.nodes) os << ' ' << n;
+  }
   return os.str();
+}
+
+// Every mesh node the request names by number: the pins, then the pads' listed nodes.
+std::vector<long> named_nodes(const SuperelementFiles& f) {
+  std::vector<long> out = f.interface_nodes;
+  for (const PadRequest& pad : f.pads) out.insert(out.end(), pad.nodes.begin(), pad.nodes.end());
+  return out;
+}
+
+// The pins' positions, in the order asked; a pin the node file lacks refused.
+std::vector<Eigen::Vector3d> pin_positions(const SuperelementFiles& f, const NodeLookup& found) {
+  std::vector<Eigen::Vector3d> out;
+  for (const long node : f.interface_nodes) {
+    const auto at = found.wanted.find(node);
+    if (at == found.wanted.end())
+      throw common::InputError(f.nodes, "has no node " + std::to_string(node) +
+                                            " (the model names it as an interface node)");
+    out.push_back(at->second);
+  }
+  return out;
+}
+
+// Each pad's nodes and their coordinates, as the node file has them; a mesh node in two pads or
+// in a pad and a pin refused.
+std::vector<PadNodes> find_pads(const SuperelementFiles& f, const NodeLookup& found) {
+  std::vector<PadNodes> pads;
+  std::map<long, std::size_t> owner;  // mesh node -> its pad
+  const std::set<long> pins(f.interface_nodes.begin(), f.interface_nodes.end());
+  std::size_t ball = 0;
+  for (std::size_t k = 0; k < f.pads.size(); ++k) {
+    PadNodes pad{f.pads[k].kind, {}, {}};
+    const std::map<long, Eigen::Vector3d>* within =
+        f.pads[k].within ? &found.within[ball++] : nullptr;
+    if (within && within->empty())
+      throw PadError(k, "'within' catches no node of " + f.nodes +
+                            " (widen its radius, or move its center onto the body)");
+    for (const long node : within ? std::vector<long>{} : f.pads[k].nodes) {
+      const auto at = found.wanted.find(node);
+      if (at == found.wanted.end())
+        throw PadError(k, "mesh node " + std::to_string(node) + " is not in " + f.nodes);
+      pad.nodes.push_back(node);
+      pad.positions.push_back(at->second);
+    }
+    if (within)
+      for (const auto& [node, x] : *within) {
+        pad.nodes.push_back(node);
+        pad.positions.push_back(x);
+      }
+    for (const long node : pad.nodes) {
+      if (pins.count(node))
+        throw PadError(k, "mesh node " + std::to_string(node) + " is also an 'interface' node");
+      if (const auto [it, fresh] = owner.emplace(node, k); !fresh)
+        throw PadError(k, "mesh node " + std::to_string(node) + " is also in pad " +
+                              std::to_string(it->second + 1) + " (a node belongs to one pad)");
+    }
+    pads.push_back(std::move(pad));
+  }
+  return pads;
 }
 
 // The rows of the interface translations, node by node, x before y before z.
@@ -72,20 +135,37 @@ std::vector<Eigen::Index> interface_rows(const SuperelementFiles& f,
   return rows;
 }
 
+// The pads joined before the reduction (pads.hpp): (K, M) -> (T' K T, T' M T), the pins' rows
+// renumbered into w, the pads' six DOFs each appended to the interface.
+CraigBampton reduce_with_pads(const SparseMatrix& K, const SparseMatrix& M,
+                              const std::vector<DofLabel>& dofs, std::vector<Eigen::Index> rows,
+                              ReducedSuperelement& out, double modes_up_to_hz) {
+  const PadTransform t = pad_transform(dofs, out.pads);
+  for (Eigen::Index& row : rows) row = t.column_of[static_cast<std::size_t>(row)];
+  for (Eigen::Index c = t.first_pad_column; c < t.columns; ++c) rows.push_back(c);
+  out.positions.insert(out.positions.end(), t.centroids.begin(), t.centroids.end());
+  return craig_bampton(congruence(K, t), congruence(M, t), rows, modes_up_to_hz);
+}
+
 std::shared_ptr<const ReducedSuperelement> read_and_reduce(const SuperelementFiles& f) {
   auto out = std::make_shared<ReducedSuperelement>();
   const std::vector<DofLabel> dofs =
       f.format == FileFormat::kCalculix ? read_calculix_dofs(f.dofs) : read_dof_csv(f.dofs);
   const auto n = static_cast<Eigen::Index>(dofs.size());
-  const std::map<long, Eigen::Vector3d> where = read_node_coordinates(f.nodes, f.interface_nodes);
-  for (const long node : f.interface_nodes) out->positions.push_back(where.at(node));
+  std::vector<Ball> balls;
+  for (const PadRequest& pad : f.pads)
+    if (pad.within) balls.push_back(pad.ball);
+  const NodeLookup where = look_up_nodes(f.nodes, named_nodes(f), balls);
+  out->positions = pin_positions(f, where);
+  out->pads = find_pads(f, where);
   const std::vector<Eigen::Index> rows = interface_rows(f, dofs, out->interface_dofs);
   const SparseMatrix K = f.format == FileFormat::kCalculix ? read_calculix_matrix(f.stiffness, n)
                                                            : read_matrix_market(f.stiffness, n);
   const SparseMatrix M = f.format == FileFormat::kCalculix ? read_calculix_matrix(f.mass, n)
                                                            : read_matrix_market(f.mass, n);
   out->full_dofs = n;
-  out->reduction = craig_bampton(K, M, rows, f.modes_up_to_hz);
+  out->reduction = out->pads.empty() ? craig_bampton(K, M, rows, f.modes_up_to_hz)
+                                     : reduce_with_pads(K, M, dofs, rows, *out, f.modes_up_to_hz);
   return out;
 }
 

@@ -25,19 +25,14 @@
 #include "plant/model/model_parser.hpp"
 #include "plant/superelement/craig_bampton.hpp"
 #include "plant/superelement/sparse_text.hpp"
+#include "tests/superelement/calculix_run.hpp"
 
 using namespace flexloop;
 using namespace flexloop::plant::superelement;
+using flexloop::test::calculix_eigenvalues;
+using flexloop::test::run;
 
 namespace {
-
-struct RemovedAtExit {
-  std::filesystem::path dir;
-  ~RemovedAtExit() {
-    std::error_code ignored;
-    std::filesystem::remove_all(dir, ignored);
-  }
-};
 
 struct CalculixBar {
   std::filesystem::path dir;
@@ -47,44 +42,13 @@ struct CalculixBar {
   std::vector<long> interface_nodes;  ///< the free end's four corners
 };
 
-// The eigenvalues (w^2) of jobname.dat's "E I G E N V A L U E   O U T P U T" table, in mode
-// order: its rows are "mode eigenvalue rad/time cycles/time imaginary"; the eigenvalue column
-// has 7 significant digits, the cycles column fewer of the frequency, so it is the one read.
-std::vector<double> calculix_eigenvalues(const std::filesystem::path& dat) {
-  std::ifstream in(dat);
-  std::string line;
-  while (std::getline(in, line) && line.find("E I G E N V A L U E   O U T P U T") == line.npos) {
-  }
-  std::vector<double> out;
-  while (std::getline(in, line)) {
-    std::istringstream fields(line);
-    long mode = 0;
-    double lambda = 0;
-    if (fields >> mode >> lambda) {
-      if (mode != static_cast<long>(out.size()) + 1) break;
-      out.push_back(lambda);
-    } else if (!out.empty()) {
-      break;  // the blank line after the table
-    }
-  }
-  return out;
-}
-
-void run(const std::string& command) {
-  INFO(command);
-  REQUIRE(std::system(command.c_str()) == 0);
-}
-
 // Made once per process: the decks, both ccx runs, the matrices read.
 const CalculixBar& calculix_bar() {
   static const CalculixBar bar = [] {
-    if (std::system("command -v ccx > /dev/null") != 0)
-      FAIL(
-          "ccx not found: CalculiX (calculix-ccx) is a project dependency, installed by "
-          "tools/lib/common.sh");
+    test::require_calculix();
     CalculixBar b;
     // Removed at exit even when a step below fails.
-    static const RemovedAtExit cleanup{
+    static const test::RemovedAtExit cleanup{
         std::filesystem::temp_directory_path() /
         ("flexloop_test_superelement_calculix_" + std::to_string(::getpid()))};
     b.dir = cleanup.dir;

@@ -65,3 +65,43 @@ def write_deck(path, nodes, etype, elements, fixed, material, step):
                 f"*DENSITY\n{rho:.17g}\n")
         f.write("*SOLID SECTION, ELSET=EALL, MATERIAL=SOLID\n")
         f.write("*STEP\n" + step + "*END STEP\n")
+
+
+def distributing_equations(nodes, pad, ref, rot):
+    """*EQUATION cards of a distributing pad (RBE3, equal weights): the reference point's motion,
+    ref's translations and rot's (as rotations, rad), is the least-squares rigid fit of the pad
+    nodes' translations, v = W u, W = (R'R)^-1 R'. As flexloop joins it (plant/superelement/
+    pads.hpp): six pad translations, the first pivots of W's column-pivoted QR, are eliminated,
+    u_A = W_A^-1 (v - W_B u_B), each the dependent term of its own equation."""
+    import numpy as np
+    import scipy.linalg
+    p = np.array([nodes[n] for n in pad])
+    r = p - p.mean(axis=0)
+    cross = [np.array([[0, -x[2], x[1]], [x[2], 0, -x[0]], [-x[1], x[0], 0]]) for x in r]
+    modes = np.vstack([np.hstack([np.eye(3), -c]) for c in cross])
+    w = np.linalg.solve(modes.T @ modes, modes.T)
+    _, _, pivots = scipy.linalg.qr(w, pivoting=True)
+    a, b = pivots[:6], pivots[6:]
+    pa = np.linalg.inv(w[:, a])
+    q = -pa @ w[:, b]
+    dof = [(pad[i // 3], i % 3 + 1) for i in range(3 * len(pad))]
+    reference = [(ref, 1), (ref, 2), (ref, 3), (rot, 1), (rot, 2), (rot, 3)]
+    text = "*EQUATION\n"
+    for i in range(6):
+        terms = [(dof[a[i]], 1.0)] + [(reference[c], -pa[i, c]) for c in range(6)] + \
+                [(dof[j], -q[i, k]) for k, j in enumerate(b)]
+        terms = [t for t in terms if abs(t[1]) > 1e-14]  # rounding's zeros: not terms
+        text += f"{len(terms)}\n"
+        for start in range(0, len(terms), 4):  # CalculiX: at most 12 fields a line
+            text += ", ".join(f"{n}, {d}, {field(c)}" for (n, d), c in terms[start:start + 4])
+            text += "\n"
+    return text
+
+
+def rigid_pad(name, pad, ref, rot):
+    """A rigid pad (RBE2) as CalculiX's *RIGID BODY: the node set `name` moves rigidly with
+    REF NODE ref (its translations) and ROT NODE rot (its translations are the rotations)."""
+    text = f"*NSET, NSET={name}\n"
+    for start in range(0, len(pad), 10):
+        text += ", ".join(str(n) for n in pad[start:start + 10]) + "\n"
+    return text + f"*RIGID BODY, NSET={name}, REF NODE={ref}, ROT NODE={rot}\n"
