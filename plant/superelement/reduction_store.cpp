@@ -19,7 +19,7 @@ std::string& store_folder() {
   return folder;
 }
 
-constexpr char kMagic[] = "flexloop reduction 1\n";
+constexpr char kMagic[] = "flexloop reduction 2\n";
 constexpr double kByteOrderMark = 1.0 + 1.0 / 1024;  // reads back equal on this machine only
 
 // FNV-1a, 64 bits: a file name for a key (the key itself is in the file and checked).
@@ -71,25 +71,44 @@ bool read_matrix(Reader& r, Eigen::MatrixXd& m, std::int64_t n) {
   return r.take(m.data(), static_cast<std::size_t>(n * n) * sizeof(double)) && m.allFinite();
 }
 
+bool read_pads(Reader& r, ReducedSuperelement& s, std::int64_t pads) {
+  for (std::int64_t k = 0; k < pads && r.ok; ++k) {
+    PadNodes pad;
+    pad.kind = static_cast<PadKind>(r.get<std::int32_t>());
+    const auto nodes = r.get<std::int64_t>();
+    if (!plausible(nodes, 32, r)) return false;
+    for (std::int64_t i = 0; i < nodes; ++i) pad.nodes.push_back(r.get<std::int64_t>());
+    for (std::int64_t i = 0; i < nodes; ++i) {
+      Eigen::Vector3d p;
+      r.take(p.data(), sizeof(double) * 3);
+      pad.positions.push_back(p);
+    }
+    s.pads.push_back(std::move(pad));
+  }
+  return r.ok;
+}
+
 bool read_body(Reader& r, ReducedSuperelement& s) {
   const auto n = r.get<std::int64_t>(), dofs = r.get<std::int64_t>(), modes = r.get<std::int64_t>(),
-             nodes = r.get<std::int64_t>();
+             nodes = r.get<std::int64_t>(), pins = r.get<std::int64_t>(),
+             pads = r.get<std::int64_t>();
   s.full_dofs = r.get<std::int64_t>();
   s.reduction.interface_dofs = dofs;
-  if (!r.ok || dofs + modes != n || !plausible(dofs, 12, r) || !plausible(nodes, 24, r))
+  if (!r.ok || dofs + modes != n || !plausible(pins, 12, r) || !plausible(nodes, 24, r) ||
+      !plausible(pads, 12, r))
     return false;
   if (!read_matrix(r, s.reduction.K, n) || !read_matrix(r, s.reduction.M, n)) return false;
   s.reduction.fixed_interface_hz.resize(modes);
   if (!r.take(s.reduction.fixed_interface_hz.data(), static_cast<std::size_t>(modes) * 8))
     return false;
-  for (std::int64_t i = 0; i < dofs; ++i)
+  for (std::int64_t i = 0; i < pins; ++i)
     s.interface_dofs.push_back({static_cast<long>(r.get<std::int64_t>()), r.get<std::int32_t>()});
   for (std::int64_t i = 0; i < nodes; ++i) {
     Eigen::Vector3d p;
     r.take(p.data(), sizeof(double) * 3);
     s.positions.push_back(p);
   }
-  return r.ok && r.at == r.bytes.size();
+  return read_pads(r, s, pads) && r.at == r.bytes.size();
 }
 
 }  // namespace
@@ -132,7 +151,9 @@ void store_reduction(const std::string& key, const ReducedSuperelement& s) {
   for (const std::int64_t v :
        {static_cast<std::int64_t>(c.K.rows()), static_cast<std::int64_t>(c.interface_dofs),
         static_cast<std::int64_t>(c.fixed_interface_hz.size()),
-        static_cast<std::int64_t>(s.positions.size()), static_cast<std::int64_t>(s.full_dofs)})
+        static_cast<std::int64_t>(s.positions.size()),
+        static_cast<std::int64_t>(s.interface_dofs.size()),
+        static_cast<std::int64_t>(s.pads.size()), static_cast<std::int64_t>(s.full_dofs)})
     w.put(v);
   w.put_doubles(c.K.data(), c.K.size());
   w.put_doubles(c.M.data(), c.M.size());
@@ -142,6 +163,12 @@ void store_reduction(const std::string& key, const ReducedSuperelement& s) {
     w.put(static_cast<std::int32_t>(d.direction));
   }
   for (const Eigen::Vector3d& p : s.positions) w.put_doubles(p.data(), 3);
+  for (const PadNodes& pad : s.pads) {
+    w.put(static_cast<std::int32_t>(pad.kind));
+    w.put(static_cast<std::int64_t>(pad.nodes.size()));
+    for (const long node : pad.nodes) w.put(static_cast<std::int64_t>(node));
+    for (const Eigen::Vector3d& p : pad.positions) w.put_doubles(p.data(), 3);
+  }
   std::filesystem::create_directories(store_folder());
   common::write_text_atomically(file_for(key), w.bytes);
 }

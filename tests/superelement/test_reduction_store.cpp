@@ -64,6 +64,7 @@ TEST_CASE("reduction store: a stored reduction reads back to the bit under its k
   CHECK(back->interface_dofs == reduced->interface_dofs);
   CHECK(back->positions == reduced->positions);
   CHECK(back->full_dofs == 200);
+  CHECK(back->pads.empty());
   CHECK_FALSE(load_stored_reduction("another request"));
 
   // Damaged: cut short by 9 bytes, the file is not used; stored again, it is.
