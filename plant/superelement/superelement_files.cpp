@@ -33,7 +33,8 @@ std::string request_key(const SuperelementFiles& f) {
      << identity(f.mass) << '\n'
      << identity(f.dofs) << '\n'
      << identity(f.nodes) << '\n'
-     << f.modes_up_to_hz;
+     << f.modes_up_to_hz << '\n'
+     << f.residual_block_solves << '\n';
   for (const long n : f.interface_nodes) os << ' ' << n;
   return os.str();
 }
@@ -78,7 +79,7 @@ std::shared_ptr<const ReducedSuperelement> read_and_reduce(const SuperelementFil
   const SparseMatrix M = f.format == FileFormat::kCalculix ? read_calculix_matrix(f.mass, n)
                                                            : read_matrix_market(f.mass, n);
   out->full_dofs = n;
-  out->reduction = craig_bampton(K, M, rows, f.modes_up_to_hz);
+  out->reduction = craig_bampton(K, M, rows, f.modes_up_to_hz, f.residual_block_solves);
   return out;
 }
 

@@ -22,6 +22,7 @@ struct SuperelementFiles {
   std::string stiffness, mass, dofs, nodes;  // paths as they are to be opened
   double modes_up_to_hz = 0;
   std::vector<long> interface_nodes;  // mesh node numbers
+  int residual_block_solves = 0;      // the unkept modes' moments (residual_moments.hpp); 0: none
 };
 
 struct ReducedSuperelement {
