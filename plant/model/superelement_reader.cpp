@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 #include "plant/model/superelement_reader.hpp"
 
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -17,6 +18,8 @@ namespace flexloop::plant::model {
 namespace {
 
 namespace se = plant::superelement;
+
+std::atomic<double> reduction_error_band_hz{0.0};
 
 std::string number_text(double v) {
   std::ostringstream os;
@@ -66,6 +69,7 @@ se::SuperelementFiles read_files(const common::TomlReader& r, const Model& m,
   f.modes_up_to_hz = r.number("modes_up_to_hz");
   if (!(f.modes_up_to_hz > 0)) r.fail("'modes_up_to_hz' must be above 0", r.get("modes_up_to_hz"));
   for (const auto& [name, node] : interface) f.interface_nodes.push_back(node);
+  f.residual_block_solves = se::residual_block_solves(reduction_error_band_hz, f.modes_up_to_hz);
   return f;
 }
 
@@ -93,6 +97,8 @@ Superelement body_of(const common::TomlReader& r, const std::string& id,
   b.fixed_interface_hz = reduced.reduction.fixed_interface_hz;
   b.modes_up_to_hz = cut_off_hz;
   b.full_dofs = reduced.full_dofs;
+  b.residual_moments = reduced.reduction.residual.scaled;
+  b.residual_cut_off_rad2 = reduced.reduction.residual.cut_off_rad2;
   const double zeta = r.number("damping_ratio", 0.0);
   if (!(zeta >= 0 && zeta < 1)) r.fail("'damping_ratio' must be in [0, 1)", r.get("damping_ratio"));
   b.D = modal_damping(b.K, b.M, zeta);
@@ -140,6 +146,10 @@ SuperelementTable read_table(const common::TomlReader& r, const Model& m) {
 }
 
 }  // namespace
+
+double set_reduction_error_band_hz(double band_hz) {
+  return reduction_error_band_hz.exchange(band_hz);
+}
 
 std::vector<SuperelementTable> read_superelement_tables(const toml::table& root,
                                                         const common::TomlReader& top,
