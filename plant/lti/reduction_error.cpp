@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
-#include <limits>
 #include <stdexcept>
 
 #include "numeric/constants.hpp"
@@ -119,6 +118,7 @@ Eigen::MatrixXcd interface_delta(const model::Model& m, const std::vector<BodyCo
 Eigen::MatrixXcd full_response(const Eigen::MatrixXcd& P, Eigen::Index ny, Eigen::Index nu,
                                const Eigen::MatrixXcd& delta) {
   const Eigen::Index nf = delta.rows();
+  if (nf == 0) return P.topLeftCorner(ny, nu);  // every interface translation fixed
   const Eigen::MatrixXcd inner =
       Eigen::MatrixXcd::Identity(nf, nf) + P.bottomRightCorner(nf, nf) * delta;
   const Eigen::MatrixXcd x = inner.partialPivLu().solve(P.bottomLeftCorner(nf, nu));
