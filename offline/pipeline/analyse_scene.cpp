@@ -19,6 +19,7 @@
 #include "offline/pipeline/loop_figures.hpp"
 #include "offline/pipeline/numerical_health.hpp"
 #include "offline/pipeline/provenance.hpp"
+#include "offline/pipeline/reduction_error_report.hpp"
 #include "offline/pipeline/superelement_provenance.hpp"
 #include "offline/report/csv_writer.hpp"
 #include "offline/report/plot.hpp"
@@ -654,8 +655,9 @@ std::string controller_name(const scene::ScenePlant& p) {
 }  // namespace
 
 void analyse_scene(const std::string& scene_path, const std::string& out_dir,
-                   const FrequencyGrid& grid) {
+                   const FrequencyGrid& grid, const AnalyseOptions& options) {
   const scene::Scene sc = scene::load_scene(scene_path);
+  const ReductionErrorBand band(options.reduction_error ? grid.f_max_hz : 0.0);
   const scene::ScenePlant p = scene::build_scene_plant(sc);
   std::filesystem::create_directories(out_dir);
   const std::string dir = out_dir + "/";
@@ -702,6 +704,9 @@ void analyse_scene(const std::string& scene_path, const std::string& out_dir,
   write_transmissibility(r, sc.name, dir);
   print_sigma_peaks(r, j);
   print_sampled_against_design(r, j);
+  if (options.reduction_error && !p.model.superelements.empty())
+    j["reduction_error"] =
+        report_reduction_error(p.model, p.lin, p.plant.inputs, p.plant.outputs, r.f, grid.f_max_hz);
   write_analysis_json();
   std::printf(
       "wrote %s{analysis.json, singular_values.csv, singular_values.png, "

@@ -19,7 +19,13 @@ struct FrequencyGrid {
   int points;
 };
 
+struct AnalyseOptions {
+  /// The superelement reduction's error against the full FE body (reduction_error_report.hpp);
+  /// a model without a superelement has none to measure.
+  bool reduction_error = true;
+};
+
 void analyse_scene(const std::string& scene_path, const std::string& out_dir,
-                   const FrequencyGrid& grid);
+                   const FrequencyGrid& grid, const AnalyseOptions& options = {});
 
 }  // namespace flexloop::pipeline

@@ -88,6 +88,10 @@ struct Superelement {
   double modes_up_to_hz = 0;             // the cut-off asked for
   Eigen::Index full_dofs = 0;            // rows of the FE tool's matrices
   std::vector<std::string> files;        // stiffness, mass, dofs, nodes, as opened
+  // What the reduction leaves out: the unkept modes' moments nu_j, scaled by w_c^2 =
+  // residual_cut_off_rad2 (plant/superelement/residual_moments.hpp; superelement_residual.hpp).
+  std::vector<Eigen::MatrixXd> residual_moments;
+  double residual_cut_off_rad2 = 0;
   common::SourceRef source;
 
   int mode_count() const { return static_cast<int>(mode_labels.size()); }

@@ -2,6 +2,7 @@
 #include "plant/model/superelement_reader.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -18,6 +19,8 @@ namespace flexloop::plant::model {
 namespace {
 
 namespace se = plant::superelement;
+
+std::atomic<double> reduction_error_band_hz{0.0};
 
 std::string number_text(double v) {
   std::ostringstream os;
@@ -147,6 +150,7 @@ se::SuperelementFiles read_files(const common::TomlReader& r, const Model& m,
   f.modes_up_to_hz = r.number("modes_up_to_hz");
   if (!(f.modes_up_to_hz > 0)) r.fail("'modes_up_to_hz' must be above 0", r.get("modes_up_to_hz"));
   for (const auto& [name, node] : interface) f.interface_nodes.push_back(node);
+  f.residual_block_solves = se::residual_block_solves(reduction_error_band_hz, f.modes_up_to_hz);
   return f;
 }
 
@@ -173,6 +177,8 @@ Superelement body_of(const common::TomlReader& r, const std::string& id,
   b.M = reduction.M;
   b.fixed_interface_hz = reduction.fixed_interface_hz;
   b.modes_up_to_hz = cut_off_hz;
+  b.residual_moments = reduction.residual.scaled;
+  b.residual_cut_off_rad2 = reduction.residual.cut_off_rad2;
   const double zeta = r.number("damping_ratio", 0.0);
   if (!(zeta >= 0 && zeta < 1)) r.fail("'damping_ratio' must be in [0, 1)", r.get("damping_ratio"));
   b.D = modal_damping(b.K, b.M, zeta);
@@ -191,6 +197,11 @@ void rotations_as_euler_parameters(Eigen::Index first_pad_row, std::size_t pads,
     s.segment<3>(first_pad_row + 6 * static_cast<Eigen::Index>(k) + 3).setConstant(2.0);
   reduced.K = s.asDiagonal() * reduced.K * s.asDiagonal();
   reduced.M = s.asDiagonal() * reduced.M * s.asDiagonal();
+  // The unkept modes' moments live on the interface rows too (residual_moments.hpp).
+  for (Eigen::MatrixXd& nu : reduced.residual.scaled) {
+    const Eigen::VectorXd sb = s.head(nu.rows());
+    nu = sb.asDiagonal() * nu * sb.asDiagonal();
+  }
 }
 
 // The reduction, its errors placed at the model file's entry (a pad's own, for a pad's).
@@ -266,6 +277,10 @@ SuperelementTable read_table(const common::TomlReader& r, const Model& m) {
 }
 
 }  // namespace
+
+double set_reduction_error_band_hz(double band_hz) {
+  return reduction_error_band_hz.exchange(band_hz);
+}
 
 std::vector<SuperelementTable> read_superelement_tables(const toml::table& root,
                                                         const common::TomlReader& top,

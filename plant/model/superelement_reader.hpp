@@ -20,6 +20,12 @@ struct SuperelementTable {
   std::vector<std::pair<int, int>> interface_rows;
 };
 
+/// The band (Hz) up to which this process's reductions also keep what they leave out (the unkept
+/// modes' moments, plant/superelement/residual_moments.hpp: a few more solves on the reduction's
+/// factor), for `analyse`'s reduction error; 0, the default: nothing, at no cost. Returns the
+/// band before.
+double set_reduction_error_band_hz(double band_hz);
+
 /// The [[superelement]] tables in file order (none when the model has none).
 /// @throws common::InputError naming the model file's entry, or the FE file and line.
 std::vector<SuperelementTable> read_superelement_tables(const toml::table& root,

@@ -252,7 +252,8 @@ Eigen::VectorXd sparse_natural_frequencies_hz(const SparseMatrix& k, const Spars
 }
 
 CraigBampton craig_bampton(const SparseMatrix& k, const SparseMatrix& m,
-                           const std::vector<Eigen::Index>& interface, double up_to_hz) {
+                           const std::vector<Eigen::Index>& interface, double up_to_hz,
+                           int residual_block_solves) {
   check_input(k, m, interface, up_to_hz);
   const Eigen::Index n = k.rows(), nb = static_cast<Eigen::Index>(interface.size()), ni = n - nb;
   std::vector<int> to_b(static_cast<std::size_t>(n), -1), to_i(static_cast<std::size_t>(n), -1);
@@ -292,6 +293,14 @@ CraigBampton craig_bampton(const SparseMatrix& k, const SparseMatrix& m,
       Eigen::MatrixXd(mib.transpose() * phi.vectors) + mii_psi.transpose() * phi.vectors;
   cb.M.bottomLeftCorner(nm, nb) = cb.M.topRightCorner(nb, nm).transpose();
   cb.M.bottomRightCorner(nm, nm).setIdentity();
+  if (residual_block_solves > 0) {
+    const auto solve = [&](const Eigen::MatrixXd& x) -> Eigen::MatrixXd {
+      return kii_op.factorisation().solve(x);
+    };
+    cb.residual =
+        residual_moments(solve, mii, phi.vectors, phi.lambda, Eigen::MatrixXd(mib) + mii_psi,
+                         lambda_max, residual_block_solves);
+  }
   // Symmetric to rounding by construction; made exactly so for the eigen solvers downstream.
   cb.K = 0.5 * (cb.K + cb.K.transpose()).eval();
   cb.M = 0.5 * (cb.M + cb.M.transpose()).eval();

@@ -13,6 +13,7 @@
 #include <Eigen/Dense>
 #include <vector>
 
+#include "plant/superelement/residual_moments.hpp"
 #include "plant/superelement/sparse_text.hpp"
 
 namespace flexloop::plant::superelement {
@@ -23,14 +24,20 @@ struct CraigBampton {
   Eigen::Index interface_dofs = 0;
   /// The kept fixed-interface modes' frequencies, ascending (Hz).
   Eigen::VectorXd fixed_interface_hz;
+  /// What the reduction leaves out, as moments of the unkept modes (residual_moments.hpp); empty
+  /// unless asked for.
+  ResidualMoments residual;
 };
 
 /// @throws std::invalid_argument for sizes that disagree, an interface row out of range or
 /// repeated, a cut-off <= 0; std::domain_error when K_ii is not positive definite (the body
 /// still moves with its interface held: hold it in the FE tool or add interface nodes) or M_ii
 /// is not, or the Lanczos iteration does not converge.
+/// `residual_block_solves` > 0: also the unkept modes' moments (residual_moments.hpp), with that
+/// many more solves on the factor of K_ii (n_b right-hand sides each).
 CraigBampton craig_bampton(const SparseMatrix& K, const SparseMatrix& M,
-                           const std::vector<Eigen::Index>& interface_rows, double modes_up_to_hz);
+                           const std::vector<Eigen::Index>& interface_rows, double modes_up_to_hz,
+                           int residual_block_solves = 0);
 
 /// The natural frequencies (Hz, ascending) of the pencil (K, M) below `up_to_hz`, at most
 /// `at_most` of them, by shift-invert Lanczos about a shift below the lowest (so a free body's

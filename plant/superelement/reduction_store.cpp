@@ -141,7 +141,8 @@ std::shared_ptr<const ReducedSuperelement> load_stored_reduction(const std::stri
 }
 
 void store_reduction(const std::string& key, const ReducedSuperelement& s) {
-  if (store_folder().empty()) return;
+  // A reduction with the unkept modes' moments (analyse's error) is its process's alone.
+  if (store_folder().empty() || !s.reduction.residual.scaled.empty()) return;
   const auto& c = s.reduction;
   Writer w;
   w.bytes.append(kMagic, sizeof kMagic - 1);

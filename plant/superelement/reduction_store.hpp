@@ -22,8 +22,9 @@ const std::string& reduction_store();
 /// with this key).
 std::shared_ptr<const ReducedSuperelement> load_stored_reduction(const std::string& key);
 
-/// Stores `r` under `key` (nothing without a store). @throws std::runtime_error when the file
-/// cannot be written.
+/// Stores `r` under `key` (nothing without a store, or for a reduction that carries the unkept
+/// modes' moments: those are asked by `analyse` alone, which keeps no store). @throws
+/// std::runtime_error when the file cannot be written.
 void store_reduction(const std::string& key, const ReducedSuperelement& r);
 
 }  // namespace flexloop::plant::superelement

@@ -40,7 +40,8 @@ std::string request_key(const SuperelementFiles& f) {
      << identity(f.mass) << '\n'
      << identity(f.dofs) << '\n'
      << identity(f.nodes) << '\n'
-     << f.modes_up_to_hz;
+     << f.modes_up_to_hz << '\n'
+     << f.residual_block_solves << '\n';
   for (const long n : f.interface_nodes) os << ' ' << n;
   for (const PadRequest& pad : f.pads) {
     os << "\npad " << static_cast<int>(pad.kind);
@@ -139,12 +140,13 @@ std::vector<Eigen::Index> interface_rows(const SuperelementFiles& f,
 // renumbered into w, the pads' six DOFs each appended to the interface.
 CraigBampton reduce_with_pads(const SparseMatrix& K, const SparseMatrix& M,
                               const std::vector<DofLabel>& dofs, std::vector<Eigen::Index> rows,
-                              ReducedSuperelement& out, double modes_up_to_hz) {
+                              ReducedSuperelement& out, const SuperelementFiles& f) {
   const PadTransform t = pad_transform(dofs, out.pads);
   for (Eigen::Index& row : rows) row = t.column_of[static_cast<std::size_t>(row)];
   for (Eigen::Index c = t.first_pad_column; c < t.columns; ++c) rows.push_back(c);
   out.positions.insert(out.positions.end(), t.centroids.begin(), t.centroids.end());
-  return craig_bampton(congruence(K, t), congruence(M, t), rows, modes_up_to_hz);
+  return craig_bampton(congruence(K, t), congruence(M, t), rows, f.modes_up_to_hz,
+                       f.residual_block_solves);
 }
 
 std::shared_ptr<const ReducedSuperelement> read_and_reduce(const SuperelementFiles& f) {
@@ -164,8 +166,9 @@ std::shared_ptr<const ReducedSuperelement> read_and_reduce(const SuperelementFil
   const SparseMatrix M = f.format == FileFormat::kCalculix ? read_calculix_matrix(f.mass, n)
                                                            : read_matrix_market(f.mass, n);
   out->full_dofs = n;
-  out->reduction = out->pads.empty() ? craig_bampton(K, M, rows, f.modes_up_to_hz)
-                                     : reduce_with_pads(K, M, dofs, rows, *out, f.modes_up_to_hz);
+  out->reduction = out->pads.empty()
+                       ? craig_bampton(K, M, rows, f.modes_up_to_hz, f.residual_block_solves)
+                       : reduce_with_pads(K, M, dofs, rows, *out, f);
   return out;
 }
 

@@ -34,6 +34,7 @@ struct SuperelementFiles {
   double modes_up_to_hz = 0;
   std::vector<long> interface_nodes;  // mesh node numbers (one-node interfaces: pins)
   std::vector<PadRequest> pads;
+  int residual_block_solves = 0;  // the unkept modes' moments (residual_moments.hpp); 0: none
 };
 
 struct ReducedSuperelement {

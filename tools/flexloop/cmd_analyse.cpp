@@ -15,6 +15,7 @@
 #include "offline/pipeline/analyse_scene.hpp"
 #include "offline/pipeline/linearised_model.hpp"
 #include "offline/pipeline/provenance.hpp"
+#include "offline/pipeline/reduction_error_report.hpp"
 #include "offline/report/csv_writer.hpp"
 #include "offline/report/plot.hpp"
 #include "offline/scene/scene.hpp"
@@ -34,6 +35,7 @@ struct AnalyseArgs {
   std::vector<std::string> inputs, outputs;
   double f_min = 0.01, f_max = 1000.0;
   int points = 400;
+  bool no_reduction_error = false;
 };
 
 // The frequency response and the singular values of r.ss: CSV files and pictures in dir.
@@ -78,6 +80,14 @@ void write_response(const std::string& model_name, const pipeline::LinearisedMod
                                {{model_name, f, sv, ""}}, dir + "singular_values.png");
 }
 
+// The superelement reduction's error at the response's grid (null: none to measure or asked).
+nlohmann::json model_reduction_error(const AnalyseArgs& a, const pipeline::LinearisedModel& r) {
+  if (a.no_reduction_error || r.model.superelements.empty()) return nullptr;
+  const auto f = lti::with_resonances(lti::log_frequency_grid_hz(a.f_min, a.f_max, a.points),
+                                      r.natural_frequencies_hz);
+  return pipeline::report_reduction_error(r.model, r.lin, r.ss.inputs, r.ss.outputs, f, a.f_max);
+}
+
 void run(const AnalyseArgs& a) {
   if (!(a.f_min > 0 && a.f_max > a.f_min && a.points >= 2))
     throw common::InputError("--fmin/--fmax/--points",
@@ -87,9 +97,11 @@ void run(const AnalyseArgs& a) {
     if (!a.inputs.empty() || !a.outputs.empty())
       throw common::InputError(a.model,
                                "a scene names its channels in [plant]; drop --input/--output");
-    pipeline::analyse_scene(a.model, a.out_dir, {a.f_min, a.f_max, a.points});
+    pipeline::analyse_scene(a.model, a.out_dir, {a.f_min, a.f_max, a.points},
+                            {.reduction_error = !a.no_reduction_error});
     return;
   }
+  const pipeline::ReductionErrorBand band(a.no_reduction_error ? 0.0 : a.f_max);
   const pipeline::LinearisedModel r = pipeline::linearise_model_file(a.model, a.inputs, a.outputs);
   const auto& m = r.model;
   const auto& ss = r.ss;
@@ -130,6 +142,7 @@ void run(const AnalyseArgs& a) {
                        "an input with --input, e.g. force:<coordinate>"
                      : "name an output with --output");
 
+  const nlohmann::json reduction = has_response ? model_reduction_error(a, r) : nullptr;
   nlohmann::json j = {
       {"natural_frequencies_hz",
        std::vector<double>(r.natural_frequencies_hz.data(),
@@ -144,6 +157,7 @@ void run(const AnalyseArgs& a) {
     shapes.push_back(std::vector<double>(r.mode_shapes.col(c).data(),
                                          r.mode_shapes.col(c).data() + r.mode_shapes.rows()));
   j["mode_shapes"] = shapes;
+  if (!reduction.is_null()) j["reduction_error"] = reduction;
   j["mode_shape_coordinates"] =
       std::vector<std::string>(m.generalised.begin(), m.generalised.begin() + nd);
   nlohmann::json poles = nlohmann::json::array();
@@ -177,6 +191,8 @@ void register_analyse(CLI::App& app) {
   cmd->add_option("--fmin", args->f_min, "Lowest frequency, Hz")->capture_default_str();
   cmd->add_option("--fmax", args->f_max, "Highest frequency, Hz")->capture_default_str();
   cmd->add_option("--points", args->points, "Frequencies on the log grid")->capture_default_str();
+  cmd->add_flag("--no-reduction-error", args->no_reduction_error,
+                "Skip the superelement reduction's error against the full FE body");
   cmd->footer(
       "Example:\n  flexloop analyse tools/models/cart.toml -i acc:x.1 -O pos:x.2 --out-dir "
       "out/cart\n  flexloop analyse tools/scenes/metrology_frame.toml --out-dir out/metrology");
