@@ -66,7 +66,8 @@ bool plausible(std::int64_t count, std::size_t element, const Reader& r) {
 }
 
 bool read_matrix(Reader& r, Eigen::MatrixXd& m, std::int64_t n) {
-  if (!plausible(n * n, sizeof(double), r)) return false;
+  // n first (n * n of a damaged count could overflow), then the whole matrix.
+  if (!plausible(n, sizeof(double), r) || !plausible(n * n, sizeof(double), r)) return false;
   m.resize(n, n);
   return r.take(m.data(), static_cast<std::size_t>(n * n) * sizeof(double)) && m.allFinite();
 }
@@ -94,8 +95,8 @@ bool read_body(Reader& r, ReducedSuperelement& s) {
              pads = r.get<std::int64_t>();
   s.full_dofs = r.get<std::int64_t>();
   s.reduction.interface_dofs = dofs;
-  if (!r.ok || dofs + modes != n || !plausible(pins, 12, r) || !plausible(nodes, 24, r) ||
-      !plausible(pads, 12, r))
+  if (!r.ok || dofs < 0 || modes < 0 || dofs + modes != n || !plausible(pins, 12, r) ||
+      !plausible(nodes, 24, r) || !plausible(pads, 12, r))
     return false;
   if (!read_matrix(r, s.reduction.K, n) || !read_matrix(r, s.reduction.M, n)) return false;
   s.reduction.fixed_interface_hz.resize(modes);

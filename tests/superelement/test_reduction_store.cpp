@@ -4,6 +4,7 @@
 // ends early is not used (null: the body is reduced again), and without a store nothing is kept.
 #include <catch2/catch.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -71,6 +72,15 @@ TEST_CASE("reduction store: a stored reduction reads back to the bit under its k
   for (const auto& e : std::filesystem::directory_iterator(store)) {
     const auto size = std::filesystem::file_size(e.path());
     std::filesystem::resize_file(e.path(), size - 9);
+  }
+  CHECK_FALSE(load_stored_reduction(key));
+  // Damaged counts: the body's sizes overwritten with a negative mode count and a huge size.
+  store_reduction(key, *reduced);
+  for (const auto& e : std::filesystem::directory_iterator(store)) {
+    std::fstream f(e.path(), std::ios::in | std::ios::out | std::ios::binary);
+    const std::int64_t sizes[3] = {std::int64_t{1} << 40, 3, -1};  // n, interface rows, modes
+    f.seekp(static_cast<std::streamoff>(21 + 8 + 8 + key.size()));
+    f.write(reinterpret_cast<const char*>(sizes), sizeof sizes);
   }
   CHECK_FALSE(load_stored_reduction(key));
   store_reduction(key, *reduced);
